@@ -1,0 +1,194 @@
+/*
+ * scene.h - the scene model: what a scene JSON document (proto/scene.schema.json,
+ * docs/scenes.md) becomes after complete validation, and the CPU evaluation of its
+ * procedural fields into voxels.
+ *
+ * A scene holds volume objects. Each object has axis-aligned bounds in its object
+ * space, a voxel resolution, a similarity transform to world space and up to four
+ * channels (refractive index, RGB attenuation, RGB emission, opaque colour). A channel
+ * is a list of layers evaluated in order; later layers override earlier ones where
+ * they cover (shapes, with an anti-aliased boundary one voxel wide) or everywhere
+ * (GRIN profiles, uploaded volumes, constants).
+ *
+ * Ownership: scene_parse returns a new scene; the caller destroys it with
+ * scene_destroy(). A scene is immutable after parsing, so any thread may read it.
+ * This module never touches the GPU, HTTP or files.
+ */
+#ifndef REFRACT_SCENE_H
+#define REFRACT_SCENE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "../core/err.h"
+#include "../core/grin.h"
+#include "../core/vec3.h"
+#include "../core/xform.h"
+
+#define SCENE_NAME_MAX 128
+#define SCENE_VOLUME_NAME_MAX 64
+
+enum scene_channel {
+    SCENE_CH_IOR = 0,         /* 1 component: refractive index n */
+    SCENE_CH_ATTENUATION = 1, /* RGB sigma_a per world unit (tevs2007 eq. 3.4, 5.9) */
+    SCENE_CH_EMISSION = 2,    /* RGB emitted radiance per world unit (L_e, eq. 5.4) */
+    SCENE_CH_OPAQUE = 3,      /* RGB opaque colour; coverage is the 4th component */
+    SCENE_CH_COUNT = 4,
+};
+
+enum scene_layer_kind {
+    SCENE_LAYER_CONSTANT = 0, /* value everywhere in the bounds */
+    SCENE_LAYER_SHAPE = 1,    /* inside/outside a shape */
+    SCENE_LAYER_PROFILE = 2,  /* analytic GRIN profile (ior only) */
+    SCENE_LAYER_VOLUME = 3,   /* uploaded volume, trilinearly resampled to the grid */
+};
+
+enum scene_shape_kind {
+    SCENE_SHAPE_SPHERE = 0,
+    SCENE_SHAPE_BOX = 1,
+    SCENE_SHAPE_ROUNDED_BOX = 2,
+    SCENE_SHAPE_CYLINDER = 3,
+    SCENE_SHAPE_LATHE = 4,
+    SCENE_SHAPE_TEXT = 5,
+};
+
+/* All lengths in object-space units of the owning object. */
+struct scene_shape {
+    enum scene_shape_kind kind;
+    vec3 center;          /* sphere, box, rounded_box, cylinder, text */
+    double radius;        /* sphere; cylinder; rounded_box corner radius */
+    vec3 size;            /* box, rounded_box: full edge lengths */
+    double height;        /* cylinder: full length along axis; text: glyph cell height */
+    int axis;             /* cylinder, lathe: 0 = x, 1 = y, 2 = z */
+    vec3 base;            /* lathe: point on the axis where h = 0 */
+    double (*profile)[2]; /* lathe: closed polygon of (r, h) points, r >= 0; owned */
+    size_t profile_count;
+    char *text;           /* text: printable ASCII; owned */
+    double depth;         /* text: extrusion length along z, centred on center.z */
+};
+
+struct scene_layer {
+    enum scene_layer_kind kind;
+    struct scene_shape shape;     /* SCENE_LAYER_SHAPE */
+    struct grin_profile profile;  /* SCENE_LAYER_PROFILE */
+    char volume[SCENE_VOLUME_NAME_MAX]; /* SCENE_LAYER_VOLUME: upload name */
+    double volume_scale, volume_offset; /* value = offset + scale * sample */
+    double inside[4];  /* shape: value inside; constant: the value. Components as the channel. */
+    double outside[4]; /* shape: value outside, when has_outside */
+    bool has_outside;
+};
+
+struct scene_field {
+    struct scene_layer *layers; /* owned; NULL when count == 0 (channel unused) */
+    size_t count;
+};
+
+struct scene_object {
+    char name[SCENE_NAME_MAX];
+    vec3 bounds_min, bounds_max; /* object space, max > min on each axis */
+    int resolution[3];           /* voxels along x, y, z */
+    struct xform world_from_object;
+    double smoothing_sigma_voxels; /* Gaussian std dev for the ior field (tevs2007 3.1); 0 = none */
+    double opaque_ior;             /* n of opaque embeddings' surfaces, for their Fresnel reflection */
+    struct scene_field fields[SCENE_CH_COUNT];
+};
+
+struct scene_camera {
+    vec3 eye, look_at, up; /* world space */
+    double fov_y_deg;      /* vertical field of view */
+    int width, height;     /* pixels */
+};
+
+enum scene_env_kind { SCENE_ENV_PROCEDURAL = 0, SCENE_ENV_IMAGE = 1 };
+
+struct scene_environment {
+    enum scene_env_kind kind;
+    double intensity;    /* radiance multiplier */
+    double rotation_deg; /* rotation of the environment about world +y */
+};
+
+enum scene_integrator { SCENE_INTEGRATOR_EULER = 0, SCENE_INTEGRATOR_RK4 = 1 };
+enum scene_tonemap { SCENE_TONEMAP_CLAMP = 0, SCENE_TONEMAP_FILMIC = 1 };
+
+/* Render defaults of a scene; a render request may override each. */
+struct scene_render_settings {
+    enum scene_integrator integrator;
+    double step_voxels;        /* integration step, in voxels of the object being crossed */
+    int max_steps;             /* per ray, over all objects */
+    double exposure_ev;        /* PNG/JPEG: pixel = tonemap(2^exposure * L) */
+    double boundary_threshold; /* |grad n| * voxel size above which Fresnel reflection applies */
+    enum scene_tonemap tonemap;
+};
+
+struct scene {
+    char name[SCENE_NAME_MAX];
+    double ambient_ior; /* n outside every object's bounds */
+    struct scene_camera camera;
+    struct scene_environment environment;
+    struct scene_render_settings render;
+    struct scene_object *objects; /* owned */
+    size_t object_count;
+};
+
+/* Limits enforced by scene_parse (configurable with refractd flags). */
+struct scene_limits {
+    int max_resolution;       /* per axis */
+    int64_t max_voxels;       /* summed over the scene's objects */
+    int max_objects;
+    int max_layers;           /* per channel */
+    int max_profile_points;   /* lathe polygon */
+    int max_text_length;
+    int max_image_dim;        /* camera width/height */
+    int max_steps;
+};
+
+/* Defaults: 512, 64M voxels, 8 objects, 64 layers, 1024 points, 64 chars, 4096, 100000. */
+struct scene_limits scene_limits_default(void);
+
+/* Parses and validates a whole scene document (not NUL-terminated; len bytes).
+ * On success *out is a new scene; the caller destroys it with scene_destroy().
+ * On failure returns the code and e->msg starts with the JSON path. */
+enum refract_code scene_parse(const char *json, size_t len, const struct scene_limits *limits,
+                              struct scene **out, struct err *e);
+void scene_destroy(struct scene *s);
+
+/* ---- uploaded volumes referenced by SCENE_LAYER_VOLUME ---- */
+
+struct scene_volume {
+    int dims[3];       /* x, y, z */
+    int components;    /* 1 or 3 */
+    const float *data; /* dims[0]*dims[1]*dims[2]*components floats, x fastest */
+};
+
+/* Returns the volume uploaded under `name`, or NULL. Borrowed for the call. */
+typedef const struct scene_volume *(*scene_volume_lookup_fn)(void *ctx, const char *name);
+
+/* Number of floats per voxel that scene_field_eval writes for a channel: 1 for ior,
+ * 4 for the others (RGB + 0 for attenuation/emission; RGB + coverage for opaque). */
+int scene_channel_components(enum scene_channel ch);
+const char *scene_channel_name(enum scene_channel ch);
+bool scene_channel_used(const struct scene_object *obj, enum scene_channel ch);
+
+/* Lists volume names referenced by the scene that lookup cannot find, comma
+ * separated, into buf. Returns how many are missing. */
+int scene_missing_volumes(const struct scene *s, scene_volume_lookup_fn lookup, void *ctx,
+                          char *buf, size_t buf_size);
+
+/* Evaluates channel ch of obj at every voxel centre into out (x fastest, then y, then
+ * z; scene_channel_components(ch) floats per voxel). Voxel (i,j,k) has its centre at
+ * bounds_min + (i + 0.5) * (bounds_max - bounds_min) / resolution. Borrows everything
+ * until return. Fails only on a missing or mismatched volume (REFRACT_E_CONFLICT). */
+enum refract_code scene_field_eval(const struct scene *s, const struct scene_object *obj,
+                                   enum scene_channel ch, scene_volume_lookup_fn lookup,
+                                   void *ctx, float *out, struct err *e);
+
+/* Signed distance from p (object space) to the shape's surface: negative inside.
+ * Exact for sphere, box, rounded_box, cylinder, lathe and text. */
+double scene_shape_sdf(const struct scene_shape *shape, vec3 p);
+
+/* Voxel size of an object in object-space units along each axis, and its smallest. */
+vec3 scene_object_voxel_size(const struct scene_object *obj);
+double scene_object_min_voxel(const struct scene_object *obj);
+
+#endif

@@ -1,0 +1,54 @@
+/*
+ * bindings.h - binding points, local sizes and fixed limits shared by C and GLSL.
+ *
+ * Valid C and valid GLSL: only #defines. C includes it to compute dispatch group
+ * counts from the same local sizes the shaders declare; no binding number appears
+ * anywhere else (STYLE.md, "Shaders").
+ */
+#ifndef REFRACT_BINDINGS_H
+#define REFRACT_BINDINGS_H
+
+/* ---- local sizes ---- */
+#define RENDER_LOCAL_X 8
+#define RENDER_LOCAL_Y 8
+#define TRACE_LOCAL_X 64
+#define VOLUME_LOCAL_X 4
+#define VOLUME_LOCAL_Y 4
+#define VOLUME_LOCAL_Z 4
+
+/* ---- fixed limits ---- */
+#define MAX_OBJECTS 8 /* objects per scene the renderer handles in one pass */
+
+/* ---- ray statuses (server/core/ray_status.h gives their names) ---- */
+#define RAY_STATUS_EXITED 0
+#define RAY_STATUS_ABSORBED 1
+#define RAY_STATUS_MAX_STEPS 2
+#define RAY_STATUS_MISSED 3
+#define RAY_STATUS_RUNNING 4 /* internal to the march; never reported */
+
+/* ---- integrators ---- */
+#define INTEGRATOR_EULER 0 /* tevs2007 eqs. 5.11/5.12 */
+#define INTEGRATOR_RK4 1
+
+/* ---- uniform blocks (std140) ---- */
+#define BIND_UBO_RENDER 0  /* render_params: camera, settings, objects[] */
+#define BIND_UBO_VOLUME 1  /* volume_params: one object's grid for smoothing/gradient */
+
+/* ---- storage buffers (std430) ---- */
+#define BIND_SSBO_IMAGE_OUT 0 /* render_view: vec4 radiance per pixel */
+#define BIND_SSBO_RAYS_IN 1   /* trace_rays: trace_ray_in[] */
+#define BIND_SSBO_HITS_OUT 2  /* trace_rays: trace_hit_out[] */
+#define BIND_SSBO_FIELD_IN 3  /* smooth_ior / gradient_ior: float per voxel */
+#define BIND_SSBO_FIELD_OUT 4 /* smooth_ior: float per voxel */
+
+/* ---- texture units (samplers) ---- */
+#define UNIT_IOR_GRAD 0    /* sampler3D atlas: rgb = grad n (object units), a = n */
+#define UNIT_ATTENUATION 1 /* sampler3D atlas: rgb = sigma_a per world unit */
+#define UNIT_EMISSION 2    /* sampler3D atlas: rgb = emitted radiance per world unit */
+#define UNIT_OPAQUE 3      /* sampler3D atlas: rgb = colour, a = coverage */
+#define UNIT_ENVIRONMENT 4 /* sampler2D equirectangular environment (RGBA32F) */
+
+/* ---- image units ---- */
+#define IMAGE_IOR_GRAD_OUT 0 /* gradient_ior writes the ior+grad atlas */
+
+#endif
