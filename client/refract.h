@@ -14,7 +14,10 @@
  *
  * When refractd answers with an error, the call returns the code named in its JSON
  * error body ("error": {"code", "message"}) and refract_errmsg() holds the server's
- * message. Transport failures give REFRACT_E_CONNECT_FAILED or REFRACT_E_PROTOCOL.
+ * message. Transport failures give REFRACT_E_CONNECT_FAILED or REFRACT_E_PROTOCOL;
+ * REFRACT_E_TIMEOUT when refractd accepted the connection but no complete reply came
+ * within the client's timeout; REFRACT_E_OUT_OF_MEMORY when an allocation failed; and
+ * REFRACT_E_USAGE when the call's own arguments are wrong (NULL, empty id, bad dims).
  *
  * Ownership: strings and buffers returned through out-parameters are new allocations
  * that the caller releases with refract_free() (or refract_response_free()).
@@ -33,8 +36,14 @@ extern "C" {
 
 typedef struct refract_client refract_client;
 
-/* Returns a new client for base_url ("http://host:port", no trailing slash needed),
- * or NULL when out of memory. Destroy it with refract_client_destroy(). */
+/* The address refractd listens on by default. */
+#define REFRACT_DEFAULT_URL "http://127.0.0.1:8750"
+/* Room for a scene id and its NUL: ids are at most 63 characters of [a-z0-9-]. */
+#define REFRACT_ID_SIZE 64
+
+/* Returns a new client for base_url ("http://host:port", no trailing slash needed;
+ * NULL means REFRACT_DEFAULT_URL), or NULL when out of memory. Destroy it with
+ * refract_client_destroy(). */
 refract_client *refract_client_create(const char *base_url);
 /* Destroys the client; NULL is a no-op. */
 void refract_client_destroy(refract_client *c);
@@ -79,7 +88,9 @@ int refract_request(refract_client *c, const char *method, const char *path, con
 /* GET /v1/health -> *json_out (new string). */
 int refract_health(refract_client *c, char **json_out);
 
-/* POST /v1/scenes with a scene JSON document; writes the new id into id_out. */
+/* POST /v1/scenes with a scene JSON document; writes the new id into id_out, which
+ * should have REFRACT_ID_SIZE bytes. (If the id does not fit, the call returns
+ * REFRACT_E_USAGE and its message names the id of the scene that was created.) */
 int refract_scene_create(refract_client *c, const char *scene_json, size_t len, char *id_out,
                          size_t id_size);
 /* GET /v1/scenes -> JSON list. */
@@ -96,7 +107,8 @@ int refract_volume_upload(refract_client *c, const char *scene_id, const char *n
                           const int dims[3], int components, const float *data,
                           char **json_out);
 
-/* PUT /v1/scenes/{id}/environment with an EXR, Radiance HDR, PNG or JPEG file's bytes. */
+/* PUT /v1/scenes/{id}/environment with an EXR, Radiance HDR, PNG or JPEG file's bytes.
+ * json_out (optional, may be NULL) receives the server's description of what it stored. */
 int refract_environment_upload(refract_client *c, const char *scene_id, const void *bytes,
                                size_t len, char **json_out);
 
@@ -110,8 +122,9 @@ struct refract_image {
 };
 void refract_image_free(struct refract_image *img);
 
-/* POST /v1/scenes/{id}/render with a render request JSON ("{}" for the scene's
- * defaults; see proto/openapi.yaml RenderRequest). */
+/* POST /v1/scenes/{id}/render with a render request JSON ("{}" or NULL for the scene's
+ * defaults; see proto/openapi.yaml RenderRequest). out is overwritten (it need not be
+ * initialised) and on success must be released with refract_image_free(). */
 int refract_render(refract_client *c, const char *scene_id, const char *request_json,
                    struct refract_image *out);
 

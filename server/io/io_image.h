@@ -12,7 +12,8 @@
  * frees with free(). io_image_free releases what io_image_decode made.
  * Thread: any; no GL. Errors: REFRACT_E_INVALID_IMAGE for undecodable input,
  * REFRACT_E_OUT_OF_MEMORY, REFRACT_E_INTERNAL for encoder failures (with the library's
- * message).
+ * message), REFRACT_E_INVALID_FIELD from an encoder given a side < 1 or a JPEG quality
+ * outside 1..100.
  */
 #ifndef REFRACT_IO_IMAGE_H
 #define REFRACT_IO_IMAGE_H
@@ -27,14 +28,20 @@ struct io_image {
     float *rgba; /* width * height * 4 linear floats, row 0 at the top; owned */
 };
 
-/* Decodes an image held in memory (OpenEXR, Radiance .hdr, PNG, JPEG, anything OIIO
- * reads). 8-bit sRGB formats are converted to linear; 1-3 channel images are expanded
- * to RGBA (grey -> RGB, alpha = 1). Rejects images larger than max_pixels (width *
- * height) with REFRACT_E_LIMIT_EXCEEDED, and non-finite pixel values with
+/* Decodes an image held in memory: OpenEXR, Radiance .hdr, PNG or JPEG, recognised by
+ * their first bytes (formats other than these four are refused, so an upload reaches
+ * only their parsers). 8-bit sRGB formats are converted to linear; 1-3 channel images
+ * are expanded to RGBA (grey -> RGB, alpha = 1). Rejects images larger than max_pixels
+ * (width * height) with REFRACT_E_LIMIT_EXCEEDED, and non-finite pixel values with
  * REFRACT_E_INVALID_IMAGE. */
 enum refract_code io_image_decode(const void *bytes, size_t len, long long max_pixels,
                                   struct io_image *out, struct err *e);
 void io_image_free(struct io_image *img);
+
+/* Tests only: when on is non-zero, decoding and PNG/JPEG encoding on the calling thread
+ * go through a temporary file even where OIIO could use memory, so the tests cover
+ * that fallback. Per thread; default off. */
+void io_image_test_force_tempfile(int on);
 
 enum io_tonemap { IO_TONEMAP_CLAMP = 0, IO_TONEMAP_FILMIC = 1 };
 

@@ -64,4 +64,20 @@ enum refract_code jr_vec3(const cJSON *obj, const char *path, const char *key, b
 enum refract_code jr_direction(const cJSON *obj, const char *path, const char *key,
                                bool required, vec3 def, vec3 *out, struct err *e);
 
+/* As jr_number, for a half-open range: min_exclusive < value <= max
+ * ("objects[0].ior.radius: expected a finite number > 0 and <= 1000000, got 0"). */
+enum refract_code jr_number_gt(const cJSON *obj, const char *path, const char *key,
+                               bool required, double def, double min_exclusive, double max,
+                               double *out, struct err *e);
+
+/* Checks an item already in hand (an array element, say) whose full JSON path is
+ * `path`: a finite number in [min, max], or in (min, max] when min_exclusive. */
+enum refract_code jr_check_number(const cJSON *item, const char *path, double min,
+                                  bool min_exclusive, double max, double *out, struct err *e);
+
+/* Writes a short description of a JSON value for messages: 12, "abc" (quoted, escaped,
+ * shortened), true, null, "an array of 2 values", "an object"; "nothing" for NULL.
+ * Returns buf. */
+const char *jr_describe(const cJSON *item, char *buf, size_t size);
+
 #endif

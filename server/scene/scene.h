@@ -187,6 +187,10 @@ enum refract_code scene_field_eval(const struct scene *s, const struct scene_obj
  * Exact for sphere, box, rounded_box, cylinder, lathe and text. */
 double scene_shape_sdf(const struct scene_shape *shape, vec3 p);
 
+/* Axis-aligned box (object space) that contains the shape's solid. Returns false, and
+ * leaves lo/hi alone, when the solid is empty (text of spaces only). */
+bool scene_shape_bounds(const struct scene_shape *shape, vec3 *lo, vec3 *hi);
+
 /* Voxel size of an object in object-space units along each axis, and its smallest. */
 vec3 scene_object_voxel_size(const struct scene_object *obj);
 double scene_object_min_voxel(const struct scene_object *obj);

@@ -1,0 +1,70 @@
+/*
+ * refract_internal.h - what librefract's own files share; not installed, not public API.
+ *
+ * The library is four files of one concept each:
+ *   refract_client.c  the handle: create/destroy, options, refract_free
+ *   refract_error.c   the code table (strerror, code names) and the per-client message
+ *   refract_http.c    the curl transport: one exchange, reply headers, error replies
+ *   refract_calls.c   the typed calls built on the transport
+ * plus refract_url.c (pure string work, no curl), which the CLI's unit test also compiles.
+ *
+ * Names here carry the refract_ prefix of the library but are not declared in refract.h;
+ * nothing outside the .c files in client/ may call them.
+ */
+#ifndef REFRACT_INTERNAL_H
+#define REFRACT_INTERNAL_H
+
+#include <curl/curl.h>
+#include <stdbool.h>
+
+#include "refract.h"
+
+/* Room for the message of one failed call: the server's message plus our context. */
+#define REFRACT_ERRMSG_SIZE 2048
+
+/* Connect timeout in milliseconds. Short on purpose: refractd is usually on loopback or
+ * the same network, so a connect that takes longer than this will not succeed. */
+#define REFRACT_CONNECT_TIMEOUT_MS 10000L
+
+/* Default request timeout (refract.h documents it): long enough for a large render on
+ * Mesa's software rasterizer. */
+#define REFRACT_DEFAULT_TIMEOUT_MS 120000L
+
+/*
+ * One client. INVARIANT: errmsg is always NUL-terminated; it is "" after a call that
+ * succeeded and holds the message of the call that failed otherwise.
+ */
+struct refract_client {
+    CURL *curl;                       /* owned; reused so the TCP connection stays open */
+    char *base_url;                   /* owned; "http://host:port", no trailing '/' */
+    long timeout_ms;                  /* whole request; 0 = none */
+    char curl_error[CURL_ERROR_SIZE]; /* CURLOPT_ERRORBUFFER of the current exchange */
+    char errmsg[REFRACT_ERRMSG_SIZE]; /* what refract_errmsg() returns */
+};
+
+/* refract_error.c */
+
+/* Sets c's message from a printf format and returns code, so a failing path reads
+ * `return refract_fail(c, REFRACT_E_IO, "...", ...);`. A message longer than the buffer
+ * is cut and ends with "...". */
+int refract_fail(refract_client *c, int code, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+/* Empties c's message at the start of a call, so refract_errmsg() never shows a stale one. */
+void refract_clear_error(refract_client *c);
+/* The code whose JSON name is json_code ("scene_not_found" -> REFRACT_E_SCENE_NOT_FOUND),
+ * or -1 when the table has no such name. */
+int refract_code_from_name(const char *json_code);
+
+/* refract_http.c */
+
+/* One HTTP exchange (the body of refract_request(), without clearing the message).
+ * On failure out is zeroed and c's message says why. */
+int refract_http_exchange(refract_client *c, const char *method, const char *path, const void *body,
+                          size_t body_len, const char *content_type, struct refract_response *out);
+/* Turns a reply into a result: REFRACT_E_OK for a 2xx status; otherwise the code of the
+ * JSON error body with the server's message as c's message, or REFRACT_E_PROTOCOL when
+ * the body is not a refractd error. method and path only name the request in messages. */
+int refract_http_check(refract_client *c, const char *method, const char *path,
+                       const struct refract_response *r);
+
+#endif

@@ -1,0 +1,304 @@
+/*
+ * config.c - flags and config file for refractd, from one table: each option's name,
+ * kind, limits, default and help line. --help prints the table; deploy/refractd.conf
+ * documents the same keys.
+ */
+#include "config.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bindings.h"
+#include "core/log.h"
+
+enum opt_kind { OPT_INT, OPT_SIZE, OPT_STRING, OPT_FLAG, OPT_GPU, OPT_LOG, OPT_CONFIG };
+
+struct option_def {
+    const char *name;
+    enum opt_kind kind;
+    long long min, max;
+    const char *arg;
+    const char *help;
+};
+
+static const struct option_def options[] = {
+    {"bind", OPT_STRING, 0, 0, "ADDR", "IPv4 address to listen on (default 127.0.0.1)"},
+    {"port", OPT_INT, 0, 65535, "N", "TCP port (default 8750; 0 = any free port)"},
+    {"port-file", OPT_STRING, 0, 0, "FILE", "write the bound port to FILE once listening"},
+    {"data-dir", OPT_STRING, 0, 0, "DIR",
+     "where scenes and uploads persist (default $XDG_STATE_HOME/refract)"},
+    {"scene-dir", OPT_STRING, 0, 0, "DIR",
+     "load every *.json in DIR at start-up as a scene whose id is the file name"},
+    {"shader-dir", OPT_STRING, 0, 0, "DIR", "read GLSL from DIR instead of the embedded copy"},
+    {"gpu", OPT_GPU, 0, 0, "auto|hardware|software",
+     "EGL device choice (default auto: a hardware GPU if any; env REFRACT_GPU)"},
+    {"gpu-device", OPT_INT, -1, 64, "N", "use EGL device N (see the log's device list)"},
+    {"gl-debug", OPT_FLAG, 0, 0, NULL, "log KHR_debug messages from the GL driver"},
+    {"threads", OPT_INT, 1, 256, "N", "HTTP worker threads (default 4)"},
+    {"max-queued", OPT_INT, 1, 1000000, "N", "GPU queue length before 503 busy (default 256)"},
+    {"request-timeout-ms", OPT_INT, 100, 86400000, "MS",
+     "deadline for a request's GPU work to start (default 120000)"},
+    {"max-json-bytes", OPT_SIZE, 1024, 1ll << 32, "BYTES", "JSON body limit (default 8M)"},
+    {"max-upload-bytes", OPT_SIZE, 1024, 1ll << 40, "BYTES", "upload body limit (default 1G)"},
+    {"max-rays", OPT_INT, 1, 100000000, "N", "rays per trace request (default 65536)"},
+    {"max-resolution", OPT_INT, 2, 4096, "N", "voxels per axis of an object (default 512)"},
+    {"max-voxels", OPT_SIZE, 8, 1ll << 36, "N", "voxels per scene (default 64M)"},
+    {"max-objects", OPT_INT, 1, MAX_OBJECTS, "N", "objects per scene (default 8, at most 8)"},
+    {"max-layers", OPT_INT, 1, 100000, "N", "layers per channel (default 64)"},
+    {"max-profile-points", OPT_INT, 3, 1000000, "N", "lathe profile points (default 1024)"},
+    {"max-text-length", OPT_INT, 1, 100000, "N", "characters of a text shape (default 64)"},
+    {"max-image-dim", OPT_INT, 1, 16384, "N", "image width/height (default 4096)"},
+    {"max-steps", OPT_INT, 1, 10000000, "N", "integration steps per ray (default 100000)"},
+    {"max-scenes", OPT_INT, 1, 1000000, "N", "scenes held (default 64)"},
+    {"gpu-scene-budget", OPT_SIZE, 1 << 20, 1ll << 40, "BYTES",
+     "GPU memory for cached scenes before LRU eviction (default 2G)"},
+    {"log-level", OPT_LOG, 0, 0, "debug|info|warn|error", "log verbosity (default info)"},
+    {"config", OPT_CONFIG, 0, 0, "FILE", "read 'key value' lines with these option names"},
+    {"help", OPT_FLAG, 0, 0, NULL, "print this help"},
+    {"version", OPT_FLAG, 0, 0, NULL, "print the version"},
+};
+
+#define OPTION_COUNT (sizeof options / sizeof options[0])
+
+void config_defaults(struct config *c)
+{
+    memset(c, 0, sizeof *c);
+    c->http.bind_address = "127.0.0.1";
+    c->http.port = 8750;
+    c->http.threads = 4;
+    c->http.max_json_bytes = (size_t)8 << 20;
+    c->http.max_upload_bytes = (size_t)1 << 30;
+    c->http.max_rays = 65536;
+    c->http.request_timeout_ms = 120000;
+    c->http.limits = scene_limits_default();
+    c->gpu.context.device = GPU_DEVICE_AUTO;
+    c->gpu.context.device_index = -1;
+    c->gpu.max_queued = 256;
+    c->gpu_scene_budget_bytes = (size_t)2 << 30;
+    c->max_scenes = 64;
+    c->log_level = LOG_INFO;
+    const char *state = getenv("XDG_STATE_HOME");
+    const char *home = getenv("HOME");
+    if (state && state[0])
+        snprintf(c->data_dir, sizeof c->data_dir, "%s/refract", state);
+    else
+        snprintf(c->data_dir, sizeof c->data_dir, "%s/.local/state/refract",
+                 home && home[0] ? home : "/tmp");
+}
+
+void config_print_usage(const char *argv0)
+{
+    printf("usage: %s [options]\n\nrefractd renders refractive volumes on the GPU and serves "
+           "them over HTTP/JSON\n(proto/openapi.yaml). Sizes accept K, M and G suffixes.\n\n",
+           argv0);
+    for (size_t i = 0; i < OPTION_COUNT; i++) {
+        char left[64];
+        snprintf(left, sizeof left, "--%s%s%s", options[i].name, options[i].arg ? " " : "",
+                 options[i].arg ? options[i].arg : "");
+        printf("  %-34s %s\n", left, options[i].help);
+    }
+}
+
+static bool parse_number(const char *text, bool with_suffix, long long *out)
+{
+    errno = 0;
+    char *end = NULL;
+    long long v = strtoll(text, &end, 10);
+    if (end == text || errno != 0)
+        return false;
+    if (with_suffix && *end) {
+        long long mult = *end == 'K' || *end == 'k' ? 1ll << 10
+                         : *end == 'M' || *end == 'm' ? 1ll << 20
+                         : *end == 'G' || *end == 'g' ? 1ll << 30
+                                                      : 0;
+        if (mult == 0 || end[1] != '\0')
+            return false;
+        v *= mult;
+    } else if (*end) {
+        return false;
+    }
+    *out = v;
+    return true;
+}
+
+static void copy_str(char *dst, size_t size, const char *src)
+{
+    snprintf(dst, size, "%s", src);
+}
+
+static void store_int(struct config *c, const char *name, long long v)
+{
+    struct scene_limits *l = &c->http.limits;
+    if (!strcmp(name, "port"))
+        c->http.port = (int)v;
+    else if (!strcmp(name, "gpu-device"))
+        c->gpu.context.device_index = (int)v;
+    else if (!strcmp(name, "threads"))
+        c->http.threads = (int)v;
+    else if (!strcmp(name, "max-queued"))
+        c->gpu.max_queued = (size_t)v;
+    else if (!strcmp(name, "request-timeout-ms"))
+        c->http.request_timeout_ms = (int)v;
+    else if (!strcmp(name, "max-json-bytes"))
+        c->http.max_json_bytes = (size_t)v;
+    else if (!strcmp(name, "max-upload-bytes"))
+        c->http.max_upload_bytes = (size_t)v;
+    else if (!strcmp(name, "max-rays"))
+        c->http.max_rays = (int)v;
+    else if (!strcmp(name, "max-resolution"))
+        l->max_resolution = (int)v;
+    else if (!strcmp(name, "max-voxels"))
+        l->max_voxels = v;
+    else if (!strcmp(name, "max-objects"))
+        l->max_objects = (int)v;
+    else if (!strcmp(name, "max-layers"))
+        l->max_layers = (int)v;
+    else if (!strcmp(name, "max-profile-points"))
+        l->max_profile_points = (int)v;
+    else if (!strcmp(name, "max-text-length"))
+        l->max_text_length = (int)v;
+    else if (!strcmp(name, "max-image-dim"))
+        l->max_image_dim = (int)v;
+    else if (!strcmp(name, "max-steps"))
+        l->max_steps = (int)v;
+    else if (!strcmp(name, "max-scenes"))
+        c->max_scenes = (int)v;
+    else if (!strcmp(name, "gpu-scene-budget"))
+        c->gpu_scene_budget_bytes = (size_t)v;
+}
+
+static enum refract_code config_parse_file(struct config *c, const char *path, struct err *e);
+
+/* Applies one option; value may be NULL for flags. */
+static enum refract_code apply(struct config *c, const struct option_def *o, const char *value,
+                               struct err *e)
+{
+    switch (o->kind) {
+    case OPT_FLAG:
+        if (!strcmp(o->name, "gl-debug"))
+            c->gpu.context.debug = true;
+        else if (!strcmp(o->name, "help"))
+            c->help = true;
+        else
+            c->version = true;
+        return REFRACT_E_OK;
+    case OPT_INT:
+    case OPT_SIZE: {
+        long long v = 0;
+        if (!parse_number(value, o->kind == OPT_SIZE, &v) || v < o->min || v > o->max)
+            return err_set(e, REFRACT_E_USAGE, "--%s %s: expected %s in %lld..%lld", o->name,
+                           value, o->kind == OPT_SIZE ? "a size (K/M/G suffix allowed)"
+                                                      : "an integer",
+                           o->min, o->max);
+        store_int(c, o->name, v);
+        return REFRACT_E_OK;
+    }
+    case OPT_STRING:
+        if (!strcmp(o->name, "bind")) {
+            static char bind[64];
+            copy_str(bind, sizeof bind, value);
+            c->http.bind_address = bind;
+        } else if (!strcmp(o->name, "data-dir")) {
+            copy_str(c->data_dir, sizeof c->data_dir, value);
+        } else if (!strcmp(o->name, "scene-dir")) {
+            copy_str(c->scene_dir, sizeof c->scene_dir, value);
+        } else if (!strcmp(o->name, "shader-dir")) {
+            copy_str(c->shader_dir, sizeof c->shader_dir, value);
+        } else if (!strcmp(o->name, "port-file")) {
+            copy_str(c->port_file, sizeof c->port_file, value);
+        }
+        return REFRACT_E_OK;
+    case OPT_GPU: {
+        int pref = gpu_device_pref_parse(value);
+        if (pref < 0)
+            return err_set(e, REFRACT_E_USAGE, "--gpu %s: expected auto, hardware or software",
+                           value);
+        c->gpu.context.device = (enum gpu_device_pref)pref;
+        return REFRACT_E_OK;
+    }
+    case OPT_LOG: {
+        int level = log_level_parse(value);
+        if (level < 0)
+            return err_set(e, REFRACT_E_USAGE,
+                           "--log-level %s: expected debug, info, warn or error", value);
+        c->log_level = level;
+        return REFRACT_E_OK;
+    }
+    case OPT_CONFIG:
+        return config_parse_file(c, value, e);
+    }
+    return REFRACT_E_OK;
+}
+
+static const struct option_def *find_option(const char *name)
+{
+    for (size_t i = 0; i < OPTION_COUNT; i++) {
+        if (strcmp(options[i].name, name) == 0)
+            return &options[i];
+    }
+    return NULL;
+}
+
+static enum refract_code config_parse_file(struct config *c, const char *path, struct err *e)
+{
+    FILE *f = fopen(path, "r");
+    if (f == NULL)
+        return err_set(e, REFRACT_E_USAGE, "--config %s: %s", path, strerror(errno));
+    char line[1024];
+    int line_no = 0;
+    enum refract_code rc = REFRACT_E_OK;
+    while (rc == REFRACT_E_OK && fgets(line, sizeof line, f)) {
+        line_no++;
+        char *p = line + strspn(line, " \t");
+        if (*p == '#' || *p == '\n' || *p == '\0')
+            continue;
+        p[strcspn(p, "\r\n")] = '\0';
+        char *value = p + strcspn(p, " \t");
+        if (*value) {
+            *value++ = '\0';
+            value += strspn(value, " \t");
+        }
+        const struct option_def *o = find_option(p);
+        if (o == NULL || o->kind == OPT_CONFIG)
+            rc = err_set(e, REFRACT_E_USAGE, "%s:%d: unknown key \"%s\" (refractd --help lists "
+                         "the keys)", path, line_no, p);
+        else if (o->kind != OPT_FLAG && *value == '\0')
+            rc = err_set(e, REFRACT_E_USAGE, "%s:%d: %s needs a value", path, line_no, p);
+        else
+            rc = apply(c, o, value, e);
+    }
+    fclose(f);
+    return rc;
+}
+
+enum refract_code config_parse_args(struct config *c, int argc, char **argv, struct err *e)
+{
+    for (int i = 1; i < argc; i++) {
+        const char *arg = argv[i];
+        if (strncmp(arg, "--", 2) != 0)
+            return err_set(e, REFRACT_E_USAGE, "unexpected argument \"%s\" (refractd --help)",
+                           arg);
+        char name[64];
+        const char *eq = strchr(arg + 2, '=');
+        size_t len = eq ? (size_t)(eq - arg - 2) : strlen(arg + 2);
+        if (len >= sizeof name)
+            return err_set(e, REFRACT_E_USAGE, "unknown option %s (refractd --help)", arg);
+        memcpy(name, arg + 2, len);
+        name[len] = '\0';
+        const struct option_def *o = find_option(name);
+        if (o == NULL)
+            return err_set(e, REFRACT_E_USAGE, "unknown option --%s (refractd --help)", name);
+        const char *value = eq ? eq + 1 : NULL;
+        if (o->kind != OPT_FLAG && value == NULL) {
+            if (i + 1 >= argc)
+                return err_set(e, REFRACT_E_USAGE, "--%s needs a value: %s", name, o->arg);
+            value = argv[++i];
+        }
+        enum refract_code rc = apply(c, o, value, e);
+        if (rc != REFRACT_E_OK)
+            return rc;
+    }
+    return REFRACT_E_OK;
+}

@@ -1,0 +1,43 @@
+/*
+ * config.h - refractd's settings: command-line flags, an optional config file with the
+ * same keys (deploy/refractd.conf documents every one), and their defaults.
+ *
+ * Precedence: defaults, then the config file (--config FILE), then the other flags in
+ * the order given. The config read at start-up is the only global state refractd has, and
+ * it is passed by pointer, never reached for.
+ */
+#ifndef REFRACT_CONFIG_H
+#define REFRACT_CONFIG_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "core/err.h"
+#include "gpu/queue.h"
+#include "http/http.h"
+#include "scene/scene.h"
+
+struct config {
+    struct http_config http;
+    struct gpu_desc gpu;
+    size_t gpu_scene_budget_bytes;
+    char data_dir[512];
+    char scene_dir[512];   /* "" = none */
+    char shader_dir[512];  /* "" = embedded */
+    char port_file[512];   /* "" = none */
+    int max_scenes;
+    int log_level;
+    bool help, version;
+};
+
+/* Fills defaults (data dir: $XDG_STATE_HOME/refract, else ~/.local/state/refract). */
+void config_defaults(struct config *c);
+
+/* Applies argv (and a --config file if named). REFRACT_E_USAGE with a message that names
+ * the flag and what it accepts. */
+enum refract_code config_parse_args(struct config *c, int argc, char **argv, struct err *e);
+
+/* The --help text. */
+void config_print_usage(const char *argv0);
+
+#endif

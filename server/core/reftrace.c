@@ -1,0 +1,563 @@
+/*
+ * reftrace.c - the CPU double-precision reference march of docs/tracing.md "The march":
+ * object selection by slab test, ambient optical path, Fresnel and Snell at the bounds
+ * faces (total internal reflection included), integration inside the field with the
+ * straight-segment cut at the bounds, trapezoid accumulation of optical path,
+ * absorption and emission, Fresnel events at sharp boundaries inside the field, opaque
+ * embeddings, and the statuses. The integrators and field sampling are in
+ * reftrace_integrate.c.
+ *
+ * It is the twin of shaders/ray_march.glsl and follows the page step for step; the
+ * numbered comments below are the page's numbers. Where the page is silent this file
+ * makes the choice the GLSL twin makes (noted "page silent").
+ *
+ * REFTRACE_ADAPTIVE is the one deliberate departure: it integrates the optical path,
+ * absorption and emission as part of its ODE state (see reftrace_integrate.c) and it
+ * lands exactly on the bounds face instead of cutting a straight segment, because it
+ * is the "exact" reference for analytic fields, not a model of the GPU.
+ *
+ * Not here: rendering images, image environments, light simulation.
+ */
+#include "reftrace.h"
+
+#include <assert.h>
+#include <float.h>
+#include <math.h>
+
+#include "env.h"
+#include "fresnel.h"
+#include "reftrace_integrate.h"
+
+/* docs/tracing.md constants. */
+#define INDEX_EPS 1e-6      /* |n - ambient_n| at or below this: no interface */
+#define EXIT_EPS_VOXELS 1e-3 /* an object counts only if its exit is further than this */
+#define ABSORBED_EPS 1e-6   /* T_f * max(exp(-alpha)) below this: absorbed */
+/* Adaptive integrator: step-size factors per step and the smallest step relative to
+ * the object's largest extent. */
+#define ADAPT_SHRINK_MIN 0.2
+#define ADAPT_GROW_MAX 5.0
+#define ADAPT_SAFETY 0.9
+#define ADAPT_MIN_STEP_REL 1e-9
+/* Page silent: a ray that keeps reflecting off faces between objects could pass from
+ * object to object forever without taking a step. Same cap as the GLSL twin; reaching it
+ * ends the ray with status max_steps. */
+#define MAX_PASSES (4 * MAX_OBJECTS + 64)
+
+/* The state of docs/tracing.md "The march". */
+struct march {
+    const struct reftrace_settings *set;
+    vec3 x, d;  /* world position and unit direction */
+    double t_f; /* Fresnel throughput */
+    vec3 alpha; /* optical depth per channel (tevs2007 eq. 5.9) */
+    vec3 L;     /* radiance gathered along the view ray */
+    double opl; /* optical path length, world units */
+    int steps;  /* integration steps over the whole ray */
+    bool running;
+    enum ray_status status;
+    bool crossed; /* met at least one object */
+};
+
+/* An object's per-march constants. */
+struct object_frame {
+    const struct reftrace_object *o;
+    double scale; /* world units per object unit */
+    vec3 vs;      /* voxel size, object units */
+    double h_min; /* min(vs) */
+};
+
+static vec3 exp_neg(vec3 a)
+{
+    return (vec3){exp(-a.x), exp(-a.y), exp(-a.z)};
+}
+
+static vec3 environment(const struct march *m, vec3 d_world)
+{
+    return vec3_scale(env_procedural(d_world), m->set->env_intensity);
+}
+
+/* L += T_f exp(-alpha) * R * env(d_world): a reflection that looks up the environment
+ * directly (tevs2007 sect. 6.3: reflected rays are not cast back through the volume). */
+static void add_reflection(struct march *m, double R, vec3 d_world)
+{
+    vec3 t = vec3_scale(exp_neg(m->alpha), m->t_f * R);
+    m->L = vec3_add(m->L, vec3_mul(t, environment(m, d_world)));
+}
+
+static double throughput(const struct march *m)
+{
+    vec3 t = exp_neg(m->alpha);
+    return m->t_f * fmax(t.x, fmax(t.y, t.z));
+}
+
+static void stop(struct march *m, enum ray_status status)
+{
+    m->status = status;
+    m->running = false;
+}
+
+static vec3 axis_normal(int axis, double sign)
+{
+    vec3 n = {0, 0, 0};
+    vec3_set(&n, axis, sign);
+    return n;
+}
+
+static bool outside_bounds(const struct reftrace_object *o, vec3 p)
+{
+    for (int a = 0; a < 3; a++) {
+        double v = vec3_get(p, a);
+        if (v < vec3_get(o->bmin, a) || v > vec3_get(o->bmax, a))
+            return true;
+    }
+    return false;
+}
+
+/* Slab test of the object-space ray o + t q against the bounds (t in object units).
+ * Returns false when the line misses the box. t0 may be negative (origin inside);
+ * axis and sign name the entry face (its outward normal is sign along axis). */
+static bool slab_test(const struct reftrace_object *o, vec3 org, vec3 q, double *t0, double *t1,
+                      int *axis, double *sign)
+{
+    *t0 = -INFINITY;
+    *t1 = INFINITY;
+    *axis = 0;
+    *sign = -1.0;
+    for (int a = 0; a < 3; a++) {
+        double oa = vec3_get(org, a), qa = vec3_get(q, a);
+        double lo = vec3_get(o->bmin, a), hi = vec3_get(o->bmax, a);
+        if (qa == 0.0) {
+            if (oa < lo || oa > hi)
+                return false;
+            continue;
+        }
+        double ta = (lo - oa) / qa, tb = (hi - oa) / qa;
+        double tn = fmin(ta, tb), tf = fmax(ta, tb);
+        if (tn > *t0) {
+            *t0 = tn;
+            *axis = a;
+            *sign = qa > 0.0 ? -1.0 : 1.0;
+        }
+        *t1 = fmin(*t1, tf);
+    }
+    return *t0 <= *t1;
+}
+
+/* The entry chosen in step 1. */
+struct entry {
+    int index;
+    double t_world; /* distance from the current position, world units */
+    bool inside;    /* the position is already inside the bounds */
+    int axis;       /* entry face */
+    double sign;
+};
+
+/* Step 1: the object with the smallest entry distance among those whose exit is
+ * further than EXIT_EPS_VOXELS of its smallest voxel edge; ties go to the lower index ("the first one entered
+ * wins"). Returns false when there is none. */
+static bool next_object(const struct march *m, const struct reftrace_object *objects, int count,
+                        struct entry *e)
+{
+    e->index = -1;
+    e->t_world = INFINITY;
+    for (int i = 0; i < count; i++) {
+        const struct reftrace_object *o = &objects[i];
+        vec3 org = xform_point_to_object(&o->xf, m->x);
+        vec3 q = xform_dir_to_object(&o->xf, m->d);
+        double t0, t1, sign;
+        int axis;
+        if (!slab_test(o, org, q, &t0, &t1, &axis, &sign))
+            continue;
+        vec3 vs = reftrace_voxel_size(o);
+        if (t1 <= EXIT_EPS_VOXELS * fmin(vs.x, fmin(vs.y, vs.z)))
+            continue;
+        double tw = fmax(t0, 0.0) * o->xf.scale;
+        if (tw < e->t_world) {
+            e->index = i;
+            e->t_world = tw;
+            /* An origin on the face counts as inside (page silent; as the GLSL twin). */
+            e->inside = t0 <= 0.0;
+            e->axis = axis;
+            e->sign = sign;
+        }
+    }
+    return e->index >= 0;
+}
+
+/* Crossing a bounds face (outward normal nrm, object space) from n_from to n_to, with
+ * the object-space direction *q. Returns false on total internal reflection, with *q
+ * mirrored; otherwise gathers the reflection, multiplies T_f by 1 - R and refracts *q
+ * (frisvad2010: Fresnel equations, law of refraction). */
+static bool cross_face(struct march *m, const struct object_frame *fr, vec3 *q, vec3 nrm,
+                       double n_from, double n_to)
+{
+    if (fabs(n_from - n_to) <= INDEX_EPS)
+        return true;
+    double R = fresnel_unpolarized(fabs(vec3_dot(*q, nrm)), n_from, n_to);
+    vec3 r = vec3_reflect(*q, nrm);
+    vec3 t;
+    if (R >= 1.0 || !snell_refract(*q, nrm, n_from, n_to, &t)) {
+        *q = r;
+        return false;
+    }
+    add_reflection(m, R, xform_dir_to_world(&fr->o->xf, r));
+    m->t_f *= 1.0 - R;
+    *q = t;
+    return true;
+}
+
+/* Sharp boundaries inside the field (docs/tracing.md "Sharp boundaries"): entering a
+ * zone where |grad n| h_min exceeds the threshold probes the index k = (3 sigma + 2)
+ * h_min to either side along grad n; the Fresnel event happens where the ray crosses the
+ * zone's middle index, once per zone. */
+struct zone {
+    bool inside, armed;
+    double n_lo, n_hi, n_mid;
+};
+
+static void zone_enter(struct zone *z, const struct object_frame *fr, vec3 p, vec3 grad)
+{
+    vec3 nrm = vec3_normalize(grad);
+    double k = (3.0 * fr->o->smoothing_sigma_voxels + 2.0) * fr->h_min;
+    vec3 g_unused;
+    z->n_lo = reftrace_sample_ior(fr->o, vec3_madd(p, nrm, -k), &g_unused);
+    z->n_hi = reftrace_sample_ior(fr->o, vec3_madd(p, nrm, k), &g_unused);
+    z->n_mid = 0.5 * (z->n_lo + z->n_hi);
+    z->inside = true;
+    z->armed = true;
+}
+
+static bool zone_crossed(const struct zone *z, double n_before, double n_after)
+{
+    return z->armed && n_before != n_after && (n_before - z->n_mid) * (n_after - z->n_mid) <= 0.0;
+}
+
+/* The crossing at p: unpolarised Fresnel from the side the ray comes from. n_i sin_i >=
+ * n_t means the ray equation itself turns the ray around (tevs2007 sect. 5.2);
+ * fresnel_unpolarized returns exactly 1 then and nothing is added. */
+static void zone_event(struct march *m, struct zone *z, const struct object_frame *fr,
+                       vec3 grad, double n_before, double n_after, vec3 q)
+{
+    z->armed = false;
+    if (vec3_length(grad) <= 0.0)
+        return;
+    vec3 nrm = vec3_normalize(grad);
+    bool rising = n_after > n_before;
+    double R = fresnel_unpolarized(fabs(vec3_dot(q, nrm)), rising ? z->n_lo : z->n_hi,
+                                   rising ? z->n_hi : z->n_lo);
+    if (R >= 1.0)
+        return;
+    add_reflection(m, R, xform_dir_to_world(&fr->o->xf, vec3_reflect(q, nrm)));
+    m->t_f *= 1.0 - R;
+}
+
+/* Opaque embedding hit at p (tevs2007 sect. 6.1, T6): the normal is the coverage
+ * gradient by central differences one voxel to either side, pointing out of the
+ * embedding (towards lower coverage). */
+static void opaque_hit(struct march *m, const struct object_frame *fr, vec3 p, vec3 q,
+                       double n_here, vec3 colour)
+{
+    vec3 g = {0, 0, 0};
+    for (int a = 0; a < 3; a++) {
+        double h = vec3_get(fr->vs, a);
+        vec3 e = axis_normal(a, h);
+        vec3 c_unused;
+        double cp = 0.0, cm = 0.0;
+        reftrace_sample_opaque(fr->o, vec3_add(p, e), &c_unused, &cp);
+        reftrace_sample_opaque(fr->o, vec3_sub(p, e), &c_unused, &cm);
+        vec3_set(&g, a, (cp - cm) / (2.0 * h));
+    }
+    /* Uniform coverage (the ray started inside): face the ray. Page silent; as GLSL. */
+    vec3 nrm = vec3_length(g) > 1e-12 ? vec3_scale(vec3_normalize(g), -1.0) : vec3_scale(q, -1.0);
+    double R = fresnel_unpolarized(fabs(vec3_dot(q, nrm)), n_here, fr->o->opaque_ior);
+    vec3 env_r = environment(m, xform_dir_to_world(&fr->o->xf, vec3_reflect(q, nrm)));
+    vec3 seen = vec3_add(vec3_scale(env_r, R), vec3_scale(colour, 1.0 - R));
+    m->L = vec3_add(m->L, vec3_mul(vec3_scale(exp_neg(m->alpha), m->t_f), seen));
+}
+
+/* Fraction f in [0, 1] of the segment p0 -> p1 (p1 outside) that stays inside the
+ * bounds, and the face it leaves through. */
+static double exit_fraction(const struct reftrace_object *o, vec3 p0, vec3 p1, int *axis,
+                            double *sign)
+{
+    double f = 1.0;
+    *axis = 0;
+    *sign = 1.0;
+    for (int a = 0; a < 3; a++) {
+        double a0 = vec3_get(p0, a), a1 = vec3_get(p1, a), da = a1 - a0;
+        double fa = 2.0;
+        if (a1 > vec3_get(o->bmax, a) && da > 0.0)
+            fa = (vec3_get(o->bmax, a) - a0) / da;
+        else if (a1 < vec3_get(o->bmin, a) && da < 0.0)
+            fa = (vec3_get(o->bmin, a) - a0) / da;
+        if (fa < f) {
+            f = fa;
+            *axis = a;
+            *sign = da > 0.0 ? 1.0 : -1.0;
+        }
+    }
+    return fmin(fmax(f, 0.0), 1.0);
+}
+
+/* Puts p exactly on the face (axis, sign), removing rounding from the cut. */
+static vec3 snap_to_face(const struct reftrace_object *o, vec3 p, int axis, double sign)
+{
+    vec3_set(&p, axis, vec3_get(sign > 0.0 ? o->bmax : o->bmin, axis));
+    return p;
+}
+
+/* One step's outcome, whichever integrator took it. */
+struct step_out {
+    vec3 p, w;               /* end of the step (on the face when leaving) */
+    struct reftrace_field f; /* field at p */
+    bool leaving;
+    int axis; /* exit face when leaving */
+    double sign;
+};
+
+/* Euler or RK4 step with the straight-segment cut and trapezoid accumulation. The page
+ * is silent on w at the cut; like the GLSL twin it is interpolated with the same
+ * fraction, w + f (w' - w). */
+static void fixed_step(struct march *m, const struct object_frame *fr, vec3 p, vec3 w,
+                       const struct reftrace_field *f0, struct step_out *s)
+{
+    double h = m->set->step_voxels * fr->h_min;
+    s->p = p;
+    s->w = w;
+    if (m->set->integrator == REFTRACE_EULER)
+        reftrace_step_euler(fr->o, h, &s->p, &s->w);
+    else
+        reftrace_step_rk4(fr->o, h, &s->p, &s->w);
+    s->leaving = outside_bounds(fr->o, s->p);
+    if (s->leaving) {
+        double f = exit_fraction(fr->o, p, s->p, &s->axis, &s->sign);
+        s->p = snap_to_face(fr->o, vec3_madd(p, vec3_sub(s->p, p), f), s->axis, s->sign);
+        s->w = vec3_madd(w, vec3_sub(s->w, w), f);
+    }
+    reftrace_sample_field(fr->o, s->p, &s->f);
+    /* Trapezoid rule over the segment's world length (tevs2007 eq. 5.9 for alpha, eq.
+     * 5.10's emission term for L). */
+    double ds = vec3_length(vec3_sub(s->p, p)) * fr->scale;
+    m->opl += 0.5 * (f0->n + s->f.n) * ds;
+    m->alpha = vec3_madd(m->alpha, vec3_add(f0->sigma_a, s->f.sigma_a), 0.5 * ds);
+    vec3 t = vec3_scale(exp_neg(m->alpha), m->t_f * ds);
+    m->L = vec3_add(m->L, vec3_mul(t, s->f.emission));
+}
+
+/* How far p is outside the box along the worst axis: > 0 outside, <= 0 inside (minus
+ * the distance to the nearest face). Also names that face. */
+static double box_excess(const struct reftrace_object *o, vec3 p, int *axis, double *sign)
+{
+    double worst = -INFINITY;
+    for (int a = 0; a < 3; a++) {
+        double below = vec3_get(o->bmin, a) - vec3_get(p, a);
+        double above = vec3_get(p, a) - vec3_get(o->bmax, a);
+        if (below > worst) {
+            worst = below;
+            *axis = a;
+            *sign = -1.0;
+        }
+        if (above > worst) {
+            worst = above;
+            *axis = a;
+            *sign = 1.0;
+        }
+    }
+    return worst;
+}
+
+/* Dormand-Prince 5(4) step with error control on the position, step factors bounded
+ * to [0.2, 5], steps never below 1e-9 of the bounds' largest extent. A step that would
+ * leave the bounds is shortened by bisection on its length until it ends inside within
+ * `tolerance` of a face, then snapped onto it. The step's integrals are added to the
+ * march. *h carries the step size between calls.
+ *
+ * The error norm is in object units: |e_p| + D |e_w| / |w| + |e_opl| / scale, the
+ * position error, plus the displacement a direction error would cause over the
+ * object's largest extent D, plus the optical path error. The direction term matters
+ * where grad n jumps (the surface of a Luneburg lens or a fish-eye): there the embedded
+ * estimate of p stays small while w takes an O(h dg) error, which showed up as exit
+ * directions off by 1e-5 at tolerance 1e-10; the path term keeps the OPL, which is a
+ * reference value too, at the same accuracy (1e-8 at 1e-10 without it). */
+static void adaptive_step(struct march *m, const struct object_frame *fr, vec3 p, vec3 w, double *h,
+                          struct step_out *s)
+{
+    double tol = m->set->tolerance;
+    vec3 ext = vec3_sub(fr->o->bmax, fr->o->bmin);
+    double extent = fmax(ext.x, fmax(ext.y, ext.z));
+    double h_floor = ADAPT_MIN_STEP_REL * extent;
+    double w_weight = extent / fmax(vec3_length(w), 1e-300);
+    struct reftrace_ode y0 = {.p = p, .w = w}, y1;
+    double err, e[3], hs = fmax(*h, h_floor);
+    for (;;) {
+        reftrace_step_dopri(fr->o, fr->scale, hs, &y0, &y1, e);
+        err = e[0] + w_weight * e[1] + e[2] / fr->scale;
+        if (err <= tol || hs <= h_floor)
+            break;
+        double fac = fmax(ADAPT_SAFETY * pow(tol / err, 0.2), ADAPT_SHRINK_MIN);
+        hs = fmax(hs * fac, h_floor);
+    }
+    double grow = err > 0.0 ? ADAPT_SAFETY * pow(tol / err, 0.2) : ADAPT_GROW_MAX;
+    *h = fmax(hs * fmin(fmax(grow, ADAPT_SHRINK_MIN), ADAPT_GROW_MAX), h_floor);
+
+    s->leaving = outside_bounds(fr->o, y1.p);
+    if (s->leaving) {
+        /* Exact exit: bisection on the step length between lo (inside) and hi
+         * (outside), from the same start, until the end point is inside and within tol
+         * of a face. Shorter steps than an accepted one are at least as accurate. */
+        double lo = 0.0, hi = hs;
+        struct reftrace_ode y_lo = y0, ym;
+        for (int it = 0; it < 200 && hi - lo > DBL_EPSILON * hs; it++) {
+            double mid = 0.5 * (lo + hi), e_unused[3];
+            int ax;
+            double sg;
+            reftrace_step_dopri(fr->o, fr->scale, mid, &y0, &ym, e_unused);
+            double excess = box_excess(fr->o, ym.p, &ax, &sg);
+            if (excess > 0.0) {
+                hi = mid;
+                continue;
+            }
+            lo = mid;
+            y_lo = ym;
+            if (excess >= -tol)
+                break;
+        }
+        y1 = y_lo;
+        box_excess(fr->o, y1.p, &s->axis, &s->sign);
+        y1.p = snap_to_face(fr->o, y1.p, s->axis, s->sign);
+    }
+    s->p = y1.p;
+    s->w = y1.w;
+    reftrace_sample_field(fr->o, s->p, &s->f);
+    m->opl += y1.opl;
+    m->L = vec3_add(m->L, vec3_mul(vec3_scale(exp_neg(m->alpha), m->t_f), y1.emit));
+    m->alpha = vec3_add(m->alpha, y1.alpha);
+}
+
+/* Step 4: integrates through one object from object-space p with unit direction q until
+ * the ray leaves the bounds (m->x, m->d updated, m->running still true) or stops. */
+static void march_object(struct march *m, const struct object_frame *fr, vec3 p, vec3 q)
+{
+    const struct reftrace_settings *set = m->set;
+    struct reftrace_field f0;
+    reftrace_sample_field(fr->o, p, &f0);
+    vec3 w = vec3_scale(q, f0.n); /* tevs2007 eqs. 4.8/4.9: w = n dx/ds */
+    struct zone zone = {.inside = false, .armed = false};
+    double h_adapt = set->step_voxels * fr->h_min;
+    for (;;) {
+        /* The budget is checked before each step (as the GLSL twin). */
+        if (m->steps >= set->max_steps) {
+            stop(m, RAY_MAX_STEPS);
+            m->x = xform_point_to_world(&fr->o->xf, p);
+            m->d = xform_dir_to_world(&fr->o->xf, vec3_normalize(w));
+            return;
+        }
+        struct step_out s;
+        if (set->integrator == REFTRACE_ADAPTIVE)
+            adaptive_step(m, fr, p, w, &h_adapt, &s);
+        else
+            fixed_step(m, fr, p, w, &f0, &s);
+        m->steps++;
+        vec3 q1 = vec3_normalize(s.w);
+
+        /* Sharp boundaries: zone entry, then one event where the middle index is crossed. */
+        double g = vec3_length(s.f.grad) * fr->h_min;
+        if (!zone.inside && g > set->boundary_threshold)
+            zone_enter(&zone, fr, s.p, s.f.grad);
+        if (zone_crossed(&zone, f0.n, s.f.n))
+            zone_event(m, &zone, fr, s.f.grad, f0.n, s.f.n, q1);
+        if (zone.inside && g < 0.5 * set->boundary_threshold)
+            zone.inside = zone.armed = false;
+
+        vec3 colour;
+        double coverage;
+        bool stopped = false;
+        if (reftrace_sample_opaque(fr->o, s.p, &colour, &coverage) && coverage >= 0.5) {
+            opaque_hit(m, fr, s.p, q1, s.f.n, colour);
+            stop(m, RAY_ABSORBED);
+            stopped = true;
+        } else if (throughput(m) < ABSORBED_EPS) {
+            stop(m, RAY_ABSORBED);
+            stopped = true;
+        }
+        if (stopped) {
+            m->x = xform_point_to_world(&fr->o->xf, s.p);
+            m->d = xform_dir_to_world(&fr->o->xf, q1);
+            return;
+        }
+
+        p = s.p;
+        w = s.w;
+        f0 = s.f;
+        if (s.leaving) {
+            /* Exit face: from n(p') to the ambient index. */
+            vec3 nrm = axis_normal(s.axis, s.sign);
+            if (cross_face(m, fr, &q1, nrm, s.f.n, set->ambient_ior)) {
+                m->x = xform_point_to_world(&fr->o->xf, p);
+                m->d = xform_dir_to_world(&fr->o->xf, q1);
+                return;
+            }
+            w = vec3_scale(q1, s.f.n); /* totally reflected (q1 mirrored): march on */
+        }
+    }
+}
+
+void reftrace_ray(const struct reftrace_object *objects, int count,
+                  const struct reftrace_settings *settings, vec3 origin, vec3 dir,
+                  struct reftrace_result *out)
+{
+    assert(settings->step_voxels > 0.0);
+    assert(settings->integrator != REFTRACE_ADAPTIVE || settings->tolerance > 0.0);
+    struct march m = {
+        .set = settings,
+        .x = origin,
+        .d = vec3_normalize(dir),
+        .t_f = 1.0,
+        .running = true,
+    };
+    for (int pass = 0; m.running; pass++) {
+        if (pass >= MAX_PASSES) {
+            stop(&m, RAY_MAX_STEPS);
+            break;
+        }
+        /* 1. The object entered first. */
+        struct entry e;
+        if (!next_object(&m, objects, count, &e)) {
+            stop(&m, m.crossed ? RAY_EXITED : RAY_MISSED);
+            /* 5. The background term of tevs2007 eq. 5.10. */
+            vec3 t = vec3_scale(exp_neg(m.alpha), m.t_f);
+            m.L = vec3_add(m.L, vec3_mul(t, environment(&m, m.d)));
+            break;
+        }
+        const struct reftrace_object *o = &objects[e.index];
+        struct object_frame fr = {.o = o, .scale = o->xf.scale, .vs = reftrace_voxel_size(o)};
+        fr.h_min = fmin(fr.vs.x, fmin(fr.vs.y, fr.vs.z));
+        m.crossed = true;
+
+        /* 2. Advance to the entry point through the ambient medium. */
+        m.x = vec3_madd(m.x, m.d, e.t_world);
+        m.opl += settings->ambient_ior * e.t_world;
+        vec3 p = xform_point_to_object(&o->xf, m.x);
+        vec3 q = xform_dir_to_object(&o->xf, m.d);
+
+        /* 3. Entry face. */
+        if (!e.inside) {
+            p = snap_to_face(o, p, e.axis, e.sign);
+            vec3 g_unused;
+            double n_in = reftrace_sample_ior(o, p, &g_unused);
+            if (!cross_face(&m, &fr, &q, axis_normal(e.axis, e.sign), settings->ambient_ior,
+                            n_in)) {
+                m.d = xform_dir_to_world(&o->xf, q); /* reflected, never entered */
+                continue;
+            }
+        }
+        /* 4. Through the field. */
+        march_object(&m, &fr, p, q);
+    }
+    out->status = m.status;
+    out->exit_origin = m.x;
+    out->exit_direction = m.d;
+    out->transmittance = vec3_scale(exp_neg(m.alpha), m.t_f);
+    out->optical_path_length = m.opl;
+    out->steps = m.steps;
+    out->radiance = m.L;
+}

@@ -1,0 +1,144 @@
+/*
+ * program.c - compiling and linking the compute kernels; see program.h.
+ */
+#include "program.h"
+
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../core/log.h"
+#include "shader_source.h"
+
+static const char *const kernel_files[GPU_KERNEL_COUNT] = {
+    [GPU_KERNEL_SMOOTH_IOR] = "smooth_ior.comp",
+    [GPU_KERNEL_GRADIENT_IOR] = "gradient_ior.comp",
+    [GPU_KERNEL_RENDER_VIEW] = "render_view.comp",
+    [GPU_KERNEL_TRACE_RAYS] = "trace_rays.comp",
+};
+
+/* The variant bits that matter for a kernel. */
+static unsigned variant_mask(enum gpu_kernel kernel)
+{
+    switch (kernel) {
+    case GPU_KERNEL_RENDER_VIEW:
+        return GPU_VARIANT_COUNT - 1;
+    case GPU_KERNEL_TRACE_RAYS:
+        return GPU_VARIANT_RK4 | GPU_VARIANT_ATTENUATION | GPU_VARIANT_OPAQUE;
+    default:
+        return 0;
+    }
+}
+
+static char *info_log(GLuint object, bool is_program)
+{
+    GLint len = 0;
+    if (is_program)
+        glGetProgramiv(object, GL_INFO_LOG_LENGTH, &len);
+    else
+        glGetShaderiv(object, GL_INFO_LOG_LENGTH, &len);
+    char *log = calloc((size_t)len + 1, 1);
+    if (log == NULL)
+        return NULL;
+    if (is_program)
+        glGetProgramInfoLog(object, len, NULL, log);
+    else
+        glGetShaderInfoLog(object, len, NULL, log);
+    return log;
+}
+
+GLuint gpu_program_create(const struct gpu_program_desc *desc, const char *shader_dir,
+                          struct err *e)
+{
+    struct shader_source src;
+    if (shader_source_expand(desc->main, shader_dir, desc->preamble, &src, e) != REFRACT_E_OK)
+        return 0;
+    GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
+    const char *text = src.text;
+    glShaderSource(shader, 1, &text, NULL);
+    glCompileShader(shader);
+    GLint ok = 0;
+    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char *log = info_log(shader, false);
+        char *mapped = log ? shader_source_map_log(&src, log) : NULL;
+        err_set(e, REFRACT_E_GPU_ERROR, "compiling %s failed:\n%s", desc->main,
+                mapped ? mapped : "(no log)");
+        free(mapped);
+        free(log);
+        glDeleteShader(shader);
+        shader_source_fini(&src);
+        return 0;
+    }
+    GLuint program = glCreateProgram();
+    glAttachShader(program, shader);
+    glLinkProgram(program);
+    glDetachShader(program, shader);
+    glDeleteShader(shader);
+    glGetProgramiv(program, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char *log = info_log(program, true);
+        char *mapped = log ? shader_source_map_log(&src, log) : NULL;
+        err_set(e, REFRACT_E_GPU_ERROR, "linking %s failed:\n%s", desc->main,
+                mapped ? mapped : "(no log)");
+        free(mapped);
+        free(log);
+        glDeleteProgram(program);
+        shader_source_fini(&src);
+        return 0;
+    }
+    glObjectLabel(GL_PROGRAM, program, -1, desc->label);
+    shader_source_fini(&src);
+    return program;
+}
+
+enum refract_code gpu_programs_build(struct gpu_programs *p, const char *shader_dir,
+                                     struct err *e)
+{
+    memset(p, 0, sizeof *p);
+    int built = 0;
+    for (int k = 0; k < GPU_KERNEL_COUNT; k++) {
+        unsigned mask = variant_mask((enum gpu_kernel)k);
+        for (unsigned v = 0; v < GPU_VARIANT_COUNT; v++) {
+            if ((v & ~mask) != 0)
+                continue;
+            char preamble[256], label[96];
+            snprintf(preamble, sizeof preamble,
+                     "#define MARCH_INTEGRATOR %s\n#define MARCH_ATTENUATION %d\n"
+                     "#define MARCH_EMISSION %d\n#define MARCH_OPAQUE %d",
+                     (v & GPU_VARIANT_RK4) ? "INTEGRATOR_RK4" : "INTEGRATOR_EULER",
+                     (v & GPU_VARIANT_ATTENUATION) ? 1 : 0, (v & GPU_VARIANT_EMISSION) ? 1 : 0,
+                     (v & GPU_VARIANT_OPAQUE) ? 1 : 0);
+            snprintf(label, sizeof label, "%s variant %u", kernel_files[k], v);
+            struct gpu_program_desc desc = {.label = label,
+                                            .main = kernel_files[k],
+                                            .preamble = mask ? preamble : NULL};
+            p->program[k][v] = gpu_program_create(&desc, shader_dir, e);
+            if (p->program[k][v] == 0) {
+                gpu_programs_destroy(p);
+                return e->code;
+            }
+            built++;
+        }
+    }
+    log_info("gpu", "compiled %d compute programs (kernels x variants) from %s", built,
+             shader_dir ? shader_dir : "embedded shaders");
+    return REFRACT_E_OK;
+}
+
+void gpu_programs_destroy(struct gpu_programs *p)
+{
+    for (int k = 0; k < GPU_KERNEL_COUNT; k++) {
+        for (int v = 0; v < GPU_VARIANT_COUNT; v++) {
+            if (p->program[k][v])
+                glDeleteProgram(p->program[k][v]);
+            p->program[k][v] = 0;
+        }
+    }
+}
+
+GLuint gpu_program_get(const struct gpu_programs *p, enum gpu_kernel kernel, unsigned variant)
+{
+    return p->program[kernel][variant & variant_mask(kernel)];
+}

@@ -1,0 +1,92 @@
+/*
+ * queue.h - the GPU thread and its priority queue of work items.
+ *
+ * DESIGN (docs/ARCHITECTURE.md, "One thread owns the GPU"): a GL context belongs to one
+ * thread, so refractd runs exactly one GPU thread. It takes work items from a queue with
+ * four priorities, interactive renders first, then light-simulation chunks, then batch
+ * frames, then maintenance, FIFO within a priority. Items never preempt one another:
+ * long work is split into bounded chunks by its owner and resubmitted.
+ *
+ * Each item carries a deadline. When the thread pops an item whose deadline has passed
+ * (its requester may be gone: a suspended HTTP client can leave unnoticed), the item is
+ * not run; its `done` is called with err.code = REFRACT_E_TIMEOUT. On shutdown every
+ * pending item except maintenance is completed with REFRACT_E_SHUTTING_DOWN, so every
+ * suspended connection gets resumed.
+ *
+ * Ownership: a submitted item is borrowed by the queue until its `done` has been called;
+ * the submitter must keep it alive until then and may free it inside `done`.
+ * Thread: gpu_submit from any thread; run/done are called on the GPU thread.
+ */
+#ifndef REFRACT_GPU_QUEUE_H
+#define REFRACT_GPU_QUEUE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "../core/err.h"
+#include "context.h"
+#include "program.h"
+
+enum gpu_priority {
+    GPU_PRIORITY_INTERACTIVE = 0, /* renders and traces a person waits for */
+    GPU_PRIORITY_LIGHTSIM = 1,    /* chunks of light simulation */
+    GPU_PRIORITY_BATCH = 2,       /* batch job frames */
+    GPU_PRIORITY_MAINTENANCE = 3, /* scene builds ahead of use, frees; always run */
+    GPU_PRIORITY_COUNT = 4,
+};
+
+struct gpu;
+
+struct gpu_work {
+    enum gpu_priority priority;
+    int64_t deadline_ms; /* gpu_now_ms() clock; 0 = no deadline */
+    const char *label;   /* for logs */
+    /* Runs on the GPU thread; reports failure through w->err. */
+    void (*run)(struct gpu_work *w, struct gpu *gpu);
+    /* Called on the GPU thread after run, or instead of it with w->err.code set to
+     * TIMEOUT or SHUTTING_DOWN. Must not block. */
+    void (*done)(struct gpu_work *w);
+    struct err err;
+    void *user; /* the submitter's context */
+    /* queue-private */
+    struct gpu_work *next;
+    int64_t queued_ms;
+};
+
+struct gpu_desc {
+    struct gpu_context_desc context;
+    const char *shader_dir; /* NULL = embedded shaders */
+    size_t max_queued;      /* 0 = 256; gpu_submit answers BUSY beyond it */
+};
+
+/* Starts the GPU thread, which creates the EGL context and builds every program, and
+ * waits for that to finish. Returns a new gpu (destroy with gpu_destroy) or NULL with e
+ * filled by the context or shader failure. */
+struct gpu *gpu_create(const struct gpu_desc *desc, struct err *e);
+
+/* Stops the thread: pending items are completed (maintenance runs, others get
+ * SHUTTING_DOWN), then `final` (may be NULL) runs on the GPU thread so its owner can
+ * release GL objects, then the context is destroyed and the thread joined. NULL is a
+ * no-op. */
+void gpu_destroy(struct gpu *g, struct gpu_work *final);
+
+/* Queues w. Returns OK, or BUSY when the queue is full, or SHUTTING_DOWN; then w is not
+ * queued and its done will not be called. */
+enum refract_code gpu_submit(struct gpu *g, struct gpu_work *w, struct err *e);
+
+/* Queues w and waits until its done has been called; returns w->err.code. w->done may
+ * be NULL. For tests, benchmarks and start-up; never call it from the GPU thread. */
+enum refract_code gpu_run_sync(struct gpu *g, struct gpu_work *w);
+
+/* Borrowed; valid for the gpu's lifetime. */
+const struct gpu_context_info *gpu_info(const struct gpu *g);
+/* GPU thread only. */
+const struct gpu_programs *gpu_programs_get(const struct gpu *g);
+
+size_t gpu_queue_length(struct gpu *g);
+/* Monotonic milliseconds. */
+int64_t gpu_now_ms(void);
+/* Monotonic milliseconds with sub-millisecond resolution, for timings. */
+double gpu_time_ms(void);
+
+#endif

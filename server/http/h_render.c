@@ -1,0 +1,234 @@
+/*
+ * h_render.c - POST /v1/scenes/{id}/render and POST /v1/scenes/{id}/trace.
+ *
+ * Both parse and validate on the HTTP thread, take a reference to the scene's current
+ * version, and hand a job to the GPU thread (http_suspend_for_gpu). The GPU thread runs
+ * render_view / render_trace; back on an HTTP thread the result is encoded (tone mapping
+ * and PNG/JPEG, or linear EXR) or written as JSON.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../core/ray_status.h"
+#include "../io/io_image.h"
+#include "http_internal.h"
+
+/* The source description of a version for the renderer. */
+static struct render_scene_source scene_source(struct store_scene *v)
+{
+    return (struct render_scene_source){
+        .id = v->id,
+        .generation = v->generation,
+        .scene = v->scene,
+        .lookup = store_volume_lookup,
+        .lookup_ctx = v,
+        .env_rgba = v->env ? v->env->rgba : NULL,
+        .env_width = v->env ? v->env->width : 0,
+        .env_height = v->env ? v->env->height : 0,
+    };
+}
+
+/* After a build on the request path, record it like a background build would. */
+static void note_build(const struct http_app *app, const struct store_scene *v,
+                       const struct render_scene_status *rs)
+{
+    if (!rs->built_now)
+        return;
+    struct store_gpu_status st = {.generation = v->generation,
+                                  .gpu_bytes = rs->gpu_bytes,
+                                  .build_ms = rs->build_ms};
+    snprintf(st.state, sizeof st.state, "ready");
+    store_gpu_status_set(app->store, v->id, &st);
+}
+
+/* ---- render ---------------------------------------------------------------------------- */
+
+struct render_job {
+    struct store_scene *version; /* owned reference */
+    struct http_render_request request;
+    struct render_view_result result;
+};
+
+static void render_job_free(void *p)
+{
+    struct render_job *job = p;
+    store_scene_release(job->version);
+    free(job->result.rgba);
+    free(job);
+}
+
+static void render_run(struct gpu_work *w, struct gpu *gpu)
+{
+    (void)gpu;
+    struct http_request *req = w->user;
+    struct render_job *job = req->job;
+    struct render_scene_source src = scene_source(job->version);
+    if (render_view(req->app->render, &src, &job->request.view, &job->result, &w->err) ==
+        REFRACT_E_OK)
+        note_build(req->app, job->version, &job->result.scene);
+}
+
+static enum refract_code encode(const struct render_job *job, void **bytes, size_t *len,
+                                const char **content_type, struct err *e)
+{
+    const struct render_view_result *r = &job->result;
+    const struct http_render_request *rq = &job->request;
+    if (rq->format == HTTP_FORMAT_EXR) {
+        *content_type = "image/x-exr";
+        return io_encode_exr(r->rgba, r->width, r->height, bytes, len, e);
+    }
+    uint8_t *px = malloc((size_t)r->width * (size_t)r->height * 4);
+    if (px == NULL)
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory encoding the image");
+    io_tonemap_srgb8(r->rgba, r->width, r->height, rq->exposure_ev,
+                     rq->tonemap == SCENE_TONEMAP_FILMIC ? IO_TONEMAP_FILMIC : IO_TONEMAP_CLAMP,
+                     px);
+    enum refract_code rc;
+    if (rq->format == HTTP_FORMAT_JPEG) {
+        *content_type = "image/jpeg";
+        rc = io_encode_jpeg(px, r->width, r->height, rq->jpeg_quality, bytes, len, e);
+    } else {
+        *content_type = "image/png";
+        rc = io_encode_png(px, r->width, r->height, bytes, len, e);
+    }
+    free(px);
+    return rc;
+}
+
+static enum MHD_Result render_answer(struct http_request *req)
+{
+    struct render_job *job = req->job;
+    if (req->work.err.code != REFRACT_E_OK)
+        return http_respond_err(req, &req->work.err);
+    void *bytes = NULL;
+    size_t len = 0;
+    const char *content_type = NULL;
+    struct err e = {0};
+    double t0 = gpu_time_ms();
+    if (encode(job, &bytes, &len, &content_type, &e) != REFRACT_E_OK)
+        return http_respond_err(req, &e);
+    char gpu_ms[32], total_ms[32], encode_ms[32], size[32], generation[32];
+    snprintf(gpu_ms, sizeof gpu_ms, "%.3f", job->result.gpu_ms);
+    snprintf(total_ms, sizeof total_ms, "%.3f", gpu_time_ms() - req->started_ms);
+    snprintf(encode_ms, sizeof encode_ms, "%.3f", gpu_time_ms() - t0);
+    snprintf(size, sizeof size, "%dx%d", job->result.width, job->result.height);
+    snprintf(generation, sizeof generation, "%llu",
+             (unsigned long long)job->version->generation);
+    const char *headers[] = {"X-Render-Time-Ms", gpu_ms,
+                             "X-Request-Time-Ms", total_ms,
+                             "X-Encode-Time-Ms", encode_ms,
+                             "X-Renderer", gpu_info(req->app->gpu)->renderer,
+                             "X-Image-Size", size,
+                             "X-Scene-Generation", generation,
+                             NULL};
+    return http_respond_bytes(req, MHD_HTTP_OK, bytes, len, content_type, headers);
+}
+
+enum MHD_Result http_handle_render(struct http_request *req)
+{
+    enum MHD_Result answer = MHD_NO;
+    struct store_scene *v = http_scene_or_404(req, &answer);
+    if (v == NULL)
+        return answer;
+    struct render_job *job = calloc(1, sizeof *job);
+    if (job == NULL) {
+        store_scene_release(v);
+        return http_respond_error(req, REFRACT_E_OUT_OF_MEMORY, "out of memory");
+    }
+    job->version = v;
+    req->job = job;
+    req->job_free = render_job_free;
+    struct err e = {0};
+    if (http_parse_render_request(req->body, req->body_len, v->scene, req->cfg, &job->request,
+                                  &e) != REFRACT_E_OK)
+        return http_respond_err(req, &e);
+    req->work.label = "render";
+    req->work.run = render_run;
+    return http_suspend_for_gpu(req, render_answer);
+}
+
+/* ---- trace ----------------------------------------------------------------------------- */
+
+struct trace_job {
+    struct store_scene *version; /* owned reference */
+    struct scene_render_settings settings;
+    struct render_trace_ray *rays;
+    struct render_trace_hit *hits;
+    size_t count;
+    double gpu_ms;
+};
+
+static void trace_job_free(void *p)
+{
+    struct trace_job *job = p;
+    store_scene_release(job->version);
+    free(job->rays);
+    free(job->hits);
+    free(job);
+}
+
+static void trace_run(struct gpu_work *w, struct gpu *gpu)
+{
+    (void)gpu;
+    struct http_request *req = w->user;
+    struct trace_job *job = req->job;
+    struct render_scene_source src = scene_source(job->version);
+    render_trace(req->app->render, &src, &job->settings, job->rays, job->count, job->hits,
+                 &job->gpu_ms, &w->err);
+}
+
+static cJSON *vec3_json(const double v[3])
+{
+    return cJSON_CreateDoubleArray(v, 3);
+}
+
+static enum MHD_Result trace_answer(struct http_request *req)
+{
+    struct trace_job *job = req->job;
+    if (req->work.err.code != REFRACT_E_OK)
+        return http_respond_err(req, &req->work.err);
+    cJSON *root = cJSON_CreateObject();
+    cJSON *arr = cJSON_AddArrayToObject(root, "rays");
+    for (size_t i = 0; i < job->count; i++) {
+        const struct render_trace_hit *h = &job->hits[i];
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddStringToObject(o, "status", ray_status_json(h->status));
+        cJSON_AddItemToObject(o, "exit_origin", vec3_json(h->exit_origin));
+        cJSON_AddItemToObject(o, "exit_direction", vec3_json(h->exit_direction));
+        cJSON_AddItemToObject(o, "transmittance", vec3_json(h->transmittance));
+        cJSON_AddNumberToObject(o, "optical_path_length", h->optical_path_length);
+        cJSON_AddNumberToObject(o, "steps", h->steps);
+        cJSON_AddItemToArray(arr, o);
+    }
+    cJSON_AddNumberToObject(root, "gpu_ms", job->gpu_ms);
+    cJSON_AddStringToObject(root, "renderer", gpu_info(req->app->gpu)->renderer);
+    return http_respond_json(req, MHD_HTTP_OK, root);
+}
+
+enum MHD_Result http_handle_trace(struct http_request *req)
+{
+    enum MHD_Result answer = MHD_NO;
+    struct store_scene *v = http_scene_or_404(req, &answer);
+    if (v == NULL)
+        return answer;
+    struct trace_job *job = calloc(1, sizeof *job);
+    if (job == NULL) {
+        store_scene_release(v);
+        return http_respond_error(req, REFRACT_E_OUT_OF_MEMORY, "out of memory");
+    }
+    job->version = v;
+    req->job = job;
+    req->job_free = trace_job_free;
+    struct err e = {0};
+    if (http_parse_trace_request(req->body, req->body_len, v->scene, req->cfg, &job->settings,
+                                 &job->rays, &job->count, &e) != REFRACT_E_OK)
+        return http_respond_err(req, &e);
+    job->hits = calloc(job->count, sizeof *job->hits);
+    if (job->hits == NULL)
+        return http_respond_error(req, REFRACT_E_OUT_OF_MEMORY, "out of memory for the hits");
+    req->work.label = "trace";
+    req->work.run = trace_run;
+    return http_suspend_for_gpu(req, trace_answer);
+}

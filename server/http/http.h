@@ -1,0 +1,75 @@
+/*
+ * http.h - refractd's HTTP/JSON API v1 (proto/openapi.yaml) on libmicrohttpd.
+ *
+ * THREADING MODEL: libmicrohttpd runs its own polling threads (epoll, a thread pool of
+ * `threads`), with suspend/resume allowed. Handlers run on those threads and never call
+ * GL. A handler that needs the GPU builds a gpu_work item, submits it to the GPU queue
+ * (server/gpu/queue.h) and suspends its connection; the item's `done` callback, on the GPU
+ * thread, resumes the connection, and the handler runs once more on an HTTP thread to
+ * encode the result (PNG/JPEG/EXR encoding happens there, off the GPU thread) and answer.
+ * Every queued item carries the request deadline, because a suspended connection does
+ * not notice that its client has gone.
+ *
+ * Ownership: the server borrows the store, gpu and render for its lifetime; the caller
+ * stops the server before destroying them (main.c writes the shutdown order).
+ */
+#ifndef REFRACT_HTTP_H
+#define REFRACT_HTTP_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "../core/err.h"
+#include "../gpu/queue.h"
+#include "../render/render.h"
+#include "../scene/scene.h"
+#include "../store/store.h"
+
+struct http_config {
+    const char *bind_address;  /* "127.0.0.1" */
+    int port;                  /* 0 = an ephemeral port (see http_server_port) */
+    int threads;               /* libmicrohttpd thread pool size; 0 = 4 */
+    size_t max_json_bytes;     /* JSON request bodies; 0 = 8 MiB */
+    size_t max_upload_bytes;   /* volume and image uploads; 0 = 1 GiB */
+    int max_rays;              /* per trace request; 0 = 65536 */
+    int request_timeout_ms;    /* deadline of queued GPU work; 0 = 120000 */
+    struct scene_limits limits;
+};
+
+struct http_server;
+
+/* Where the server gets its state. All borrowed. */
+struct http_app {
+    struct store *store;
+    struct gpu *gpu;
+    struct render *render; /* used on the GPU thread only */
+};
+
+/* Starts listening. Returns a new server (stop with http_server_stop) or NULL with e
+ * filled (e.g. the port is taken: says which and how to pick another). */
+struct http_server *http_server_start(const struct http_config *cfg, const struct http_app *app,
+                                      struct err *e);
+/* The port actually bound (useful with port 0). */
+int http_server_port(const struct http_server *s);
+/* Stops accepting new connections; connections in progress continue. */
+void http_server_quiesce(struct http_server *s);
+/* Waits up to timeout_ms until no request is in progress (answered or not). Returns true
+ * when idle. Used at shutdown so connections resumed with "shutting_down" get answered. */
+bool http_server_wait_idle(struct http_server *s, int timeout_ms);
+/* Stops the daemon. Call after the GPU queue has been drained (so no connection is
+ * suspended). NULL is a no-op. */
+void http_server_stop(struct http_server *s);
+
+/* Queues a background build of a scene's GPU data (maintenance priority) and records the
+ * outcome in the store's GPU status. Used after create/upload and at start-up. */
+void http_prepare_scene(const struct http_app *app, struct store_scene *version);
+
+/* The route table, for the contract test (tests/integration/test_openapi_contract.c). */
+struct http_route_info {
+    const char *method;
+    const char *pattern; /* "/v1/scenes/{id}/render" */
+};
+size_t http_routes(const struct http_route_info **out);
+
+#endif

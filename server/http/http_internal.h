@@ -1,0 +1,131 @@
+/*
+ * http_internal.h - what the HTTP module's files share: the per-request state, the route
+ * table's handler type, and the response helpers. Not used outside server/http/.
+ */
+#ifndef REFRACT_HTTP_INTERNAL_H
+#define REFRACT_HTTP_INTERNAL_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include <cjson/cJSON.h>
+#include <microhttpd.h>
+
+#include "http.h"
+
+#define HTTP_MAX_PARAMS 3
+#define HTTP_PARAM_MAX 64
+
+struct http_request;
+
+/* A route handler runs on an HTTP thread once the whole body has arrived. It answers
+ * (http_respond_*) or suspends the connection (http_suspend_for_gpu). */
+typedef enum MHD_Result (*http_handler_fn)(struct http_request *req);
+
+enum http_body_kind {
+    HTTP_BODY_NONE = 0,   /* no body expected (a body is drained and ignored) */
+    HTTP_BODY_JSON = 1,   /* limited by max_json_bytes */
+    HTTP_BODY_UPLOAD = 2, /* limited by max_upload_bytes */
+};
+
+struct http_route {
+    const char *method;
+    const char *pattern;
+    http_handler_fn handler;
+    enum http_body_kind body;
+};
+
+enum http_phase {
+    HTTP_PHASE_NEW = 0,       /* handler not run yet */
+    HTTP_PHASE_SUSPENDED = 1, /* waiting for the GPU */
+    HTTP_PHASE_RESUMED = 2,   /* GPU done; on_resume answers */
+    HTTP_PHASE_ANSWERED = 3,
+};
+
+/* Per-request state: allocated on the first handler call, freed only in the completion
+ * callback (server.c). One owner: the connection. */
+struct http_request {
+    struct MHD_Connection *conn;
+    const struct http_server *server;
+    const struct http_config *cfg;
+    const struct http_app *app;
+    const struct http_route *route;
+    char params[HTTP_MAX_PARAMS][HTTP_PARAM_MAX];
+    int param_count;
+    char *body; /* owned; NUL-terminated */
+    size_t body_len, body_cap, body_limit;
+    bool body_too_large;
+    enum http_phase phase;
+    double started_ms;
+    /* Asynchronous GPU work (handler-specific). */
+    struct gpu_work work;
+    void *job;                                  /* owned; freed by job_free */
+    void (*job_free)(void *job);
+    http_handler_fn on_resume;                  /* answers after the GPU finished */
+};
+
+/* ---- responses (respond.c) ---- */
+
+/* {"error": {"code", "message"}} with the code's HTTP status. */
+enum MHD_Result http_respond_error(struct http_request *req, enum refract_code code,
+                                   const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+enum MHD_Result http_respond_err(struct http_request *req, const struct err *e);
+/* Serialises and consumes json. */
+enum MHD_Result http_respond_json(struct http_request *req, unsigned status, cJSON *json);
+/* Consumes bytes (malloc'd). */
+enum MHD_Result http_respond_bytes(struct http_request *req, unsigned status, void *bytes,
+                                   size_t len, const char *content_type,
+                                   const char *const *headers /* name, value, ..., NULL */);
+enum MHD_Result http_respond_empty(struct http_request *req, unsigned status);
+
+/* ---- GPU hand-off (server.c) ---- */
+
+/* Submits req->work (its run set by the caller) with the request deadline and suspends
+ * the connection; when the work is done, on_resume answers. On submission failure
+ * answers the error at once. */
+enum MHD_Result http_suspend_for_gpu(struct http_request *req, http_handler_fn on_resume);
+
+/* ---- request parsing (request_parse.c) ---- */
+
+struct http_render_request {
+    struct render_view_request view;
+    enum { HTTP_FORMAT_PNG, HTTP_FORMAT_JPEG, HTTP_FORMAT_EXR } format;
+    int jpeg_quality;
+    double exposure_ev;
+    enum scene_tonemap tonemap;
+};
+
+/* Parses a render request against the scene's defaults. An empty body means "{}". */
+enum refract_code http_parse_render_request(const char *body, size_t len,
+                                            const struct scene *scene,
+                                            const struct http_config *cfg,
+                                            struct http_render_request *out, struct err *e);
+
+/* Parses a trace request; *rays is a new array (caller frees) of *count rays. */
+enum refract_code http_parse_trace_request(const char *body, size_t len,
+                                           const struct scene *scene,
+                                           const struct http_config *cfg,
+                                           struct scene_render_settings *settings,
+                                           struct render_trace_ray **rays, size_t *count,
+                                           struct err *e);
+
+/* ---- handlers ---- */
+enum MHD_Result http_handle_health(struct http_request *req);
+enum MHD_Result http_handle_scene_create(struct http_request *req);
+enum MHD_Result http_handle_scene_list(struct http_request *req);
+enum MHD_Result http_handle_scene_get(struct http_request *req);
+enum MHD_Result http_handle_scene_delete(struct http_request *req);
+enum MHD_Result http_handle_volume_put(struct http_request *req);
+enum MHD_Result http_handle_environment_put(struct http_request *req);
+enum MHD_Result http_handle_render(struct http_request *req);
+enum MHD_Result http_handle_trace(struct http_request *req);
+
+/* Looks up the scene named by the first path parameter; answers 404 and returns NULL when
+ * it does not exist. Returns a new reference. */
+struct store_scene *http_scene_or_404(struct http_request *req, enum MHD_Result *answer);
+
+/* Adds the scene's version, GPU status and uploads to a JSON object. */
+void http_scene_summary(const struct http_app *app, const struct store_scene *v, cJSON *obj,
+                        bool detailed);
+
+#endif

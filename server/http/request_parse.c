@@ -1,0 +1,204 @@
+/*
+ * request_parse.c - the render and trace request bodies (proto/openapi.yaml RenderRequest,
+ * TraceRequest) into validated structs, with the same path-first messages as scene
+ * documents (scene/json_read.h). Defaults come from the scene's camera and render blocks.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../scene/json_read.h"
+#include "http_internal.h"
+
+static const char *const integrator_names[] = {"euler", "rk4", NULL};
+static const char *const tonemap_names[] = {"clamp", "filmic", NULL};
+static const char *const format_names[] = {"png", "jpeg", "exr", NULL};
+
+/* An empty or all-space body means {}. */
+static enum refract_code parse_body(const char *body, size_t len, cJSON **root, struct err *e)
+{
+    size_t i = 0;
+    while (i < len && (body[i] == ' ' || body[i] == '\n' || body[i] == '\r' || body[i] == '\t'))
+        i++;
+    if (i == len) {
+        *root = cJSON_CreateObject();
+        return *root ? REFRACT_E_OK : err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory");
+    }
+    return jr_parse(body, len, root, e);
+}
+
+/* The settings keys shared by render and trace requests. */
+static enum refract_code parse_settings(const cJSON *root, const struct scene *scene,
+                                        const struct http_config *cfg,
+                                        struct scene_render_settings *st, struct err *e)
+{
+    *st = scene->render;
+    int integrator = (int)st->integrator;
+    enum refract_code rc =
+        jr_enum(root, "", "integrator", false, integrator, integrator_names, &integrator, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_number(root, "", "step", false, st->step_voxels, 0.01, 8.0, &st->step_voxels, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_int(root, "", "max_steps", false, st->max_steps, 1, cfg->limits.max_steps,
+                    &st->max_steps, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_number(root, "", "boundary_threshold", false, st->boundary_threshold, 1e-6, 10.0,
+                       &st->boundary_threshold, e);
+    st->integrator = (enum scene_integrator)integrator;
+    return rc;
+}
+
+static enum refract_code parse_camera(const cJSON *root, const struct scene *scene,
+                                      const struct http_config *cfg, struct scene_camera *cam,
+                                      struct err *e)
+{
+    static const char *const keys[] = {"eye", "look_at", "up", "fov_y_deg", NULL};
+    *cam = scene->camera;
+    const cJSON *c = cJSON_GetObjectItemCaseSensitive(root, "camera");
+    enum refract_code rc = REFRACT_E_OK;
+    if (c) {
+        rc = jr_check_object(c, "camera", keys, e);
+        if (rc == REFRACT_E_OK)
+            rc = jr_vec3(c, "camera", "eye", false, cam->eye, -1e6, 1e6, &cam->eye, e);
+        if (rc == REFRACT_E_OK)
+            rc = jr_vec3(c, "camera", "look_at", false, cam->look_at, -1e6, 1e6, &cam->look_at, e);
+        if (rc == REFRACT_E_OK)
+            rc = jr_vec3(c, "camera", "up", false, cam->up, -1e6, 1e6, &cam->up, e);
+        if (rc == REFRACT_E_OK)
+            rc = jr_number(c, "camera", "fov_y_deg", false, cam->fov_y_deg, 0.1, 179.0,
+                           &cam->fov_y_deg, e);
+        if (rc != REFRACT_E_OK)
+            return rc;
+    }
+    rc = jr_int(root, "", "width", false, cam->width, 1, cfg->limits.max_image_dim, &cam->width, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_int(root, "", "height", false, cam->height, 1, cfg->limits.max_image_dim,
+                    &cam->height, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    vec3 f = vec3_sub(cam->look_at, cam->eye);
+    if (vec3_length(f) < 1e-9)
+        return err_set(e, REFRACT_E_INVALID_FIELD,
+                       "camera: eye and look_at are the same point; the camera needs a view "
+                       "direction");
+    if (vec3_length(vec3_cross(vec3_normalize(f), vec3_normalize(cam->up))) < 1e-9)
+        return err_set(e, REFRACT_E_INVALID_FIELD,
+                       "camera.up: parallel to the view direction (look_at - eye); choose an up "
+                       "vector that is not, e.g. [0, 1, 0] for a horizontal view");
+    return REFRACT_E_OK;
+}
+
+enum refract_code http_parse_render_request(const char *body, size_t len,
+                                            const struct scene *scene,
+                                            const struct http_config *cfg,
+                                            struct http_render_request *out, struct err *e)
+{
+    static const char *const keys[] = {"camera",    "width",   "height",       "format",
+                                       "exposure",  "tonemap", "integrator",   "step",
+                                       "max_steps", "jpeg_quality", "boundary_threshold", NULL};
+    memset(out, 0, sizeof *out);
+    cJSON *root = NULL;
+    enum refract_code rc = parse_body(body, len, &root, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    rc = jr_check_object(root, "", keys, e);
+    if (rc == REFRACT_E_OK)
+        rc = parse_camera(root, scene, cfg, &out->view.camera, e);
+    if (rc == REFRACT_E_OK)
+        rc = parse_settings(root, scene, cfg, &out->view.settings, e);
+    int format = HTTP_FORMAT_PNG, tonemap = (int)scene->render.tonemap;
+    if (rc == REFRACT_E_OK)
+        rc = jr_enum(root, "", "format", false, HTTP_FORMAT_PNG, format_names, &format, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_enum(root, "", "tonemap", false, tonemap, tonemap_names, &tonemap, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_number(root, "", "exposure", false, scene->render.exposure_ev, -20.0, 20.0,
+                       &out->exposure_ev, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_int(root, "", "jpeg_quality", false, 90, 1, 100, &out->jpeg_quality, e);
+    out->format = format;
+    out->tonemap = (enum scene_tonemap)tonemap;
+    cJSON_Delete(root);
+    return rc;
+}
+
+static enum refract_code parse_ray(const cJSON *item, int i, struct render_trace_ray *ray,
+                                   struct err *e)
+{
+    static const char *const keys[] = {"origin", "direction", NULL};
+    char path[48];
+    jr_path_index(path, sizeof path, "rays", i);
+    vec3 o = {0, 0, 0}, d = {0, 0, 1};
+    enum refract_code rc = jr_check_object(item, path, keys, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_vec3(item, path, "origin", true, o, -1e6, 1e6, &o, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_direction(item, path, "direction", true, d, &d, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    ray->origin[0] = o.x;
+    ray->origin[1] = o.y;
+    ray->origin[2] = o.z;
+    ray->direction[0] = d.x;
+    ray->direction[1] = d.y;
+    ray->direction[2] = d.z;
+    return REFRACT_E_OK;
+}
+
+enum refract_code http_parse_trace_request(const char *body, size_t len,
+                                           const struct scene *scene,
+                                           const struct http_config *cfg,
+                                           struct scene_render_settings *settings,
+                                           struct render_trace_ray **rays, size_t *count,
+                                           struct err *e)
+{
+    static const char *const keys[] = {"rays", "step", "integrator", "max_steps",
+                                       "boundary_threshold", NULL};
+    *rays = NULL;
+    *count = 0;
+    cJSON *root = NULL;
+    enum refract_code rc = jr_parse(body, len, &root, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    rc = jr_check_object(root, "", keys, e);
+    if (rc == REFRACT_E_OK)
+        rc = parse_settings(root, scene, cfg, settings, e);
+    const cJSON *list = cJSON_GetObjectItemCaseSensitive(root, "rays");
+    if (rc == REFRACT_E_OK && list == NULL)
+        rc = err_set(e, REFRACT_E_MISSING_FIELD,
+                     "rays: missing required field; send {\"rays\": [{\"origin\": [x, y, z], "
+                     "\"direction\": [x, y, z]}]}");
+    if (rc == REFRACT_E_OK && !cJSON_IsArray(list))
+        rc = err_set(e, REFRACT_E_INVALID_FIELD, "rays: expected an array of rays");
+    int n = rc == REFRACT_E_OK ? cJSON_GetArraySize(list) : 0;
+    if (rc == REFRACT_E_OK && n == 0)
+        rc = err_set(e, REFRACT_E_INVALID_FIELD, "rays: expected at least one ray, got none");
+    if (rc == REFRACT_E_OK && n > cfg->max_rays)
+        rc = err_set(e, REFRACT_E_LIMIT_EXCEEDED,
+                     "rays: %d rays exceed the limit of %d per request (refractd --max-rays); "
+                     "split the request",
+                     n, cfg->max_rays);
+    struct render_trace_ray *out = NULL;
+    if (rc == REFRACT_E_OK) {
+        out = calloc((size_t)n, sizeof *out);
+        if (out == NULL)
+            rc = err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for %d rays", n);
+    }
+    int i = 0;
+    const cJSON *item;
+    cJSON_ArrayForEach(item, list)
+    {
+        if (rc != REFRACT_E_OK)
+            break;
+        rc = parse_ray(item, i, &out[i], e);
+        i++;
+    }
+    cJSON_Delete(root);
+    if (rc != REFRACT_E_OK) {
+        free(out);
+        return rc;
+    }
+    *rays = out;
+    *count = (size_t)n;
+    return REFRACT_E_OK;
+}

@@ -1,0 +1,94 @@
+/*
+ * respond.c - every HTTP answer refractd gives goes through here: JSON bodies, the one
+ * error body shape {"error": {"code", "message"}}, and image bytes. Errors are logged
+ * once, here, at the edge.
+ */
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../core/log.h"
+#include "http_internal.h"
+
+static enum MHD_Result queue(struct http_request *req, unsigned status, void *bytes, size_t len,
+                             const char *content_type, const char *const *headers)
+{
+    struct MHD_Response *resp =
+        MHD_create_response_from_buffer_with_free_callback(len, bytes, free);
+    if (resp == NULL) {
+        free(bytes);
+        return MHD_NO;
+    }
+    if (content_type)
+        MHD_add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE, content_type);
+    for (size_t i = 0; headers && headers[i] && headers[i + 1]; i += 2)
+        MHD_add_response_header(resp, headers[i], headers[i + 1]);
+    enum MHD_Result r = MHD_queue_response(req->conn, status, resp);
+    MHD_destroy_response(resp);
+    req->phase = HTTP_PHASE_ANSWERED;
+    return r;
+}
+
+enum MHD_Result http_respond_bytes(struct http_request *req, unsigned status, void *bytes,
+                                   size_t len, const char *content_type,
+                                   const char *const *headers)
+{
+    return queue(req, status, bytes, len, content_type, headers);
+}
+
+enum MHD_Result http_respond_json(struct http_request *req, unsigned status, cJSON *json)
+{
+    char *text = json ? cJSON_PrintUnformatted(json) : NULL;
+    cJSON_Delete(json);
+    if (text == NULL)
+        return MHD_NO;
+    size_t len = strlen(text);
+    /* cJSON allocates with malloc (no hooks installed), so free() releases it. */
+    char *body = realloc(text, len + 2);
+    if (body == NULL) {
+        free(text);
+        return MHD_NO;
+    }
+    body[len] = '\n';
+    body[len + 1] = '\0';
+    return queue(req, status, body, len + 1, "application/json", NULL);
+}
+
+enum MHD_Result http_respond_empty(struct http_request *req, unsigned status)
+{
+    return queue(req, status, NULL, 0, NULL, NULL);
+}
+
+static enum MHD_Result respond_error_text(struct http_request *req, enum refract_code code,
+                                          const char *message)
+{
+    int status = err_code_http_status(code);
+    const char *route = req->route ? req->route->pattern : "(no route)";
+    if (status >= 500)
+        log_warn("http", "%d %s %s: %s", status, err_code_json(code), route, message);
+    else
+        log_info("http", "%d %s %s: %s", status, err_code_json(code), route, message);
+    cJSON *root = cJSON_CreateObject();
+    cJSON *err = cJSON_AddObjectToObject(root, "error");
+    cJSON_AddStringToObject(err, "code", err_code_json(code));
+    cJSON_AddStringToObject(err, "message", message);
+    return http_respond_json(req, (unsigned)status, root);
+}
+
+enum MHD_Result http_respond_error(struct http_request *req, enum refract_code code,
+                                   const char *fmt, ...)
+{
+    char message[ERR_MSG_MAX];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(message, sizeof message, fmt, ap);
+    va_end(ap);
+    return respond_error_text(req, code, message);
+}
+
+enum MHD_Result http_respond_err(struct http_request *req, const struct err *e)
+{
+    enum refract_code code = e->code == REFRACT_E_OK ? REFRACT_E_INTERNAL : e->code;
+    return respond_error_text(req, code, e->msg[0] ? e->msg : err_code_text(code));
+}

@@ -1,0 +1,100 @@
+/*
+ * routes.c - the route table of API v1 and path matching. proto/openapi.yaml documents
+ * exactly these routes; tests/integration/test_openapi_contract.c checks both ways.
+ */
+#include <stdio.h>
+#include <string.h>
+
+#include "http_internal.h"
+#include "routes.h"
+
+static const struct http_route routes[] = {
+    {"GET", "/v1/health", http_handle_health, HTTP_BODY_NONE},
+    {"GET", "/v1/scenes", http_handle_scene_list, HTTP_BODY_NONE},
+    {"POST", "/v1/scenes", http_handle_scene_create, HTTP_BODY_JSON},
+    {"GET", "/v1/scenes/{id}", http_handle_scene_get, HTTP_BODY_NONE},
+    {"DELETE", "/v1/scenes/{id}", http_handle_scene_delete, HTTP_BODY_NONE},
+    {"PUT", "/v1/scenes/{id}/volumes/{name}", http_handle_volume_put, HTTP_BODY_UPLOAD},
+    {"PUT", "/v1/scenes/{id}/environment", http_handle_environment_put, HTTP_BODY_UPLOAD},
+    {"POST", "/v1/scenes/{id}/render", http_handle_render, HTTP_BODY_JSON},
+    {"POST", "/v1/scenes/{id}/trace", http_handle_trace, HTTP_BODY_JSON},
+};
+
+#define ROUTE_COUNT (sizeof routes / sizeof routes[0])
+
+size_t http_routes(const struct http_route_info **out)
+{
+    static struct http_route_info infos[ROUTE_COUNT];
+    for (size_t i = 0; i < ROUTE_COUNT; i++) {
+        infos[i].method = routes[i].method;
+        infos[i].pattern = routes[i].pattern;
+    }
+    *out = infos;
+    return ROUTE_COUNT;
+}
+
+/* Matches url against pattern segment by segment; {x} captures one non-empty segment. */
+static bool match(const char *pattern, const char *url, char params[][HTTP_PARAM_MAX],
+                  int *param_count)
+{
+    int n = 0;
+    const char *p = pattern, *u = url;
+    while (*p && *u) {
+        if (*p == '{') {
+            const char *close = strchr(p, '}');
+            const char *seg_end = strchr(u, '/');
+            size_t len = seg_end ? (size_t)(seg_end - u) : strlen(u);
+            if (close == NULL || len == 0 || len >= HTTP_PARAM_MAX || n >= HTTP_MAX_PARAMS)
+                return false;
+            memcpy(params[n], u, len);
+            params[n][len] = '\0';
+            n++;
+            p = close + 1;
+            u += len;
+            continue;
+        }
+        if (*p != *u)
+            return false;
+        p++;
+        u++;
+    }
+    if (*p != '\0' || *u != '\0')
+        return false;
+    *param_count = n;
+    return true;
+}
+
+const struct http_route *http_route_find(const char *method, const char *url,
+                                         char params[][HTTP_PARAM_MAX], int *param_count,
+                                         bool *path_known)
+{
+    *path_known = false;
+    for (size_t i = 0; i < ROUTE_COUNT; i++) {
+        int n = 0;
+        if (!match(routes[i].pattern, url, params, &n))
+            continue;
+        *path_known = true;
+        if (strcmp(routes[i].method, method) == 0) {
+            *param_count = n;
+            return &routes[i];
+        }
+    }
+    return NULL;
+}
+
+size_t http_route_methods(const char *url, char *out, size_t size)
+{
+    char params[HTTP_MAX_PARAMS][HTTP_PARAM_MAX];
+    size_t used = 0;
+    out[0] = '\0';
+    for (size_t i = 0; i < ROUTE_COUNT; i++) {
+        int n = 0;
+        if (!match(routes[i].pattern, url, params, &n))
+            continue;
+        int w = snprintf(out + used, size - used, "%s%s", used ? ", " : "", routes[i].method);
+        if (w < 0 || (size_t)w >= size - used)
+            break;
+        used += (size_t)w;
+    }
+    return used;
+}

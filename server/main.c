@@ -1,0 +1,199 @@
+/*
+ * main.c - refractd's start-up and orderly shutdown, and nothing else.
+ *
+ * Start-up: flags -> the GPU thread (EGL context, shaders compiled: a bad shader stops
+ * start-up here) -> the renderer on that thread -> the data directory -> demo scenes ->
+ * the HTTP server -> background builds of every scene's GPU data. Then the main thread
+ * waits for SIGINT or SIGTERM.
+ *
+ * Shutdown order:
+ *   1. stop accepting connections (quiesce);
+ *   2. drain the GPU queue: pending requests complete with "shutting_down", which resumes
+ *      every suspended connection; the renderer frees its GL objects on the GPU thread,
+ *      then the context is destroyed;
+ *   3. wait (briefly) until the resumed requests have been answered, stop the HTTP daemon;
+ *   4. close the store.
+ */
+#include <dirent.h>
+#include <pthread.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "config.h"
+#include "core/log.h"
+#include "http/http.h"
+#include "render/render.h"
+#include "store/store.h"
+
+struct render_create_work {
+    struct gpu_work work;
+    struct render_desc desc;
+    struct render *render;
+};
+
+static void render_create_run(struct gpu_work *w, struct gpu *gpu)
+{
+    struct render_create_work *rc = w->user;
+    rc->render = render_create(gpu, &rc->desc, &w->err);
+}
+
+static void render_destroy_run(struct gpu_work *w, struct gpu *gpu)
+{
+    (void)gpu;
+    render_destroy(w->user);
+}
+
+/* Loads *.json of dir as scenes named by their file stem. */
+static void load_scene_dir(struct store *store, const char *dir)
+{
+    DIR *d = opendir(dir);
+    if (d == NULL) {
+        log_error("main", "--scene-dir %s: cannot open it", dir);
+        return;
+    }
+    struct dirent *ent;
+    while ((ent = readdir(d)) != NULL) {
+        size_t n = strlen(ent->d_name);
+        if (n < 6 || strcmp(ent->d_name + n - 5, ".json") != 0 || n - 5 >= STORE_ID_MAX)
+            continue;
+        char id[STORE_ID_MAX] = {0}, path[1024];
+        memcpy(id, ent->d_name, n - 5);
+        if (!store_name_valid(id, false))
+            continue;
+        snprintf(path, sizeof path, "%s/%s", dir, ent->d_name);
+        FILE *f = fopen(path, "rb");
+        if (f == NULL)
+            continue;
+        char *buf = NULL;
+        size_t len = 0, cap = 0, got;
+        char chunk[8192];
+        while ((got = fread(chunk, 1, sizeof chunk, f)) > 0) {
+            if (len + got > cap) {
+                cap = (len + got) * 2;
+                char *grown = realloc(buf, cap);
+                if (grown == NULL)
+                    break;
+                buf = grown;
+            }
+            memcpy(buf + len, chunk, got);
+            len += got;
+        }
+        fclose(f);
+        struct err e = {0};
+        if (buf && store_scene_create(store, id, buf, len, NULL, &e) == REFRACT_E_OK)
+            log_info("main", "loaded scene \"%s\" from %s", id, path);
+        else
+            log_error("main", "%s: %s", path, e.msg);
+        free(buf);
+    }
+    closedir(d);
+}
+
+static void prepare_all(const struct http_app *app)
+{
+    struct store_scene **list = NULL;
+    size_t n = store_scene_list(app->store, &list);
+    for (size_t i = 0; i < n; i++)
+        http_prepare_scene(app, list[i]);
+    store_list_free(list, n);
+}
+
+static void write_port_file(const char *path, int port)
+{
+    FILE *f = fopen(path, "w");
+    if (f == NULL) {
+        log_error("main", "--port-file %s: cannot write it", path);
+        return;
+    }
+    fprintf(f, "%d\n", port);
+    fclose(f);
+}
+
+static int run(const struct config *cfg)
+{
+    sigset_t stop_signals;
+    sigemptyset(&stop_signals);
+    sigaddset(&stop_signals, SIGINT);
+    sigaddset(&stop_signals, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &stop_signals, NULL); /* every thread inherits this */
+    signal(SIGPIPE, SIG_IGN);
+
+    struct err e = {0};
+    struct gpu_desc gdesc = cfg->gpu;
+    gdesc.shader_dir = cfg->shader_dir[0] ? cfg->shader_dir : NULL;
+    struct gpu *gpu = gpu_create(&gdesc, &e);
+    if (gpu == NULL) {
+        log_error("main", "no GPU context: %s", e.msg);
+        return 1;
+    }
+    struct render_create_work rcw = {.desc = {.scene_budget_bytes = cfg->gpu_scene_budget_bytes}};
+    rcw.work = (struct gpu_work){.priority = GPU_PRIORITY_INTERACTIVE, .run = render_create_run,
+                                 .user = &rcw};
+    if (gpu_run_sync(gpu, &rcw.work) != REFRACT_E_OK) {
+        log_error("main", "renderer: %s", rcw.work.err.msg);
+        gpu_destroy(gpu, NULL);
+        return 1;
+    }
+    struct store_desc sdesc = {.data_dir = cfg->data_dir,
+                               .limits = cfg->http.limits,
+                               .max_scenes = cfg->max_scenes};
+    struct store *store = store_open(&sdesc, &e);
+    struct gpu_work final = {.run = render_destroy_run, .user = rcw.render};
+    if (store == NULL) {
+        log_error("main", "%s", e.msg);
+        gpu_destroy(gpu, &final);
+        return 1;
+    }
+    if (cfg->scene_dir[0])
+        load_scene_dir(store, cfg->scene_dir);
+    struct http_app app = {.store = store, .gpu = gpu, .render = rcw.render};
+    struct http_server *http = http_server_start(&cfg->http, &app, &e);
+    if (http == NULL) {
+        log_error("main", "%s", e.msg);
+        gpu_destroy(gpu, &final);
+        store_close(store);
+        return 1;
+    }
+    int port = http_server_port(http);
+    if (cfg->port_file[0])
+        write_port_file(cfg->port_file, port);
+    log_info("main", "refractd %s listening on http://%s:%d (renderer: %s; data: %s)",
+             REFRACT_VERSION, cfg->http.bind_address, port, gpu_info(gpu)->renderer,
+             cfg->data_dir);
+    prepare_all(&app);
+
+    int sig = 0;
+    sigwait(&stop_signals, &sig);
+    log_info("main", "signal %d: shutting down", sig);
+    http_server_quiesce(http);
+    gpu_destroy(gpu, &final);
+    if (!http_server_wait_idle(http, 3000))
+        log_warn("main", "requests still in progress after 3 s; closing them");
+    http_server_stop(http);
+    store_close(store);
+    log_info("main", "stopped");
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    struct config cfg;
+    config_defaults(&cfg);
+    struct err e = {0};
+    if (config_parse_args(&cfg, argc, argv, &e) != REFRACT_E_OK) {
+        fprintf(stderr, "refractd: %s\n", e.msg);
+        return REFRACT_E_USAGE;
+    }
+    if (cfg.help) {
+        config_print_usage(argv[0]);
+        return 0;
+    }
+    if (cfg.version) {
+        printf("refractd %s\n", REFRACT_VERSION);
+        return 0;
+    }
+    log_set_level((enum log_level)cfg.log_level);
+    return run(&cfg);
+}

@@ -1,0 +1,341 @@
+/*
+ * render.c - the renderer's GPU-thread state: the scene cache (LRU under a GPU memory
+ * budget), and the render_view / render_trace dispatches. See render.h.
+ *
+ * INVARIANT: cache[0..cache_count) holds distinct scene ids; cache_bytes is the sum of
+ * their bytes.
+ */
+#include "render.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../core/log.h"
+#include "../core/ray_status.h"
+#include "bindings.h"
+#include "scene_gpu.h"
+#define REFRACT_HOST_C
+#include "shared_types.h"
+
+#define RENDER_CACHE_MAX 64
+
+struct render {
+    struct gpu *gpu;
+    size_t budget_bytes;
+    struct scene_gpu *cache[RENDER_CACHE_MAX];
+    size_t cache_count;
+    size_t cache_bytes;
+    struct gpu_buffer params_ubo;
+};
+
+_Static_assert(sizeof(struct object_params) == 2 * 64 + 6 * 16, "object_params layout");
+_Static_assert(sizeof(struct march_params) == 8 * 16 + MAX_OBJECTS * sizeof(struct object_params),
+               "march_params layout");
+_Static_assert(sizeof(struct volume_params) == 3 * 16 + 8 * 16, "volume_params layout");
+_Static_assert(sizeof(struct trace_ray_in) == 32, "trace_ray_in layout");
+_Static_assert(sizeof(struct trace_hit_out) == 48, "trace_hit_out layout");
+
+struct render *render_create(struct gpu *gpu, const struct render_desc *desc, struct err *e)
+{
+    struct render *r = calloc(1, sizeof *r);
+    if (r == NULL) {
+        err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory creating the renderer");
+        return NULL;
+    }
+    r->gpu = gpu;
+    r->budget_bytes = desc->scene_budget_bytes ? desc->scene_budget_bytes : (size_t)2 << 30;
+    if (gpu_buffer_create("march params", sizeof(struct march_params), NULL, &r->params_ubo, e) !=
+        REFRACT_E_OK) {
+        free(r);
+        return NULL;
+    }
+    return r;
+}
+
+void render_destroy(struct render *r)
+{
+    if (r == NULL)
+        return;
+    for (size_t i = 0; i < r->cache_count; i++)
+        scene_gpu_destroy(r->cache[i]);
+    gpu_buffer_destroy(&r->params_ubo);
+    free(r);
+}
+
+size_t render_cache_bytes(const struct render *r)
+{
+    return r->cache_bytes;
+}
+
+static void cache_remove_at(struct render *r, size_t i)
+{
+    r->cache_bytes -= r->cache[i]->bytes;
+    scene_gpu_destroy(r->cache[i]);
+    r->cache[i] = r->cache[--r->cache_count];
+}
+
+void render_scene_forget(struct render *r, const char *id)
+{
+    for (size_t i = 0; i < r->cache_count; i++) {
+        if (strcmp(r->cache[i]->id, id) == 0) {
+            cache_remove_at(r, i);
+            return;
+        }
+    }
+}
+
+/* Evicts least recently used scenes (never `keep`) until `incoming` more bytes fit. */
+static void cache_make_room(struct render *r, size_t incoming, const struct scene_gpu *keep)
+{
+    while (r->cache_count > 0 &&
+           (r->cache_bytes + incoming > r->budget_bytes || r->cache_count >= RENDER_CACHE_MAX)) {
+        size_t oldest = r->cache_count;
+        for (size_t i = 0; i < r->cache_count; i++) {
+            if (r->cache[i] == keep)
+                continue;
+            if (oldest == r->cache_count || r->cache[i]->last_used_ms < r->cache[oldest]->last_used_ms)
+                oldest = i;
+        }
+        if (oldest == r->cache_count)
+            return;
+        log_info("render", "evicting scene %s from the GPU (%.1f MiB) to stay within the "
+                 "--gpu-scene-budget", r->cache[oldest]->id,
+                 (double)r->cache[oldest]->bytes / 1048576.0);
+        cache_remove_at(r, oldest);
+    }
+}
+
+static struct scene_gpu *cache_get(struct render *r, const struct render_scene_source *src,
+                                   struct render_scene_status *status, struct err *e)
+{
+    struct scene_gpu *found = NULL;
+    for (size_t i = 0; i < r->cache_count; i++) {
+        if (strcmp(r->cache[i]->id, src->id) == 0) {
+            if (r->cache[i]->generation == src->generation)
+                found = r->cache[i];
+            else
+                cache_remove_at(r, i);
+            break;
+        }
+    }
+    bool built = false;
+    if (found == NULL) {
+        found = scene_gpu_build(r->gpu, src, e);
+        if (found == NULL)
+            return NULL;
+        cache_make_room(r, found->bytes, NULL);
+        r->cache[r->cache_count++] = found;
+        r->cache_bytes += found->bytes;
+        built = true;
+    }
+    found->last_used_ms = gpu_now_ms();
+    if (status) {
+        status->gpu_bytes = found->bytes;
+        status->build_ms = found->build_ms;
+        status->built_now = built;
+    }
+    return found;
+}
+
+enum refract_code render_scene_prepare(struct render *r, const struct render_scene_source *src,
+                                       struct render_scene_status *out, struct err *e)
+{
+    return cache_get(r, src, out, e) ? REFRACT_E_OK : e->code;
+}
+
+static vec4 v4(vec3 v, double w)
+{
+    return (vec4){(float)v.x, (float)v.y, (float)v.z, (float)w};
+}
+
+static void fill_objects(struct march_params *mp, const struct scene *s,
+                         const struct scene_gpu *sg)
+{
+    for (size_t i = 0; i < s->object_count; i++) {
+        const struct scene_object *o = &s->objects[i];
+        struct object_params *op = &mp->objects[i];
+        xform_to_gl_mat4(&o->world_from_object, op->world_from_object.m,
+                         op->object_from_world.m);
+        vec3 vs = scene_object_voxel_size(o);
+        op->bounds_min = v4(o->bounds_min, o->world_from_object.scale);
+        op->bounds_max = v4(o->bounds_max, scene_object_min_voxel(o));
+        op->inv_voxel_size =
+            (vec4){(float)(1.0 / vs.x), (float)(1.0 / vs.y), (float)(1.0 / vs.z),
+                   (float)o->smoothing_sigma_voxels};
+        op->atlas_offset = (vec4){0.0f, 0.0f, (float)sg->objects[i].atlas_z, (float)o->opaque_ior};
+        op->atlas_inv_size = (vec4){1.0f / (float)sg->atlas_size[0],
+                                    1.0f / (float)sg->atlas_size[1],
+                                    1.0f / (float)sg->atlas_size[2], 0.0f};
+        op->resolution = (ivec4){o->resolution[0], o->resolution[1], o->resolution[2],
+                                 (int)sg->objects[i].flags};
+    }
+}
+
+static void fill_settings(struct march_params *mp, const struct scene *s,
+                          const struct scene_render_settings *st)
+{
+    mp->settings_i = (ivec4){st->integrator == SCENE_INTEGRATOR_EULER ? INTEGRATOR_EULER
+                                                                     : INTEGRATOR_RK4,
+                             st->max_steps, (int)s->object_count,
+                             s->environment.kind == SCENE_ENV_IMAGE ? 1 : 0};
+    mp->settings_f = (vec4){(float)st->step_voxels, (float)st->boundary_threshold,
+                            (float)s->ambient_ior, (float)s->environment.intensity};
+    mp->env = (vec4){(float)s->environment.rotation_deg, 0.0f, 0.0f, 0.0f};
+}
+
+static void fill_camera(struct march_params *mp, const struct scene_camera *c)
+{
+    vec3 f = vec3_normalize(vec3_sub(c->look_at, c->eye));
+    vec3 right = vec3_normalize(vec3_cross(f, c->up));
+    vec3 u = vec3_cross(right, f);
+    double t = tan(c->fov_y_deg * M_PI / 360.0);
+    mp->eye = v4(c->eye, t);
+    mp->forward = v4(f, (double)c->width / (double)c->height);
+    mp->right = v4(right, 0.0);
+    mp->up = v4(u, 0.0);
+    mp->image = (ivec4){c->width, c->height, 0, 0};
+}
+
+/* The kernel variant for a scene's channels and the chosen integrator. */
+static unsigned march_variant(const struct scene_gpu *sg, const struct scene_render_settings *st)
+{
+    unsigned v = st->integrator == SCENE_INTEGRATOR_RK4 ? GPU_VARIANT_RK4 : 0u;
+    for (size_t i = 0; i < sg->object_count; i++) {
+        unsigned f = sg->objects[i].flags;
+        if (f & OBJECT_HAS_ATTENUATION)
+            v |= GPU_VARIANT_ATTENUATION;
+        if (f & OBJECT_HAS_EMISSION)
+            v |= GPU_VARIANT_EMISSION;
+        if (f & OBJECT_HAS_OPAQUE)
+            v |= GPU_VARIANT_OPAQUE;
+    }
+    return v;
+}
+
+static void bind_scene(struct render *r, const struct scene_gpu *sg, const struct march_params *mp)
+{
+    glNamedBufferSubData(r->params_ubo.buf, 0, sizeof *mp, mp);
+    glBindBufferBase(GL_UNIFORM_BUFFER, BIND_UBO_RENDER, r->params_ubo.buf);
+    glBindTextureUnit(UNIT_IOR_GRAD, sg->ior_grad.tex);
+    glBindTextureUnit(UNIT_ATTENUATION, sg->attenuation.tex);
+    glBindTextureUnit(UNIT_EMISSION, sg->emission.tex);
+    glBindTextureUnit(UNIT_OPAQUE, sg->opaque.tex);
+    glBindTextureUnit(UNIT_ENVIRONMENT, sg->environment.tex);
+}
+
+enum refract_code render_view(struct render *r, const struct render_scene_source *src,
+                              const struct render_view_request *req,
+                              struct render_view_result *out, struct err *e)
+{
+    memset(out, 0, sizeof *out);
+    double t0 = gpu_time_ms();
+    struct scene_gpu *sg = cache_get(r, src, &out->scene, e);
+    if (sg == NULL)
+        return e->code;
+    int w = req->camera.width, h = req->camera.height;
+    size_t bytes = (size_t)w * (size_t)h * 4 * sizeof(float);
+    out->rgba = malloc(bytes);
+    if (out->rgba == NULL)
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for a %dx%d image", w, h);
+    struct march_params mp;
+    memset(&mp, 0, sizeof mp);
+    fill_objects(&mp, src->scene, sg);
+    fill_settings(&mp, src->scene, &req->settings);
+    fill_camera(&mp, &req->camera);
+    struct gpu_buffer image;
+    enum refract_code rc = gpu_buffer_create("render image", bytes, NULL, &image, e);
+    if (rc != REFRACT_E_OK) {
+        free(out->rgba);
+        out->rgba = NULL;
+        return rc;
+    }
+    bind_scene(r, sg, &mp);
+    glUseProgram(gpu_program_get(gpu_programs_get(r->gpu), GPU_KERNEL_RENDER_VIEW,
+                                 march_variant(sg, &req->settings)));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_IMAGE_OUT, image.buf);
+    double t_dispatch = gpu_time_ms();
+    glDispatchCompute(gpu_groups(w, RENDER_LOCAL_X), gpu_groups(h, RENDER_LOCAL_Y), 1);
+    glFinish();
+    out->gpu_ms = gpu_time_ms() - t_dispatch;
+    rc = gpu_check("rendering", e);
+    if (rc == REFRACT_E_OK)
+        rc = gpu_buffer_read(&image, out->rgba, bytes, e);
+    gpu_buffer_destroy(&image);
+    if (rc != REFRACT_E_OK) {
+        free(out->rgba);
+        out->rgba = NULL;
+        return rc;
+    }
+    out->width = w;
+    out->height = h;
+    out->total_ms = gpu_time_ms() - t0;
+    return REFRACT_E_OK;
+}
+
+static void copy_xyz(double dst[3], vec4 v)
+{
+    dst[0] = v.x;
+    dst[1] = v.y;
+    dst[2] = v.z;
+}
+
+enum refract_code render_trace(struct render *r, const struct render_scene_source *src,
+                               const struct scene_render_settings *settings,
+                               const struct render_trace_ray *rays, size_t count,
+                               struct render_trace_hit *hits, double *gpu_ms, struct err *e)
+{
+    struct scene_gpu *sg = cache_get(r, src, NULL, e);
+    if (sg == NULL)
+        return e->code;
+    struct trace_ray_in *in = calloc(count ? count : 1, sizeof *in);
+    struct trace_hit_out *res = calloc(count ? count : 1, sizeof *res);
+    if (in == NULL || res == NULL) {
+        free(in);
+        free(res);
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for %zu rays", count);
+    }
+    for (size_t i = 0; i < count; i++) {
+        in[i].origin = (vec4){(float)rays[i].origin[0], (float)rays[i].origin[1],
+                              (float)rays[i].origin[2], 0.0f};
+        in[i].direction = (vec4){(float)rays[i].direction[0], (float)rays[i].direction[1],
+                                 (float)rays[i].direction[2], 0.0f};
+    }
+    struct march_params mp;
+    memset(&mp, 0, sizeof mp);
+    fill_objects(&mp, src->scene, sg);
+    fill_settings(&mp, src->scene, settings);
+    mp.image.z = (int)count;
+    struct gpu_buffer in_buf = {0}, out_buf = {0};
+    enum refract_code rc = gpu_buffer_create("trace rays in", count * sizeof *in, in, &in_buf, e);
+    if (rc == REFRACT_E_OK)
+        rc = gpu_buffer_create("trace hits out", count * sizeof *res, NULL, &out_buf, e);
+    if (rc == REFRACT_E_OK) {
+        bind_scene(r, sg, &mp);
+        glUseProgram(gpu_program_get(gpu_programs_get(r->gpu), GPU_KERNEL_TRACE_RAYS,
+                                     march_variant(sg, settings)));
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_RAYS_IN, in_buf.buf);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_HITS_OUT, out_buf.buf);
+        double t = gpu_time_ms();
+        glDispatchCompute(gpu_groups((int)count, TRACE_LOCAL_X), 1, 1);
+        glFinish();
+        if (gpu_ms)
+            *gpu_ms = gpu_time_ms() - t;
+        rc = gpu_check("tracing", e);
+    }
+    if (rc == REFRACT_E_OK)
+        rc = gpu_buffer_read(&out_buf, res, count * sizeof *res, e);
+    for (size_t i = 0; rc == REFRACT_E_OK && i < count; i++) {
+        hits[i].status = (int)res[i].exit_origin.w;
+        hits[i].steps = (int)res[i].exit_direction.w;
+        hits[i].optical_path_length = res[i].transmittance.w;
+        copy_xyz(hits[i].exit_origin, res[i].exit_origin);
+        copy_xyz(hits[i].exit_direction, res[i].exit_direction);
+        copy_xyz(hits[i].transmittance, res[i].transmittance);
+    }
+    gpu_buffer_destroy(&in_buf);
+    gpu_buffer_destroy(&out_buf);
+    free(in);
+    free(res);
+    return rc;
+}

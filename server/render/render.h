@@ -1,0 +1,103 @@
+/*
+ * render.h - the view renderer and the ray tracer on the GPU, and the GPU-side copies of
+ * scenes they need (tevs2007 ch. 5-6; docs/tracing.md).
+ *
+ * DESIGN: struct render lives on the GPU thread. It keeps a cache of built scenes keyed by
+ * scene id: the channel atlases (ior+gradient, attenuation, emission, opaque) and the
+ * environment map. A scene is built on first use, or ahead of use with
+ * render_scene_prepare, and rebuilt when its generation changes (an upload, a new
+ * document). Least recently used scenes are evicted when the cache exceeds its GPU memory
+ * budget. HTTP threads never call anything here; they queue gpu_work items whose run
+ * functions do (server/http/).
+ *
+ * Ownership: render owns every GL object it makes (the scene cache owns the atlases;
+ * per-request buffers are freed before a call returns). Callers own the results they get
+ * (render_view_result.rgba: free()).
+ * Thread: GPU thread only, except where a comment says otherwise.
+ */
+#ifndef REFRACT_RENDER_H
+#define REFRACT_RENDER_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "../core/err.h"
+#include "../gpu/queue.h"
+#include "../scene/scene.h"
+
+struct render;
+
+struct render_desc {
+    size_t scene_budget_bytes; /* GPU memory for cached scenes; 0 = 2 GiB */
+};
+
+/* Everything needed to build a scene's GPU data; borrowed for the call. */
+struct render_scene_source {
+    const char *id;      /* scene id: the cache key */
+    uint64_t generation; /* changes whenever the document or an upload changes */
+    const struct scene *scene;
+    scene_volume_lookup_fn lookup; /* uploaded volumes */
+    void *lookup_ctx;
+    const float *env_rgba; /* uploaded equirectangular environment (linear RGBA), or NULL */
+    int env_width, env_height;
+};
+
+struct render_scene_status {
+    size_t gpu_bytes;   /* atlases + environment */
+    double build_ms;    /* time of the last build (field evaluation + GPU precomputation) */
+    bool built_now;     /* this call built it */
+};
+
+struct render_view_request {
+    struct scene_camera camera;
+    struct scene_render_settings settings; /* exposure and tonemap are not used here */
+};
+
+struct render_view_result {
+    float *rgba; /* width * height * 4 linear floats, row 0 at the top; caller frees */
+    int width, height;
+    double gpu_ms;   /* dispatch to completion */
+    double total_ms; /* including scene build and read-back */
+    struct render_scene_status scene;
+};
+
+struct render_trace_ray {
+    double origin[3];
+    double direction[3]; /* unit */
+};
+
+struct render_trace_hit {
+    int status; /* enum ray_status */
+    double exit_origin[3];
+    double exit_direction[3];
+    double transmittance[3];
+    double optical_path_length;
+    int steps;
+};
+
+/* Makes a renderer on the GPU thread. Returns a new render (destroy with
+ * render_destroy on the GPU thread) or NULL with e filled. */
+struct render *render_create(struct gpu *gpu, const struct render_desc *desc, struct err *e);
+void render_destroy(struct render *r);
+
+/* Builds (or finds) the scene's GPU data. */
+enum refract_code render_scene_prepare(struct render *r, const struct render_scene_source *src,
+                                       struct render_scene_status *out, struct err *e);
+/* Drops a scene's GPU data (after DELETE, or before a rebuild). Unknown ids are ignored. */
+void render_scene_forget(struct render *r, const char *id);
+/* Bytes held by the scene cache. */
+size_t render_cache_bytes(const struct render *r);
+
+/* Renders a view: linear radiance per pixel. */
+enum refract_code render_view(struct render *r, const struct render_scene_source *src,
+                              const struct render_view_request *req,
+                              struct render_view_result *out, struct err *e);
+
+/* Traces `count` rays with the view renderer's march (trace_rays.comp). hits has count
+ * entries. */
+enum refract_code render_trace(struct render *r, const struct render_scene_source *src,
+                               const struct scene_render_settings *settings,
+                               const struct render_trace_ray *rays, size_t count,
+                               struct render_trace_hit *hits, double *gpu_ms, struct err *e);
+
+#endif

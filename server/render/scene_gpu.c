@@ -1,0 +1,320 @@
+/*
+ * scene_gpu.c - building a scene's GPU data (see scene_gpu.h): field evaluation on the
+ * CPU (scene_field_eval), then on the GPU the Gaussian pre-smoothing of n and its
+ * central-difference gradient (tevs2007 sect. 3.1, eq. 3.1; docs/tracing.md
+ * "Precomputation"), and uploads of the other channels and the environment map.
+ *
+ * Known limit: field evaluation runs on the GPU thread, so a large scene's build delays
+ * other GPU work by its evaluation time (about 0.1 s per 128^3 object with a few shapes
+ * on one core). Builds are queued at maintenance priority right after a scene is created,
+ * so interactive requests rarely wait for them.
+ */
+#include "scene_gpu.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../core/log.h"
+#include "bindings.h"
+#define REFRACT_HOST_C
+#include "shared_types.h"
+
+struct build_ctx {
+    struct gpu *gpu;
+    const struct render_scene_source *src;
+    struct scene_gpu *sg;
+    struct gpu_buffer field_a, field_b, ubo;
+    float *host; /* scratch: the largest object's voxels * 4 floats */
+};
+
+static enum refract_code make_standin(struct gpu_volume *v, const char *label, bool is_3d,
+                                      struct err *e)
+{
+    struct gpu_volume_desc d = {.label = label, .width = 1, .height = 1, .depth = is_3d ? 1 : 0};
+    enum refract_code rc = gpu_volume_create(&d, v, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    float zero[4] = {0, 0, 0, 0};
+    return gpu_volume_upload(v, 0, 0, 0, 1, 1, 1, 4, zero, e);
+}
+
+static bool channel_used_anywhere(const struct scene *s, enum scene_channel ch)
+{
+    for (size_t i = 0; i < s->object_count; i++) {
+        if (scene_channel_used(&s->objects[i], ch))
+            return true;
+    }
+    return false;
+}
+
+static enum refract_code check_limits(const struct build_ctx *b, struct err *e)
+{
+    const struct scene *s = b->src->scene;
+    int max3d = gpu_info(b->gpu)->max_3d_texture_size;
+    if (s->object_count > MAX_OBJECTS)
+        return err_set(e, REFRACT_E_LIMIT_EXCEEDED, "objects: %zu objects, the renderer "
+                       "handles at most %d per scene", s->object_count, MAX_OBJECTS);
+    for (int a = 0; a < 3; a++) {
+        if (b->sg->atlas_size[a] > max3d)
+            return err_set(e, REFRACT_E_LIMIT_EXCEEDED,
+                           "objects: the scene's voxel atlas needs %d texels along %c but this "
+                           "GPU allows %d (GL_MAX_3D_TEXTURE_SIZE); lower the objects' "
+                           "resolution",
+                           b->sg->atlas_size[a], "xyz"[a], max3d);
+    }
+    return REFRACT_E_OK;
+}
+
+static void layout_atlas(struct scene_gpu *sg, const struct scene *s)
+{
+    int z = 0;
+    for (size_t i = 0; i < s->object_count; i++) {
+        const int *res = s->objects[i].resolution;
+        sg->objects[i].atlas_z = z;
+        z += res[2];
+        if (res[0] > sg->atlas_size[0])
+            sg->atlas_size[0] = res[0];
+        if (res[1] > sg->atlas_size[1])
+            sg->atlas_size[1] = res[1];
+        unsigned flags = 0;
+        if (scene_channel_used(&s->objects[i], SCENE_CH_ATTENUATION))
+            flags |= OBJECT_HAS_ATTENUATION;
+        if (scene_channel_used(&s->objects[i], SCENE_CH_EMISSION))
+            flags |= OBJECT_HAS_EMISSION;
+        if (scene_channel_used(&s->objects[i], SCENE_CH_OPAQUE))
+            flags |= OBJECT_HAS_OPAQUE;
+        sg->objects[i].flags = flags;
+    }
+    sg->atlas_size[2] = z;
+    sg->object_count = s->object_count;
+}
+
+static enum refract_code alloc_atlas(struct build_ctx *b, struct gpu_volume *v,
+                                     enum scene_channel ch, const char *name, struct err *e)
+{
+    char label[128];
+    snprintf(label, sizeof label, "scene %s / %s atlas", b->sg->id, name);
+    if (ch != SCENE_CH_IOR && !channel_used_anywhere(b->src->scene, ch))
+        return make_standin(v, label, true, e);
+    struct gpu_volume_desc d = {
+        .label = label,
+        .width = b->sg->atlas_size[0],
+        .height = b->sg->atlas_size[1],
+        .depth = b->sg->atlas_size[2],
+        .format = ch == SCENE_CH_IOR ? GPU_TEXEL_RGBA32F : GPU_TEXEL_RGBA16F,
+    };
+    return gpu_volume_create(&d, v, e);
+}
+
+static void fill_weights(struct volume_params *vp, double sigma)
+{
+    int radius = (int)ceil(3.0 * sigma);
+    if (radius > 31)
+        radius = 31;
+    double w[32] = {0};
+    double sum = 0.0;
+    for (int k = 0; k <= radius; k++) {
+        w[k] = exp(-(double)(k * k) / (2.0 * sigma * sigma));
+        sum += k == 0 ? w[k] : 2.0 * w[k];
+    }
+    float *dst = &vp->weights[0].x;
+    for (int k = 0; k < 32; k++)
+        dst[k] = (float)(w[k] / sum);
+    vp->atlas_offset.w = radius;
+}
+
+static void dispatch_volume(struct build_ctx *b, GLuint program, const struct volume_params *vp,
+                            GLuint in, GLuint out)
+{
+    glNamedBufferSubData(b->ubo.buf, 0, sizeof *vp, vp);
+    glUseProgram(program);
+    glBindBufferBase(GL_UNIFORM_BUFFER, BIND_UBO_VOLUME, b->ubo.buf);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_FIELD_IN, in);
+    if (out)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_FIELD_OUT, out);
+    glDispatchCompute(gpu_groups(vp->resolution.x, VOLUME_LOCAL_X),
+                      gpu_groups(vp->resolution.y, VOLUME_LOCAL_Y),
+                      gpu_groups(vp->resolution.z, VOLUME_LOCAL_Z));
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                    GL_TEXTURE_FETCH_BARRIER_BIT);
+}
+
+/* n: evaluate, smooth (3 passes), gradient into the atlas. */
+static enum refract_code build_ior(struct build_ctx *b, size_t i, struct err *e)
+{
+    const struct scene *s = b->src->scene;
+    const struct scene_object *obj = &s->objects[i];
+    const struct gpu_programs *progs = gpu_programs_get(b->gpu);
+    size_t voxels = (size_t)obj->resolution[0] * obj->resolution[1] * obj->resolution[2];
+    enum refract_code rc = scene_field_eval(s, obj, SCENE_CH_IOR, b->src->lookup,
+                                            b->src->lookup_ctx, b->host, e);
+    if (rc != REFRACT_E_OK)
+        return err_prefix(e, "objects[%zu].ior: ", i);
+    glNamedBufferSubData(b->field_a.buf, 0, (GLsizeiptr)(voxels * sizeof(float)), b->host);
+    vec3 vs = scene_object_voxel_size(obj);
+    struct volume_params vp = {
+        .resolution = {obj->resolution[0], obj->resolution[1], obj->resolution[2], 0},
+        .voxel_size = {(float)vs.x, (float)vs.y, (float)vs.z, 0.0f},
+    };
+    GLuint src_buf = b->field_a.buf;
+    if (obj->smoothing_sigma_voxels > 0.0) {
+        fill_weights(&vp, obj->smoothing_sigma_voxels);
+        GLuint bufs[2] = {b->field_a.buf, b->field_b.buf};
+        for (int axis = 0; axis < 3; axis++) {
+            vp.resolution.w = axis;
+            dispatch_volume(b, gpu_program_get(progs, GPU_KERNEL_SMOOTH_IOR, 0), &vp, bufs[axis % 2],
+                            bufs[(axis + 1) % 2]);
+        }
+        src_buf = b->field_b.buf; /* x: a->b, y: b->a, z: a->b */
+    }
+    vp.atlas_offset = (ivec4){0, 0, b->sg->objects[i].atlas_z, 0};
+    glBindImageTexture(IMAGE_IOR_GRAD_OUT, b->sg->ior_grad.tex, 0, GL_TRUE, 0, GL_WRITE_ONLY,
+                       GL_RGBA32F);
+    dispatch_volume(b, gpu_program_get(progs, GPU_KERNEL_GRADIENT_IOR, 0), &vp, src_buf, 0);
+    return gpu_check("computing the index gradient", e);
+}
+
+static enum refract_code build_channel(struct build_ctx *b, size_t i, enum scene_channel ch,
+                                       struct gpu_volume *atlas, struct err *e)
+{
+    const struct scene *s = b->src->scene;
+    const struct scene_object *obj = &s->objects[i];
+    if (!scene_channel_used(obj, ch))
+        return REFRACT_E_OK;
+    enum refract_code rc = scene_field_eval(s, obj, ch, b->src->lookup, b->src->lookup_ctx,
+                                            b->host, e);
+    if (rc != REFRACT_E_OK)
+        return err_prefix(e, "objects[%zu].%s: ", i, scene_channel_name(ch));
+    return gpu_volume_upload(atlas, 0, 0, b->sg->objects[i].atlas_z, obj->resolution[0],
+                             obj->resolution[1], obj->resolution[2], 4, b->host, e);
+}
+
+static enum refract_code build_environment(struct build_ctx *b, struct err *e)
+{
+    const struct render_scene_source *src = b->src;
+    char label[128];
+    snprintf(label, sizeof label, "scene %s / environment", b->sg->id);
+    if (src->scene->environment.kind != SCENE_ENV_IMAGE)
+        return make_standin(&b->sg->environment, label, false, e);
+    if (src->env_rgba == NULL)
+        return err_set(e, REFRACT_E_CONFLICT,
+                       "environment.type is \"image\" but no environment image was uploaded; "
+                       "upload one with PUT /v1/scenes/%s/environment",
+                       src->id);
+    struct gpu_volume_desc d = {.label = label,
+                                .width = src->env_width,
+                                .height = src->env_height,
+                                .wrap_repeat_s = 1};
+    enum refract_code rc = gpu_volume_create(&d, &b->sg->environment, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    return gpu_volume_upload(&b->sg->environment, 0, 0, 0, src->env_width, src->env_height, 1,
+                             4, src->env_rgba, e);
+}
+
+static enum refract_code alloc_scratch(struct build_ctx *b, struct err *e)
+{
+    size_t max_voxels = 1;
+    const struct scene *s = b->src->scene;
+    for (size_t i = 0; i < s->object_count; i++) {
+        const int *r = s->objects[i].resolution;
+        size_t n = (size_t)r[0] * r[1] * r[2];
+        if (n > max_voxels)
+            max_voxels = n;
+    }
+    b->host = malloc(max_voxels * 4 * sizeof(float));
+    if (b->host == NULL)
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of host memory evaluating fields");
+    enum refract_code rc = gpu_buffer_create("field scratch a", max_voxels * sizeof(float), NULL,
+                                             &b->field_a, e);
+    if (rc == REFRACT_E_OK)
+        rc = gpu_buffer_create("field scratch b", max_voxels * sizeof(float), NULL, &b->field_b,
+                               e);
+    if (rc == REFRACT_E_OK)
+        rc = gpu_buffer_create("volume params", sizeof(struct volume_params), NULL, &b->ubo, e);
+    return rc;
+}
+
+static enum refract_code build_all(struct build_ctx *b, struct err *e)
+{
+    const struct scene *s = b->src->scene;
+    char missing[256];
+    if (scene_missing_volumes(s, b->src->lookup, b->src->lookup_ctx, missing, sizeof missing) > 0)
+        return err_set(e, REFRACT_E_CONFLICT,
+                       "the scene references volumes that were not uploaded: %s; upload them "
+                       "with PUT /v1/scenes/%s/volumes/{name}",
+                       missing, b->src->id);
+    layout_atlas(b->sg, s);
+    enum refract_code rc = check_limits(b, e);
+    if (rc == REFRACT_E_OK)
+        rc = alloc_scratch(b, e);
+    if (rc == REFRACT_E_OK)
+        rc = alloc_atlas(b, &b->sg->ior_grad, SCENE_CH_IOR, "ior+grad", e);
+    if (rc == REFRACT_E_OK)
+        rc = alloc_atlas(b, &b->sg->attenuation, SCENE_CH_ATTENUATION, "attenuation", e);
+    if (rc == REFRACT_E_OK)
+        rc = alloc_atlas(b, &b->sg->emission, SCENE_CH_EMISSION, "emission", e);
+    if (rc == REFRACT_E_OK)
+        rc = alloc_atlas(b, &b->sg->opaque, SCENE_CH_OPAQUE, "opaque", e);
+    for (size_t i = 0; rc == REFRACT_E_OK && i < s->object_count; i++) {
+        rc = build_ior(b, i, e);
+        if (rc == REFRACT_E_OK)
+            rc = build_channel(b, i, SCENE_CH_ATTENUATION, &b->sg->attenuation, e);
+        if (rc == REFRACT_E_OK)
+            rc = build_channel(b, i, SCENE_CH_EMISSION, &b->sg->emission, e);
+        if (rc == REFRACT_E_OK)
+            rc = build_channel(b, i, SCENE_CH_OPAQUE, &b->sg->opaque, e);
+    }
+    if (rc == REFRACT_E_OK)
+        rc = build_environment(b, e);
+    if (rc == REFRACT_E_OK) {
+        glFinish();
+        rc = gpu_check("building the scene", e);
+    }
+    return rc;
+}
+
+struct scene_gpu *scene_gpu_build(struct gpu *gpu, const struct render_scene_source *src,
+                                  struct err *e)
+{
+    double t0 = gpu_time_ms();
+    struct scene_gpu *sg = calloc(1, sizeof *sg);
+    if (sg == NULL) {
+        err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory building scene %s", src->id);
+        return NULL;
+    }
+    snprintf(sg->id, sizeof sg->id, "%s", src->id);
+    sg->generation = src->generation;
+    struct build_ctx b = {.gpu = gpu, .src = src, .sg = sg};
+    enum refract_code rc = build_all(&b, e);
+    gpu_buffer_destroy(&b.field_a);
+    gpu_buffer_destroy(&b.field_b);
+    gpu_buffer_destroy(&b.ubo);
+    free(b.host);
+    if (rc != REFRACT_E_OK) {
+        scene_gpu_destroy(sg);
+        return NULL;
+    }
+    sg->bytes = sg->ior_grad.bytes + sg->attenuation.bytes + sg->emission.bytes +
+                sg->opaque.bytes + sg->environment.bytes;
+    sg->build_ms = gpu_time_ms() - t0;
+    log_info("render", "built scene %s (generation %llu): %zu objects, atlas %dx%dx%d, %.1f MiB, "
+             "%.0f ms",
+             sg->id, (unsigned long long)sg->generation, sg->object_count, sg->atlas_size[0],
+             sg->atlas_size[1], sg->atlas_size[2], (double)sg->bytes / 1048576.0, sg->build_ms);
+    return sg;
+}
+
+void scene_gpu_destroy(struct scene_gpu *sg)
+{
+    if (sg == NULL)
+        return;
+    gpu_volume_destroy(&sg->ior_grad);
+    gpu_volume_destroy(&sg->attenuation);
+    gpu_volume_destroy(&sg->emission);
+    gpu_volume_destroy(&sg->opaque);
+    gpu_volume_destroy(&sg->environment);
+    free(sg);
+}

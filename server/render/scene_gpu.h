@@ -1,0 +1,50 @@
+/*
+ * scene_gpu.h - one scene's data on the GPU: the channel atlases and the environment
+ * map, built from a struct scene (internal to render/).
+ *
+ * Layout: all objects of a scene share one 3D texture per channel ("atlas"); object i
+ * occupies the box [0, res_i) x [0, res_i) x [z_i, z_i + res_i.z) with z_i the sum of the
+ * depths before it. Channels no object uses are not allocated (a 1x1x1 texture stands in).
+ *
+ * Ownership: scene_gpu owns its textures (this module creates and destroys them).
+ * Thread: GPU thread.
+ */
+#ifndef REFRACT_SCENE_GPU_H
+#define REFRACT_SCENE_GPU_H
+
+#include <stdbool.h>
+
+#include "../gpu/queue.h"
+#include "../gpu/resources.h"
+#include "bindings.h"
+#include "render.h"
+
+struct scene_gpu_object {
+    int atlas_z;      /* first z slice of this object in the atlases */
+    unsigned flags;   /* OBJECT_HAS_* */
+};
+
+struct scene_gpu {
+    char id[64];
+    uint64_t generation;
+    struct gpu_volume ior_grad;    /* RGBA32F: grad n (object units), n */
+    struct gpu_volume attenuation; /* RGBA16F or 1x1x1 stand-in */
+    struct gpu_volume emission;    /* RGBA16F or stand-in */
+    struct gpu_volume opaque;      /* RGBA16F or stand-in */
+    struct gpu_volume environment; /* RGBA32F 2D, or 1x1 stand-in */
+    int atlas_size[3];
+    size_t object_count;
+    struct scene_gpu_object objects[MAX_OBJECTS];
+    size_t bytes;
+    double build_ms;
+    int64_t last_used_ms;
+};
+
+/* Builds a new scene_gpu from src. Returns it (destroy with scene_gpu_destroy) or NULL with
+ * e filled (CONFLICT for a missing volume or environment, LIMIT_EXCEEDED for atlases
+ * beyond GL_MAX_3D_TEXTURE_SIZE, GPU_OUT_OF_MEMORY). */
+struct scene_gpu *scene_gpu_build(struct gpu *gpu, const struct render_scene_source *src,
+                                  struct err *e);
+void scene_gpu_destroy(struct scene_gpu *sg);
+
+#endif

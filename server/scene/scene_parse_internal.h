@@ -1,0 +1,46 @@
+/*
+ * scene_parse_internal.h - what the scene parser's files share; not part of the
+ * module's interface (include scene.h instead).
+ *
+ * scene_parse.c reads the document, camera, render settings and objects;
+ * scene_parse_field.c reads one channel of one object (values, shape, profile and
+ * volume layers). Both report limits the same way through scene_limit_error.
+ */
+#ifndef REFRACT_SCENE_PARSE_INTERNAL_H
+#define REFRACT_SCENE_PARSE_INTERNAL_H
+
+#include <cjson/cJSON.h>
+
+#include "scene.h"
+
+/* Largest coordinate, length or scale a scene may use, in object or world units. */
+#define SCENE_COORD_MAX 1e6
+
+/* What a channel's parser needs to know about the document around it. Borrowed. */
+struct scene_parse_ctx {
+    const struct scene_limits *limits;
+    double ambient_ior;          /* default n_out of gaussian profiles */
+    vec3 bounds_min, bounds_max; /* the object's bounds, to check linear profiles */
+};
+
+/* Parses the FIELD `item` (JSON path `path`) of channel ch into out. On failure out may
+ * hold some layers; scene_field_fini frees them either way. */
+enum refract_code scene_parse_field(const cJSON *item, const char *path, enum scene_channel ch,
+                                    const struct scene_parse_ctx *ctx, struct scene_field *out,
+                                    struct err *e);
+
+/* Frees what a field owns (layers, lathe profiles, text) and zeroes it. */
+void scene_field_fini(struct scene_field *f);
+
+/* LIMIT_EXCEEDED: "<path>: <given> exceeds the limit <limit_name> = <value>; start
+ * refractd with <flag> to raise it". */
+enum refract_code scene_limit_error(struct err *e, const char *path, const char *given,
+                                    const char *limit_name, long long value, const char *flag);
+
+/* An integer item (already looked up; NULL = absent -> def) in min..limit: below min or
+ * not an integer is INVALID_FIELD, above limit is LIMIT_EXCEEDED via scene_limit_error. */
+enum refract_code scene_read_limited_int(const cJSON *item, const char *path, int def, int min,
+                                         int limit, const char *limit_name, const char *flag,
+                                         int *out, struct err *e);
+
+#endif

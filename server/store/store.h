@@ -1,0 +1,125 @@
+/*
+ * store.h - the daemon's scenes and their uploads, in memory and in the data directory.
+ *
+ * DESIGN: a scene id maps to a slot holding the current *version* of the scene: an
+ * immutable, reference-counted struct store_scene (the document, its parsed model, the
+ * uploaded volumes and environment image). Changing a scene (an upload) makes a new
+ * version with a new generation number and swaps it into the slot; work in flight keeps
+ * the version it started with until it releases it. So a render never sees a half-made
+ * change, and readers need no lock beyond the slot lookup.
+ *
+ * Persistence: every accepted document and upload is written to the data directory
+ * (write to a temporary name, fsync, rename) before the call returns, and everything is
+ * loaded again at start-up:
+ *     <data>/scenes/<id>/scene.json
+ *     <data>/scenes/<id>/volumes/<name>.f32   raw little-endian float32
+ *     <data>/scenes/<id>/volumes/<name>.json  {"dims": [x, y, z], "components": c}
+ *     <data>/scenes/<id>/environment.img      the uploaded image file, as sent
+ * (issue 5 replaces this with SQLite metadata and content-addressed blobs.)
+ *
+ * Ownership: functions returning a struct store_scene * return a new reference that the
+ * caller releases with store_scene_release(). Thread: any; the store locks internally.
+ */
+#ifndef REFRACT_STORE_H
+#define REFRACT_STORE_H
+
+#include <stdatomic.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "../core/err.h"
+#include "../scene/scene.h"
+
+#define STORE_ID_MAX 64
+
+struct store_volume {
+    atomic_int refs;
+    char name[SCENE_VOLUME_NAME_MAX];
+    struct scene_volume view; /* dims, components, data (points into `data`) */
+    float *data;              /* owned */
+    size_t count;             /* floats */
+    double min, max;
+    uint64_t checksum; /* FNV-1a 64 of the little-endian bytes */
+};
+
+struct store_env {
+    atomic_int refs;
+    int width, height;
+    float *rgba; /* linear, row 0 at the top; owned */
+    size_t source_bytes;
+};
+
+struct store_scene {
+    atomic_int refs;
+    char id[STORE_ID_MAX];
+    uint64_t generation; /* unique per version across the store's lifetime */
+    char *json;          /* the document as received; owned */
+    size_t json_len;
+    struct scene *scene; /* owned */
+    struct store_volume **volumes; /* owned references */
+    size_t volume_count;
+    struct store_env *env; /* owned reference or NULL */
+    int64_t created_unix;
+};
+
+/* What the GPU thread last reported about a scene's build. */
+struct store_gpu_status {
+    char state[16];  /* "pending", "ready", "failed" */
+    uint64_t generation;
+    size_t gpu_bytes;
+    double build_ms;
+    char message[ERR_MSG_MAX];
+};
+
+struct store_desc {
+    const char *data_dir;         /* created if missing */
+    struct scene_limits limits;   /* for parsing documents */
+    int max_scenes;               /* 0 = 64 */
+    long long max_env_pixels;     /* 0 = 64M */
+};
+
+struct store;
+
+/* Opens (creating) the data directory and loads every scene in it. Scenes that no longer
+ * parse are skipped with a warning (and left on disk). Returns a new store (close with
+ * store_close) or NULL with e filled. */
+struct store *store_open(const struct store_desc *desc, struct err *e);
+void store_close(struct store *s);
+
+/* Validates and stores a new scene. id may be NULL (a random id is made) or a name of
+ * [a-z0-9_-], 1..63 chars (then an existing scene with that id is replaced). */
+enum refract_code store_scene_create(struct store *s, const char *id, const char *json,
+                                     size_t len, struct store_scene **out, struct err *e);
+/* New reference to the current version, or NULL when unknown. */
+struct store_scene *store_scene_get(struct store *s, const char *id);
+void store_scene_release(struct store_scene *sc);
+enum refract_code store_scene_delete(struct store *s, const char *id, struct err *e);
+
+/* Current versions of all scenes, sorted by id: *out is a new array of new references;
+ * release each and free the array with store_list_free. Returns the count. */
+size_t store_scene_list(struct store *s, struct store_scene ***out);
+void store_list_free(struct store_scene **list, size_t count);
+
+/* Adds or replaces volume `name` of scene `id`. Consumes `data` (count floats, freed on
+ * failure too). Makes a new version; *out (may be NULL) gets a reference to the stored
+ * volume. */
+enum refract_code store_volume_put(struct store *s, const char *id, const char *name,
+                                   const int dims[3], int components, float *data,
+                                   size_t count, struct store_volume **out, struct err *e);
+void store_volume_release(struct store_volume *v);
+
+/* Decodes and stores the environment image of scene `id` (bytes as uploaded). */
+enum refract_code store_env_put(struct store *s, const char *id, const void *bytes, size_t len,
+                                int *width, int *height, struct err *e);
+
+/* The scene_volume_lookup_fn of a version: ctx is a struct store_scene *. */
+const struct scene_volume *store_volume_lookup(void *ctx, const char *name);
+
+void store_gpu_status_set(struct store *s, const char *id, const struct store_gpu_status *st);
+/* Copies the status; returns false when the id has none. */
+bool store_gpu_status_get(struct store *s, const char *id, struct store_gpu_status *out);
+
+/* True when name is 1..63 chars of [A-Za-z0-9_-] (volume names, ids). */
+bool store_name_valid(const char *name, bool allow_upper);
+
+#endif

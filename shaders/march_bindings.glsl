@@ -1,0 +1,31 @@
+// march_bindings.glsl - the resources of the marching kernels (render_view, trace_rays):
+// the march_params uniform block and the channel atlases. Binding numbers come from
+// bindings.h only.
+#include "bindings.h"
+#include "shared_types.h"
+
+// Variant switches, set by the program's preamble (server/gpu/program.c): the integrator
+// and which optional channels the scene uses. A channel compiled out is never sampled.
+#ifndef MARCH_INTEGRATOR
+#define MARCH_INTEGRATOR INTEGRATOR_RK4
+#endif
+#ifndef MARCH_ATTENUATION
+#define MARCH_ATTENUATION 1
+#endif
+#ifndef MARCH_EMISSION
+#define MARCH_EMISSION 1
+#endif
+#ifndef MARCH_OPAQUE
+#define MARCH_OPAQUE 1
+#endif
+
+layout(std140, binding = BIND_UBO_RENDER) uniform march_params_block
+{
+    march_params params;
+};
+
+layout(binding = UNIT_IOR_GRAD) uniform sampler3D ior_grad_atlas;
+layout(binding = UNIT_ATTENUATION) uniform sampler3D attenuation_atlas;
+layout(binding = UNIT_EMISSION) uniform sampler3D emission_atlas;
+layout(binding = UNIT_OPAQUE) uniform sampler3D opaque_atlas;
+layout(binding = UNIT_ENVIRONMENT) uniform sampler2D environment_map;

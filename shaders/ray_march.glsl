@@ -1,0 +1,414 @@
+// ray_march.glsl - a ray's whole journey through a scene's volume objects: docs/tracing.md
+// "The march", implemented step for step (the CPU twin is server/core/reftrace.c).
+//
+// Image formation follows tevs2007 eq. 5.10 without the light-dependent terms:
+// L = sum T_f exp(-alpha) L_e ds + reflections + T_f exp(-alpha) L_bg, with Fresnel
+// transmission factors T_f multiplied along the ray (sect. 5.1.3) and Beer-Lambert optical
+// depth alpha (eq. 5.9). Define MARCH_RADIANCE to 1 before including this file to gather
+// radiance (render_view); trace_rays leaves it 0 and only transports the ray.
+
+#ifndef MARCH_RADIANCE
+#define MARCH_RADIANCE 0
+#endif
+// The variant switches MARCH_INTEGRATOR, MARCH_ATTENUATION, MARCH_EMISSION and MARCH_OPAQUE
+// are set in march_bindings.glsl.
+
+const float MARCH_INDEX_EPS = 1e-6;       // |n_field - n_ambient| below this: no interface
+const float MARCH_ABSORBED = 1e-6;        // throughput below this: the ray is absorbed
+const float MARCH_EXIT_EPS = 1e-3;        // voxels: a bounds this close behind is already left
+
+struct march_state {
+    vec3 x;          // world position
+    vec3 d;          // unit world direction
+    float t_f;       // product of Fresnel transmission factors
+    vec3 alpha;      // optical depth per channel (tevs2007 eq. 5.9)
+    vec3 L;          // gathered radiance (MARCH_RADIANCE)
+    float opl;       // optical path length, world units
+    int steps;       // integration steps taken
+    int status;      // RAY_STATUS_*
+    bool crossed;    // entered at least one object
+};
+
+float march_object_scale(int obj)
+{
+    return params.objects[obj].bounds_min.w;
+}
+
+vec3 march_point_to_object(int obj, vec3 x)
+{
+    return (params.objects[obj].object_from_world * vec4(x, 1.0)).xyz;
+}
+
+vec3 march_point_to_world(int obj, vec3 p)
+{
+    return (params.objects[obj].world_from_object * vec4(p, 1.0)).xyz;
+}
+
+// Rotation only: world_from_object's 3x3 part is scale * R.
+vec3 march_dir_to_world(int obj, vec3 q)
+{
+    return normalize(mat3(params.objects[obj].world_from_object) * q);
+}
+
+vec3 march_dir_to_object(int obj, vec3 d)
+{
+    return normalize(mat3(params.objects[obj].object_from_world) * d);
+}
+
+float march_throughput(march_state s)
+{
+    vec3 t = exp(-s.alpha);
+    return s.t_f * max(t.r, max(t.g, t.b));
+}
+
+// Adds a reflection seen in world direction d_world with weight R (MARCH_RADIANCE only).
+void march_add_reflection(inout march_state s, float R, vec3 d_world)
+{
+#if MARCH_RADIANCE
+    s.L += s.t_f * exp(-s.alpha) * R * environment_radiance(d_world);
+#endif
+}
+
+// Slab test of an object-space ray against the bounds. Returns true when the ray's line
+// meets the box with t1 > MARCH_EXIT_EPS voxels; t0 may be negative (origin inside). axis0 and
+// sign0 name the entry face (outward normal = sign0 along axis0).
+bool march_bounds_hit(int obj, vec3 o, vec3 q, out float t0, out float t1, out int axis0,
+                      out float sign0)
+{
+    vec3 bmin = params.objects[obj].bounds_min.xyz;
+    vec3 bmax = params.objects[obj].bounds_max.xyz;
+    t0 = -1e30;
+    t1 = 1e30;
+    axis0 = 0;
+    sign0 = -1.0;
+    for (int a = 0; a < 3; a++) {
+        if (abs(q[a]) < 1e-12) {
+            if (o[a] < bmin[a] || o[a] > bmax[a])
+                return false;
+            continue;
+        }
+        float inv = 1.0 / q[a];
+        float ta = (bmin[a] - o[a]) * inv;
+        float tb = (bmax[a] - o[a]) * inv;
+        float tn = min(ta, tb);
+        float tf = max(ta, tb);
+        if (tn > t0) {
+            t0 = tn;
+            axis0 = a;
+            sign0 = q[a] > 0.0 ? -1.0 : 1.0;
+        }
+        t1 = min(t1, tf);
+    }
+    return t0 <= t1 && t1 > MARCH_EXIT_EPS * params.objects[obj].bounds_max.w;
+}
+
+// Fraction f in [0, 1] of the segment p0 -> p1 inside the bounds, and the face it leaves
+// through (outward normal = sign along axis). Called when p1 is outside.
+float march_exit_fraction(int obj, vec3 p0, vec3 p1, out int axis, out float sign)
+{
+    vec3 bmin = params.objects[obj].bounds_min.xyz;
+    vec3 bmax = params.objects[obj].bounds_max.xyz;
+    float f = 1.0;
+    axis = 0;
+    sign = 1.0;
+    vec3 dp = p1 - p0;
+    for (int a = 0; a < 3; a++) {
+        float fa = 2.0;
+        if (p1[a] > bmax[a] && dp[a] > 0.0)
+            fa = (bmax[a] - p0[a]) / dp[a];
+        else if (p1[a] < bmin[a] && dp[a] < 0.0)
+            fa = (bmin[a] - p0[a]) / dp[a];
+        if (fa < f) {
+            f = fa;
+            axis = a;
+            sign = dp[a] > 0.0 ? 1.0 : -1.0;
+        }
+    }
+    return clamp(f, 0.0, 1.0);
+}
+
+bool march_outside(int obj, vec3 p)
+{
+    vec3 bmin = params.objects[obj].bounds_min.xyz;
+    vec3 bmax = params.objects[obj].bounds_max.xyz;
+    return any(lessThan(p, bmin)) || any(greaterThan(p, bmax));
+}
+
+vec3 march_axis_normal(int axis, float sign)
+{
+    vec3 n = vec3(0.0);
+    n[axis] = sign;
+    return n;
+}
+
+// Finds the object the world ray enters first. Returns -1 when none.
+int march_next_object(march_state s, out float t_world, out bool inside, out int face_axis,
+                      out float face_sign)
+{
+    int best = -1;
+    t_world = 1e30;
+    inside = false;
+    face_axis = 0;
+    face_sign = 1.0;
+    for (int i = 0; i < params.settings_i.z; i++) {
+        vec3 o = march_point_to_object(i, s.x);
+        vec3 q = march_dir_to_object(i, s.d);
+        float t0, t1, sgn;
+        int ax;
+        if (!march_bounds_hit(i, o, q, t0, t1, ax, sgn))
+            continue;
+        float tw = max(t0, 0.0) * march_object_scale(i);
+        if (tw < t_world) {
+            t_world = tw;
+            best = i;
+            inside = t0 <= 0.0;
+            face_axis = ax;
+            face_sign = sgn;
+        }
+    }
+    return best;
+}
+
+// Sharp boundaries inside the field (docs/tracing.md "Sharp boundaries"). Entering a
+// boundary zone probes the index on both sides along grad n; the Fresnel event happens
+// where the ray crosses the zone's middle index, so a ray that only grazes the smoothed
+// halo of an interface (tevs2007 sect. 3.1) is not reflected.
+struct march_zone {
+    bool inside; // in a zone (|grad n| h_min above the threshold, with hysteresis)
+    bool armed;  // its middle index has not been crossed yet
+    float n_lo, n_hi, n_mid;
+};
+
+void march_zone_enter(inout march_zone z, int obj, vec3 p, vec4 sample_at_p)
+{
+    vec3 N = normalize(sample_at_p.rgb);
+    float h_min = params.objects[obj].bounds_max.w;
+    float k = (3.0 * params.objects[obj].inv_voxel_size.w + 2.0) * h_min;
+    z.n_lo = volume_sample_ior_grad(obj, p - k * N).a;
+    z.n_hi = volume_sample_ior_grad(obj, p + k * N).a;
+    z.n_mid = 0.5 * (z.n_lo + z.n_hi);
+    z.inside = true;
+    z.armed = true;
+}
+
+bool march_zone_crossed(march_zone z, float n_before, float n_after)
+{
+    return z.armed && n_before != n_after && (n_before - z.n_mid) * (n_after - z.n_mid) <= 0.0;
+}
+
+// The crossing: unpolarised Fresnel from the side the ray comes from to the other.
+void march_zone_event(inout march_state s, inout march_zone z, int obj, vec4 sample_at_p,
+                      float n_before, vec3 q)
+{
+    z.armed = false;
+    if (dot(sample_at_p.rgb, sample_at_p.rgb) <= 0.0)
+        return;
+    vec3 N = normalize(sample_at_p.rgb);
+    bool rising = sample_at_p.a > n_before;
+    float n_i = rising ? z.n_lo : z.n_hi;
+    float n_t = rising ? z.n_hi : z.n_lo;
+    float R = fresnel_unpolarized(abs(dot(q, N)), n_i, n_t);
+    if (R >= 1.0)
+        return; // total internal reflection emerges from the ray equation itself
+    march_add_reflection(s, R, march_dir_to_world(obj, reflect(q, N)));
+    s.t_f *= 1.0 - R;
+}
+
+// The ray stopped on an opaque embedding (tevs2007 sect. 6.1, T6).
+void march_opaque_hit(inout march_state s, int obj, vec3 p, vec4 opaque, float n_here, vec3 q)
+{
+#if MARCH_RADIANCE
+    vec3 h = 1.0 / params.objects[obj].inv_voxel_size.xyz; // one voxel along each axis
+    vec3 g;
+    g.x = volume_sample_opaque(obj, p + vec3(h.x, 0, 0)).a - volume_sample_opaque(obj, p - vec3(h.x, 0, 0)).a;
+    g.y = volume_sample_opaque(obj, p + vec3(0, h.y, 0)).a - volume_sample_opaque(obj, p - vec3(0, h.y, 0)).a;
+    g.z = volume_sample_opaque(obj, p + vec3(0, 0, h.z)).a - volume_sample_opaque(obj, p - vec3(0, 0, h.z)).a;
+    g /= h;
+    vec3 N = length(g) > 1e-12 ? -normalize(g) : -q; // outward from the embedding
+    float R = fresnel_unpolarized(abs(dot(q, N)), n_here, params.objects[obj].atlas_offset.w);
+    s.L += s.t_f * exp(-s.alpha) *
+           (R * environment_radiance(march_dir_to_world(obj, reflect(q, N))) + (1.0 - R) * opaque.rgb);
+#endif
+    s.status = RAY_STATUS_ABSORBED;
+}
+
+// Crossing a bounds face from n_from to n_to with outward normal N (object space).
+// Returns false on total internal reflection (q is then mirrored); otherwise q refracts
+// and the reflected part is gathered.
+bool march_face(inout march_state s, int obj, inout vec3 q, vec3 N, float n_from, float n_to)
+{
+    if (abs(n_from - n_to) <= MARCH_INDEX_EPS)
+        return true;
+    float R = fresnel_unpolarized(abs(dot(q, N)), n_from, n_to);
+    vec3 r = reflect(q, N);
+    if (R >= 1.0) {
+        q = r;
+        return false;
+    }
+    march_add_reflection(s, R, march_dir_to_world(obj, r));
+    s.t_f *= 1.0 - R;
+    vec3 t;
+    snell_refract(q, N, n_from, n_to, t);
+    q = t;
+    return true;
+}
+
+// Integrates through object obj from object-space point p with unit direction q until the
+// ray leaves the bounds or stops. Updates s.x and s.d on exit.
+//
+// The inner loop only steps and accumulates; anything rare and expensive (a Fresnel event,
+// an opaque hit, leaving the bounds) breaks out of it and is handled once in the outer
+// loop. On SIMD hardware and llvmpipe, code inside a branch of the inner loop costs every
+// lane every step even when no lane takes it, so keeping the inner loop lean is what makes
+// the march fast.
+void march_through_object(inout march_state s, int obj, vec3 p, vec3 q)
+{
+    float scale = march_object_scale(obj);
+    float h_min = params.objects[obj].bounds_max.w;
+    float h = params.settings_f.x * h_min;
+    float ambient = params.settings_f.z;
+    float threshold = params.settings_f.y;
+    int max_steps = params.settings_i.y;
+    vec4 s0 = volume_sample_ior_grad(obj, p);
+    vec3 sig0 = volume_sample_attenuation(obj, p);
+    vec3 w = s0.a * q;
+    march_zone zone;
+    zone.inside = false;
+    zone.armed = false;
+    zone.n_lo = zone.n_hi = zone.n_mid = s0.a;
+    float n_before = s0.a;
+    while (s.status == RAY_STATUS_RUNNING) {
+        bool leaving = false, entering = false, crossed = false, opaque = false, absorbed = false;
+        int exit_axis = 0;
+        float exit_sign = 1.0;
+        vec4 op = vec4(0.0);
+        for (;;) {
+            if (s.steps >= max_steps) {
+                s.status = RAY_STATUS_MAX_STEPS;
+                break;
+            }
+            vec3 p1 = p;
+            vec3 w1 = w;
+#if MARCH_INTEGRATOR == INTEGRATOR_EULER
+            ray_equation_step_euler(obj, s0, h, p1, w1);
+#else
+            ray_equation_step_rk4(obj, s0, h, p1, w1);
+#endif
+            s.steps++;
+            leaving = march_outside(obj, p1);
+            if (leaving) {
+                float f = march_exit_fraction(obj, p, p1, exit_axis, exit_sign);
+                p1 = p + f * (p1 - p);
+                w1 = w + f * (w1 - w);
+            }
+            vec4 s1 = volume_sample_ior_grad(obj, p1);
+            vec3 sig1 = volume_sample_attenuation(obj, p1);
+            float ds = length(p1 - p) * scale;
+            s.opl += 0.5 * (s0.a + s1.a) * ds;
+            s.alpha += 0.5 * (sig0 + sig1) * ds;
+#if MARCH_RADIANCE && MARCH_EMISSION
+            s.L += s.t_f * exp(-s.alpha) * volume_sample_emission(obj, p1) * ds;
+#endif
+            float g = length(s1.rgb) * h_min;
+            entering = !zone.inside && g > threshold;
+            crossed = march_zone_crossed(zone, s0.a, s1.a);
+            n_before = s0.a;
+            if (zone.inside && g < 0.5 * threshold) {
+                zone.inside = false;
+                zone.armed = false;
+            }
+#if MARCH_OPAQUE
+            op = volume_sample_opaque(obj, p1);
+            opaque = op.a >= 0.5;
+#endif
+            absorbed = march_throughput(s) < MARCH_ABSORBED;
+            p = p1;
+            w = w1;
+            s0 = s1;
+            sig0 = sig1;
+            if (leaving || entering || crossed || opaque || absorbed)
+                break;
+        }
+        q = normalize(w);
+        if (s.status != RAY_STATUS_RUNNING)
+            break;
+        if (entering) {
+            march_zone_enter(zone, obj, p, s0);
+            crossed = march_zone_crossed(zone, n_before, s0.a); // a thin zone, one step
+        }
+        if (crossed)
+            march_zone_event(s, zone, obj, s0, n_before, q);
+        if (opaque) {
+            march_opaque_hit(s, obj, p, op, s0.a, q);
+            break;
+        }
+        if (absorbed || march_throughput(s) < MARCH_ABSORBED) {
+            s.status = RAY_STATUS_ABSORBED;
+            break;
+        }
+        if (leaving) {
+            vec3 N = march_axis_normal(exit_axis, exit_sign);
+            if (march_face(s, obj, q, N, s0.a, ambient)) {
+                s.x = march_point_to_world(obj, p);
+                s.d = march_dir_to_world(obj, q);
+                return;
+            }
+            w = s0.a * q; // totally reflected at the face: keep marching inside
+        }
+    }
+    s.x = march_point_to_world(obj, p);
+    s.d = march_dir_to_world(obj, q);
+}
+
+// Traces a world ray through the scene. Statuses, exit point and direction, transmittance
+// and optical path length follow docs/tracing.md; s.L holds the gathered radiance.
+march_state march_ray(vec3 origin, vec3 dir)
+{
+    march_state s;
+    s.x = origin;
+    s.d = normalize(dir);
+    s.t_f = 1.0;
+    s.alpha = vec3(0.0);
+    s.L = vec3(0.0);
+    s.opl = 0.0;
+    s.steps = 0;
+    s.status = RAY_STATUS_RUNNING;
+    s.crossed = false;
+    float ambient = params.settings_f.z;
+    bool left_scene = false;
+    // Each pass enters one object (or reflects off one face); the step budget bounds
+    // the loop, the pass cap guards against a ray that reflects off faces forever.
+    for (int pass = 0; pass < 4 * MAX_OBJECTS + 64 && s.status == RAY_STATUS_RUNNING; pass++) {
+        float t_world;
+        bool inside;
+        int axis;
+        float sgn;
+        int obj = march_next_object(s, t_world, inside, axis, sgn);
+        if (obj < 0) {
+            left_scene = true;
+            break;
+        }
+        s.x += s.d * t_world;
+        s.opl += ambient * t_world;
+        s.crossed = true;
+        vec3 p = march_point_to_object(obj, s.x);
+        vec3 q = march_dir_to_object(obj, s.d);
+        if (!inside) {
+            float n_in = volume_sample_ior_grad(obj, p).a;
+            if (!march_face(s, obj, q, march_axis_normal(axis, sgn), ambient, n_in)) {
+                s.d = march_dir_to_world(obj, q); // reflected off the face, never entered
+                continue;
+            }
+        }
+        march_through_object(s, obj, p, q);
+    }
+    if (s.status == RAY_STATUS_RUNNING && !left_scene) {
+        s.status = RAY_STATUS_MAX_STEPS; // the pass cap: a ray that keeps reflecting off faces
+    } else if (s.status == RAY_STATUS_RUNNING) {
+        s.status = s.crossed ? RAY_STATUS_EXITED : RAY_STATUS_MISSED;
+#if MARCH_RADIANCE
+        s.L += s.t_f * exp(-s.alpha) * environment_radiance(s.d);
+#endif
+    }
+    return s;
+}

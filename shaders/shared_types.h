@@ -1,0 +1,80 @@
+/*
+ * shared_types.h - structs shared by C and GLSL: uniform blocks (std140) and storage
+ * buffer records (std430). Valid C and valid GLSL.
+ *
+ * Only vec4, ivec4 and mat4 members, so the C layout equals std140/std430 without
+ * padding rules (no vec3: its size differs between devices). The C side includes this
+ * with REFRACT_HOST_C defined, which supplies the vector types; static asserts in
+ * server/render/gpu_types.c check sizes. Keep member comments: they carry units.
+ */
+#ifndef REFRACT_SHARED_TYPES_H
+#define REFRACT_SHARED_TYPES_H
+
+#include "bindings.h"
+
+#ifdef REFRACT_HOST_C
+typedef struct {
+    float x, y, z, w;
+} vec4;
+typedef struct {
+    int x, y, z, w;
+} ivec4;
+typedef struct {
+    float m[16]; /* column-major */
+} mat4;
+typedef struct object_params object_params;
+#endif
+
+/* Channel flags in object_params.resolution.w */
+#define OBJECT_HAS_ATTENUATION 1
+#define OBJECT_HAS_EMISSION 2
+#define OBJECT_HAS_OPAQUE 4
+
+/* One volume object as the march sees it. */
+struct object_params {
+    mat4 object_from_world;  /* M^-1 */
+    mat4 world_from_object;  /* M = translate * scale * R */
+    vec4 bounds_min;         /* xyz: object space; w: scale (world units per object unit) */
+    vec4 bounds_max;         /* xyz: object space; w: h_min, smallest voxel edge (object units) */
+    vec4 inv_voxel_size;     /* xyz: voxels per object unit; w: smoothing sigma (voxels) */
+    vec4 atlas_offset;       /* xyz: this object's first texel in the atlases; w: opaque_ior */
+    vec4 atlas_inv_size;     /* xyz: 1 / atlas size in texels; w: unused */
+    ivec4 resolution;        /* xyz: voxels; w: OBJECT_HAS_* flags */
+};
+
+/* Uniform block of render_view.comp and trace_rays.comp. */
+struct march_params {
+    vec4 eye;         /* xyz: camera position, world; w: tan(fov_y / 2) */
+    vec4 forward;     /* xyz: unit view direction; w: aspect (width / height) */
+    vec4 right;       /* xyz: unit right vector */
+    vec4 up;          /* xyz: unit up vector (orthogonal to forward and right) */
+    ivec4 image;      /* x: width, y: height (pixels); z: ray count (trace) */
+    ivec4 settings_i; /* x: INTEGRATOR_*; y: max_steps; z: object count; w: 1 = image env */
+    vec4 settings_f;  /* x: step (voxels); y: boundary threshold (dn per voxel);
+                         z: ambient n; w: environment intensity */
+    vec4 env;         /* x: environment rotation about +y (degrees) */
+    object_params objects[MAX_OBJECTS];
+};
+
+/* Uniform block of smooth_ior.comp and gradient_ior.comp: one object's grid. */
+struct volume_params {
+    ivec4 resolution;   /* xyz: voxels; w: smoothing axis (0, 1, 2) */
+    ivec4 atlas_offset; /* xyz: first texel of the object in the ior+grad atlas; w: radius */
+    vec4 voxel_size;    /* xyz: object units per voxel */
+    vec4 weights[8];    /* Gaussian weights w_k for k = 0..31 (4 per vec4), normalised */
+};
+
+/* trace_rays.comp input record (std430). */
+struct trace_ray_in {
+    vec4 origin;    /* xyz: world position */
+    vec4 direction; /* xyz: unit world direction */
+};
+
+/* trace_rays.comp output record (std430). */
+struct trace_hit_out {
+    vec4 exit_origin;    /* xyz: world; w: status (RAY_STATUS_*) */
+    vec4 exit_direction; /* xyz: unit world; w: steps */
+    vec4 transmittance;  /* xyz: T_fresnel * exp(-alpha); w: optical path length */
+};
+
+#endif

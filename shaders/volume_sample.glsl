@@ -1,0 +1,55 @@
+// volume_sample.glsl - sampling an object's voxel fields at an object-space point.
+//
+// All objects of a scene share one atlas texture per channel: object i occupies the box
+// starting at objects[i].atlas_offset. Continuous voxel coordinates are clamped to
+// [0.5, res - 0.5] texels so trilinear filtering never reads a neighbour object
+// (clamp-to-edge, docs/tracing.md "Conventions"). Needs `params` and the samplers
+// ior_grad_atlas, attenuation_atlas, emission_atlas, opaque_atlas.
+
+vec3 volume_sample_coord(int obj, vec3 p)
+{
+    vec3 v = (p - params.objects[obj].bounds_min.xyz) * params.objects[obj].inv_voxel_size.xyz;
+    v = clamp(v, vec3(0.5), vec3(params.objects[obj].resolution.xyz) - vec3(0.5));
+    return (v + params.objects[obj].atlas_offset.xyz) * params.objects[obj].atlas_inv_size.xyz;
+}
+
+// rgb: grad n in object units (n per object-space unit); a: n.
+vec4 volume_sample_ior_grad(int obj, vec3 p)
+{
+    return textureLod(ior_grad_atlas, volume_sample_coord(obj, p), 0.0);
+}
+
+// sigma_a per world unit (tevs2007 eq. 3.4); 0 when the object has no attenuation.
+// Objects without the channel read the atlas' zero stand-in region or are masked by their
+// flag; scenes without it compile the fetch out (MARCH_ATTENUATION 0).
+vec3 volume_sample_attenuation(int obj, vec3 p)
+{
+#if MARCH_ATTENUATION
+    vec3 a = textureLod(attenuation_atlas, volume_sample_coord(obj, p), 0.0).rgb;
+    return (params.objects[obj].resolution.w & OBJECT_HAS_ATTENUATION) != 0 ? a : vec3(0.0);
+#else
+    return vec3(0.0);
+#endif
+}
+
+// Emitted radiance per world unit, L_e of tevs2007 eq. 5.4.
+vec3 volume_sample_emission(int obj, vec3 p)
+{
+#if MARCH_EMISSION
+    vec3 e = textureLod(emission_atlas, volume_sample_coord(obj, p), 0.0).rgb;
+    return (params.objects[obj].resolution.w & OBJECT_HAS_EMISSION) != 0 ? e : vec3(0.0);
+#else
+    return vec3(0.0);
+#endif
+}
+
+// rgb: opaque colour; a: coverage (tevs2007 sect. 6.1, texture T6).
+vec4 volume_sample_opaque(int obj, vec3 p)
+{
+#if MARCH_OPAQUE
+    vec4 o = textureLod(opaque_atlas, volume_sample_coord(obj, p), 0.0);
+    return (params.objects[obj].resolution.w & OBJECT_HAS_OPAQUE) != 0 ? o : vec4(0.0);
+#else
+    return vec4(0.0);
+#endif
+}
