@@ -13,10 +13,16 @@ void main()
     ivec3 v = ivec3(gl_GlobalInvocationID);
     if (any(greaterThanEqual(v, vparams.resolution.xyz)))
         return;
-    vec3 inv2h = 0.5 / vparams.voxel_size.xyz;
+    // Central differences inside; one-sided at the grid's edges (the clamped neighbour is
+    // the voxel itself and the difference spans one voxel), so linear fields keep their
+    // slope up to the bounds.
+    ivec3 r = vparams.resolution.xyz;
+    ivec3 lo = max(v - 1, ivec3(0));
+    ivec3 hi = min(v + 1, r - 1);
+    vec3 span = vec3(max(hi - lo, ivec3(1))) * vparams.voxel_size.xyz;
     vec3 g;
-    g.x = (field_in[volume_index(v + ivec3(1, 0, 0))] - field_in[volume_index(v - ivec3(1, 0, 0))]) * inv2h.x;
-    g.y = (field_in[volume_index(v + ivec3(0, 1, 0))] - field_in[volume_index(v - ivec3(0, 1, 0))]) * inv2h.y;
-    g.z = (field_in[volume_index(v + ivec3(0, 0, 1))] - field_in[volume_index(v - ivec3(0, 0, 1))]) * inv2h.z;
+    g.x = (field_in[volume_index(ivec3(hi.x, v.y, v.z))] - field_in[volume_index(ivec3(lo.x, v.y, v.z))]) / span.x;
+    g.y = (field_in[volume_index(ivec3(v.x, hi.y, v.z))] - field_in[volume_index(ivec3(v.x, lo.y, v.z))]) / span.y;
+    g.z = (field_in[volume_index(ivec3(v.x, v.y, hi.z))] - field_in[volume_index(ivec3(v.x, v.y, lo.z))]) / span.z;
     imageStore(ior_grad_out, v + vparams.atlas_offset.xyz, vec4(g, field_in[volume_index(v)]));
 }

@@ -88,24 +88,26 @@ void smooth_gaussian_ref(const float *in, const int res[3], double sigma_voxels,
 
 void gradient_central_ref(const double *n, const int res[3], vec3 voxel_size, double *out)
 {
-    double inv2[3] = {0.5 / voxel_size.x, 0.5 / voxel_size.y, 0.5 / voxel_size.z};
+    double inv_h[3] = {1.0 / voxel_size.x, 1.0 / voxel_size.y, 1.0 / voxel_size.z};
     size_t sy = (size_t)res[0];
     size_t sz = (size_t)res[0] * res[1];
     for (int z = 0; z < res[2]; z++) {
         for (int y = 0; y < res[1]; y++) {
             for (int x = 0; x < res[0]; x++) {
                 size_t idx = (size_t)x + y * sy + z * sz;
-                /* tevs2007 eq. 3.1 with clamped neighbours: the first voxel uses
-                 * (n[1] - n[0]) / (2 vs), the last (n[N-1] - n[N-2]) / (2 vs). */
-                size_t xm = (size_t)clamp_index(x - 1, res[0]) + y * sy + z * sz;
-                size_t xp = (size_t)clamp_index(x + 1, res[0]) + y * sy + z * sz;
-                size_t ym = (size_t)x + clamp_index(y - 1, res[1]) * sy + z * sz;
-                size_t yp = (size_t)x + clamp_index(y + 1, res[1]) * sy + z * sz;
-                size_t zm = (size_t)x + y * sy + clamp_index(z - 1, res[2]) * sz;
-                size_t zp = (size_t)x + y * sy + clamp_index(z + 1, res[2]) * sz;
-                out[4 * idx + 0] = (n[xp] - n[xm]) * inv2[0];
-                out[4 * idx + 1] = (n[yp] - n[ym]) * inv2[1];
-                out[4 * idx + 2] = (n[zp] - n[zm]) * inv2[2];
+                /* tevs2007 eq. 3.1; at the grid's edges the neighbour outside is
+                 * replaced by the voxel itself and the difference divided by the distance
+                 * actually spanned (one-sided differences), so a linear field keeps its
+                 * slope up to the bounds. */
+                int x0 = clamp_index(x - 1, res[0]), x1 = clamp_index(x + 1, res[0]);
+                int y0 = clamp_index(y - 1, res[1]), y1 = clamp_index(y + 1, res[1]);
+                int z0 = clamp_index(z - 1, res[2]), z1 = clamp_index(z + 1, res[2]);
+                size_t xm = (size_t)x0 + y * sy + z * sz, xp = (size_t)x1 + y * sy + z * sz;
+                size_t ym = (size_t)x + y0 * sy + z * sz, yp = (size_t)x + y1 * sy + z * sz;
+                size_t zm = (size_t)x + y * sy + z0 * sz, zp = (size_t)x + y * sy + z1 * sz;
+                out[4 * idx + 0] = x1 > x0 ? (n[xp] - n[xm]) * inv_h[0] / (x1 - x0) : 0.0;
+                out[4 * idx + 1] = y1 > y0 ? (n[yp] - n[ym]) * inv_h[1] / (y1 - y0) : 0.0;
+                out[4 * idx + 2] = z1 > z0 ? (n[zp] - n[zm]) * inv_h[2] / (z1 - z0) : 0.0;
                 out[4 * idx + 3] = n[idx];
             }
         }

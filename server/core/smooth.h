@@ -16,8 +16,9 @@
  * values and may not alias. */
 void smooth_gaussian_ref(const float *in, const int res[3], double sigma_voxels, double *out);
 
-/* Central differences of n (tevs2007 eq. 3.1) with clamped indices, divided by
- * 2 * voxel_size per axis. out holds 4 doubles per voxel: dn/dx, dn/dy, dn/dz, n. */
+/* Central differences of n (tevs2007 eq. 3.1) divided by 2 * voxel_size per axis; at
+ * the grid's edges one-sided differences (the clamped neighbour is the voxel itself, and
+ * the difference is divided by the distance spanned). out holds 4 doubles per voxel: dn/dx, dn/dy, dn/dz, n. */
 void gradient_central_ref(const double *n, const int res[3], vec3 voxel_size, double *out);
 
 /* Trilinear sample of a grid with `comps` values per voxel at continuous voxel

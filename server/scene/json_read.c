@@ -378,7 +378,7 @@ enum refract_code jr_check_object(const cJSON *obj, const char *path, const char
         /* Every earlier sibling is an allowed key seen once, so this scan is bounded by
          * the allowed list's length, not by the object's size. */
         for (const cJSON *d = obj->child; d != c; d = d->next) {
-            if (strcmp(d->string, key) == 0) {
+            if (d->string != NULL && strcmp(d->string, key) == 0) {
                 char p[256];
                 return err_set(e, REFRACT_E_INVALID_FIELD,
                                "%s: duplicate field; each field may appear only once",

@@ -3,12 +3,12 @@
  * of docs/scenes.md), plus the small queries about channels, voxels and volumes.
  *
  * The output is written layer by layer into the caller's buffer, which doubles as the
- * "previous value" of the layering rule, so evaluation needs no memory beyond three
- * small index tables for volume resampling. Shape layers visit only the voxels within
- * one voxel of the shape's bounding box and, along each row, skip runs of voxels whose
- * coverage is already known to be 0 or 1: shape SDFs are exact, hence 1-Lipschitz, so
- * a voxel at distance t from one with sdf = d has sdf within d +- t (shapes.c). That
- * keeps a 128^3 lathe or text layer well under a second on one core.
+ * "previous value" of the layering rule, so evaluation allocates nothing and can fail
+ * only on an uploaded volume that is missing or unusable. Shape layers visit only the
+ * voxels within one voxel of the shape's bounding box and, along each row, skip runs of
+ * voxels whose coverage is already known to be 0 or 1: shape SDFs are exact, hence
+ * 1-Lipschitz, so a voxel at distance t from one with sdf = d has sdf within d +- t
+ * (shapes.c). That keeps a 128^3 lathe or text layer well under a second on one core.
  *
  * Not here: smoothing and gradients of the ior (the GPU module does those, tracing.md).
  */
@@ -206,15 +206,14 @@ struct tap {
     double f;
 };
 
-static void make_taps(struct tap *t, int dst, int src)
+static struct tap make_tap(int i, int dst, int src)
 {
-    for (int i = 0; i < dst; i++) {
-        double u = (i + 0.5) * (double)src / (double)dst - 0.5;
-        u = fmin(fmax(u, 0.0), (double)(src - 1));
-        t[i].i0 = (int)floor(u);
-        t[i].i1 = t[i].i0 + 1 < src ? t[i].i0 + 1 : t[i].i0;
-        t[i].f = u - t[i].i0;
-    }
+    double u = (i + 0.5) * (double)src / (double)dst - 0.5;
+    u = fmin(fmax(u, 0.0), (double)(src - 1));
+    struct tap t = {.i0 = (int)floor(u)};
+    t.i1 = t.i0 + 1 < src ? t.i0 + 1 : t.i0;
+    t.f = u - t.i0;
+    return t;
 }
 
 static double sample(const struct scene_volume *v, const struct tap *tx, const struct tap *ty,
@@ -268,27 +267,23 @@ static enum refract_code check_volume(const struct scene_volume *v, const char *
     return REFRACT_E_OK;
 }
 
-static enum refract_code eval_volume(const struct grid *g, const struct scene_volume *v,
-                                     const struct scene_layer *l, enum scene_channel ch, float *out,
-                                     struct err *e)
+/* Taps are recomputed per voxel rather than tabulated: a few flops next to the eight
+ * loads, and it keeps evaluation free of allocations. */
+static void eval_volume(const struct grid *g, const struct scene_volume *v,
+                        const struct scene_layer *l, enum scene_channel ch, float *out)
 {
-    struct tap *taps = malloc(((size_t)g->n[0] + (size_t)g->n[1] + (size_t)g->n[2]) * sizeof *taps);
-    if (taps == NULL)
-        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "volume \"%s\": out of memory", l->volume);
-    struct tap *tx = taps, *ty = tx + g->n[0], *tz = ty + g->n[1];
-    make_taps(tx, g->n[0], v->dims[0]);
-    make_taps(ty, g->n[1], v->dims[1]);
-    make_taps(tz, g->n[2], v->dims[2]);
     double lo = channel_min[ch], hi = channel_max[ch];
     size_t idx = 0;
     for (int k = 0; k < g->n[2]; k++) {
+        struct tap tz = make_tap(k, g->n[2], v->dims[2]);
         for (int j = 0; j < g->n[1]; j++) {
+            struct tap ty = make_tap(j, g->n[1], v->dims[1]);
             for (int i = 0; i < g->n[0]; i++, idx++) {
+                struct tap tx = make_tap(i, g->n[0], v->dims[0]);
                 float *o = out + idx * (size_t)g->comps;
                 for (int c = 0; c < 3 && c < g->comps; c++) {
                     int src = v->components == 1 ? 0 : c;
-                    double x =
-                        l->volume_offset + l->volume_scale * sample(v, &tx[i], &ty[j], &tz[k], src);
+                    double x = l->volume_offset + l->volume_scale * sample(v, &tx, &ty, &tz, src);
                     /* fmax maps NaN to lo. */
                     o[c] = (float)fmin(fmax(x, lo), hi);
                 }
@@ -297,8 +292,6 @@ static enum refract_code eval_volume(const struct grid *g, const struct scene_vo
             }
         }
     }
-    free(taps);
-    return REFRACT_E_OK;
 }
 
 enum refract_code scene_field_eval(const struct scene *s, const struct scene_object *obj,
@@ -335,10 +328,9 @@ enum refract_code scene_field_eval(const struct scene *s, const struct scene_obj
             volume_path(s, obj, ch, i, path, sizeof path);
             const struct scene_volume *v = lookup ? lookup(ctx, l->volume) : NULL;
             enum refract_code rc = check_volume(v, path, l->volume, ch, e);
-            if (rc == REFRACT_E_OK)
-                rc = eval_volume(&g, v, l, ch, out, e);
             if (rc != REFRACT_E_OK)
                 return rc;
+            eval_volume(&g, v, l, ch, out);
             break;
         }
         }

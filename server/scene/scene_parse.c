@@ -13,7 +13,7 @@
  */
 #include "scene.h"
 
-#include <limits.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

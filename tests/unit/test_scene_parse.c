@@ -590,7 +590,7 @@ static void survives_wrong_types_at_every_level(void)
 /* Overwrites 1..3 random bytes of the seed with JSON-significant characters. */
 static void survives_random_byte_mutations(void)
 {
-    static const char alphabet[] = "{}[]\":,0123456789.eE+-nulltruefalse \\x\x01\xff";
+    static const char alphabet[] = "{}[]\":,0123456789.eE+-nulltruefalse \\x\x01\xff\0";
     size_t n = strlen(fuzz_seed);
     unsigned st = 12345;
     char *copy = malloc(n);

@@ -112,8 +112,8 @@ static void edge_samples_clamp_to_the_nearest_voxel(void)
 }
 
 /* n = a + b . x sampled at voxel centres: central differences are exact for a linear
- * function, so the gradient is b at every interior voxel; the clamped first and last
- * voxels see half the slope (one-sided difference over 2 vs). */
+ * function, so the gradient is b at every voxel: central differences inside, one-sided
+ * differences (over one vs) at the first and last voxels. */
 static void gradient_of_linear_field_is_exact_in_the_interior(void)
 {
     const int res[3] = {6, 7, 8};
@@ -139,9 +139,11 @@ static void gradient_of_linear_field_is_exact_in_the_interior(void)
                 worst = fmax(worst, fabs(g[4 * i + 3] - n[i]));
             }
     CHECK_NEAR(worst, 0.0, 1e-12);
-    /* First voxel along x: (n[1] - n[0]) / (2 vs.x) = b.x / 2. */
-    CHECK_NEAR(g[4 * (0 + 6 * (3 + 7 * 3)) + 0], 0.5 * b.x, 1e-12);
-    CHECK_NEAR(g[4 * (5 + 6 * (3 + 7 * 3)) + 0], 0.5 * b.x, 1e-12);
+    /* First and last voxel along each axis: (n[1] - n[0]) / vs = b exactly. */
+    CHECK_NEAR(g[4 * (0 + 6 * (3 + 7 * 3)) + 0], b.x, 1e-12);
+    CHECK_NEAR(g[4 * (5 + 6 * (3 + 7 * 3)) + 0], b.x, 1e-12);
+    CHECK_NEAR(g[4 * (2 + 6 * (0 + 7 * 3)) + 1], b.y, 1e-12);
+    CHECK_NEAR(g[4 * (2 + 6 * (6 + 7 * 7)) + 2], b.z, 1e-12);
     free(n);
     free(g);
 }

@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# test.sh - README command 2: install what is missing, build, and run every test with
+# ctest, twice: a normal build (build/) and an AddressSanitizer + UndefinedBehaviorSanitizer
+# build (build-asan/). GL runs on Mesa's software EGL device when there is no GPU.
+#
+#   ./deploy/test.sh            # both builds
+#   ./deploy/test.sh --quick    # the normal build only
+set -euo pipefail
+cd "$(dirname "$0")/.."
+JOBS=$(nproc)
+
+./deploy/install-deps.sh
+
+mkdir -p out
+run_suite() {
+    local dir=$1; shift
+    echo "==> configure and build $dir ($*), log in out/$dir.log"
+    if ! { cmake -S . -B "$dir" "$@" && cmake --build "$dir" -j"$JOBS"; } > "out/$dir.log" 2>&1; then
+        tail -60 "out/$dir.log"
+        echo "test.sh: the build in $dir failed (full log: out/$dir.log)" >&2
+        exit 1
+    fi
+    echo "==> ctest in $dir"
+    ctest --test-dir "$dir" --output-on-failure -j2
+}
+
+run_suite build -DCMAKE_BUILD_TYPE=RelWithDebInfo
+if [ "${1:-}" != "--quick" ]; then
+    run_suite build-asan -DCMAKE_BUILD_TYPE=Debug -DREFRACT_SANITIZE=ON
+fi

@@ -1,0 +1,149 @@
+/*
+ * scene_reference.c - building reference-tracer objects from a scene; see
+ * scene_reference.h. Used by tests and benchmarks, never by the daemon's request path.
+ */
+#include "scene_reference.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "../core/smooth.h"
+
+static double analytic_profile(void *ctx, vec3 p, vec3 *grad)
+{
+    return grin_ior(ctx, p, grad);
+}
+
+static double analytic_constant(void *ctx, vec3 p, vec3 *grad)
+{
+    (void)p;
+    *grad = (vec3){0, 0, 0};
+    return *(const double *)ctx;
+}
+
+static void fill_settings(const struct scene *s, struct reftrace_settings *st)
+{
+    memset(st, 0, sizeof *st);
+    st->integrator = s->render.integrator == SCENE_INTEGRATOR_EULER ? REFTRACE_EULER
+                                                                    : REFTRACE_RK4;
+    st->step_voxels = s->render.step_voxels;
+    st->max_steps = s->render.max_steps;
+    st->boundary_threshold = s->render.boundary_threshold;
+    st->ambient_ior = s->ambient_ior;
+    st->tolerance = 1e-9;
+    st->env_intensity = s->environment.intensity;
+}
+
+static enum refract_code build_analytic(struct scene_reference *r, size_t i,
+                                        const struct scene_object *o, double ambient_ior,
+                                        struct err *e)
+{
+    const struct scene_field *f = &o->fields[SCENE_CH_IOR];
+    for (int ch = SCENE_CH_ATTENUATION; ch < SCENE_CH_COUNT; ch++) {
+        if (o->fields[ch].count > 0)
+            return err_set(e, REFRACT_E_INVALID_FIELD,
+                           "objects[%zu]: the analytic reference handles ior only, not %s", i,
+                           scene_channel_name((enum scene_channel)ch));
+    }
+    struct reftrace_object *ro = &r->objects[i];
+    if (f->count == 1 && f->layers[0].kind == SCENE_LAYER_PROFILE) {
+        r->profiles[i] = f->layers[0].profile;
+        ro->ior = analytic_profile;
+        ro->ior_ctx = &r->profiles[i];
+        return REFRACT_E_OK;
+    }
+    if (f->count <= 1 && (f->count == 0 || f->layers[0].kind == SCENE_LAYER_CONSTANT)) {
+        r->constants[i] = f->count == 0 ? ambient_ior : f->layers[0].inside[0];
+        ro->ior = analytic_constant;
+        ro->ior_ctx = &r->constants[i];
+        return REFRACT_E_OK;
+    }
+    return err_set(e, REFRACT_E_INVALID_FIELD,
+                   "objects[%zu].ior: the analytic reference needs one GRIN profile or a "
+                   "constant, not %zu layers",
+                   i, f->count);
+}
+
+/* Channel floats (4 per voxel, or 1 for ior) -> doubles (4 per voxel). */
+static double *widen(const float *src, size_t voxels)
+{
+    double *d = malloc(voxels * 4 * sizeof(double));
+    if (d)
+        for (size_t k = 0; k < voxels * 4; k++)
+            d[k] = src[k];
+    return d;
+}
+
+static enum refract_code build_voxels(struct scene_reference *r, const struct scene *s,
+                                      size_t i, scene_volume_lookup_fn lookup, void *ctx,
+                                      struct err *e)
+{
+    const struct scene_object *o = &s->objects[i];
+    size_t voxels = (size_t)o->resolution[0] * o->resolution[1] * o->resolution[2];
+    float *tmp = malloc(voxels * 4 * sizeof(float));
+    double *smooth = malloc(voxels * sizeof(double));
+    r->buffers[i][SCENE_CH_IOR] = malloc(voxels * 4 * sizeof(double));
+    enum refract_code rc = REFRACT_E_OK;
+    if (tmp == NULL || smooth == NULL || r->buffers[i][SCENE_CH_IOR] == NULL)
+        rc = err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for the reference fields");
+    if (rc == REFRACT_E_OK)
+        rc = scene_field_eval(s, o, SCENE_CH_IOR, lookup, ctx, tmp, e);
+    if (rc == REFRACT_E_OK) {
+        smooth_gaussian_ref(tmp, o->resolution, o->smoothing_sigma_voxels, smooth);
+        gradient_central_ref(smooth, o->resolution, scene_object_voxel_size(o),
+                             r->buffers[i][SCENE_CH_IOR]);
+        r->grids[i].ior_grad = r->buffers[i][SCENE_CH_IOR];
+    }
+    for (int ch = SCENE_CH_ATTENUATION; rc == REFRACT_E_OK && ch < SCENE_CH_COUNT; ch++) {
+        if (!scene_channel_used(o, (enum scene_channel)ch))
+            continue;
+        rc = scene_field_eval(s, o, (enum scene_channel)ch, lookup, ctx, tmp, e);
+        if (rc == REFRACT_E_OK && (r->buffers[i][ch] = widen(tmp, voxels)) == NULL)
+            rc = err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for the reference fields");
+    }
+    r->grids[i].attenuation = r->buffers[i][SCENE_CH_ATTENUATION];
+    r->grids[i].emission = r->buffers[i][SCENE_CH_EMISSION];
+    r->grids[i].opaque = r->buffers[i][SCENE_CH_OPAQUE];
+    r->objects[i].grid = &r->grids[i];
+    free(tmp);
+    free(smooth);
+    return rc;
+}
+
+enum refract_code scene_reference_build(const struct scene *s, enum scene_reference_mode mode,
+                                        scene_volume_lookup_fn lookup, void *ctx,
+                                        struct scene_reference *out, struct err *e)
+{
+    memset(out, 0, sizeof *out);
+    if (s->object_count > SCENE_REFERENCE_MAX_OBJECTS)
+        return err_set(e, REFRACT_E_LIMIT_EXCEEDED, "the reference handles %d objects",
+                       SCENE_REFERENCE_MAX_OBJECTS);
+    fill_settings(s, &out->settings);
+    out->count = (int)s->object_count;
+    enum refract_code rc = REFRACT_E_OK;
+    for (size_t i = 0; rc == REFRACT_E_OK && i < s->object_count; i++) {
+        const struct scene_object *o = &s->objects[i];
+        struct reftrace_object *ro = &out->objects[i];
+        ro->bmin = o->bounds_min;
+        ro->bmax = o->bounds_max;
+        memcpy(ro->res, o->resolution, sizeof ro->res);
+        ro->xf = o->world_from_object;
+        ro->smoothing_sigma_voxels = o->smoothing_sigma_voxels;
+        ro->opaque_ior = o->opaque_ior;
+        rc = mode == SCENE_REFERENCE_ANALYTIC ? build_analytic(out, i, o, s->ambient_ior, e)
+                                              : build_voxels(out, s, i, lookup, ctx, e);
+    }
+    if (rc != REFRACT_E_OK)
+        scene_reference_free(out);
+    return rc;
+}
+
+void scene_reference_free(struct scene_reference *r)
+{
+    for (int i = 0; i < SCENE_REFERENCE_MAX_OBJECTS; i++) {
+        for (int ch = 0; ch < SCENE_CH_COUNT; ch++) {
+            free(r->buffers[i][ch]);
+            r->buffers[i][ch] = NULL;
+        }
+    }
+}
