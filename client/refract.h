@@ -38,7 +38,7 @@ typedef struct refract_client refract_client;
 
 /* The address refractd listens on by default. */
 #define REFRACT_DEFAULT_URL "http://127.0.0.1:8750"
-/* Room for a scene id and its NUL: ids are at most 63 characters of [a-z0-9-]. */
+/* Room for a scene id and its NUL: ids are at most 63 characters of [a-z0-9_-]. */
 #define REFRACT_ID_SIZE 64
 
 /* Returns a new client for base_url ("http://host:port", no trailing slash needed;

@@ -47,7 +47,9 @@
     X(CONNECT_FAILED, 21, 0, "connect_failed", "could not connect to refractd")                    \
     X(PROTOCOL, 22, 0, "protocol_error", "refractd's reply could not be understood")               \
     X(IO, 23, 0, "io_error", "a local file could not be read or written")                          \
-    X(USAGE, 24, 0, "usage", "the command line is wrong")
+    X(USAGE, 24, 0, "usage", "the command line is wrong")                                        \
+    X(STORAGE, 25, 507, "storage_error",                                                       \
+      "refractd could not read or write its data directory (disk full? permissions?)")
 
 enum refract_code {
 #define REFRACT_X_ENUM(name, num, http, json, text) REFRACT_E_##name = num,

@@ -50,6 +50,10 @@ static const struct option_def options[] = {
     {"max-profile-points", OPT_INT, 3, 1000000, "N", "lathe profile points (default 1024)"},
     {"max-text-length", OPT_INT, 1, 100000, "N", "characters of a text shape (default 64)"},
     {"max-image-dim", OPT_INT, 1, 16384, "N", "image width/height (default 4096)"},
+    {"max-image-pixels", OPT_SIZE, 1, 1ll << 28, "N",
+     "width x height of a render (default 16M = 4096x4096)"},
+    {"max-env-pixels", OPT_SIZE, 1, 1ll << 30, "N",
+     "pixels of an uploaded environment image (default 64M)"},
     {"max-steps", OPT_INT, 1, 10000000, "N", "integration steps per ray (default 100000)"},
     {"max-scenes", OPT_INT, 1, 1000000, "N", "scenes held (default 64)"},
     {"gpu-scene-budget", OPT_SIZE, 1 << 20, 1ll << 40, "BYTES",
@@ -78,6 +82,8 @@ void config_defaults(struct config *c)
     c->gpu.max_queued = 256;
     c->gpu_scene_budget_bytes = (size_t)2 << 30;
     c->max_scenes = 64;
+    c->max_env_pixels = 64ll << 20;
+    c->http.max_image_pixels = 4096LL * 4096;
     c->log_level = LOG_INFO;
     const char *state = getenv("XDG_STATE_HOME");
     const char *home = getenv("HOME");
@@ -165,6 +171,10 @@ static void store_int(struct config *c, const char *name, long long v)
         l->max_steps = (int)v;
     else if (!strcmp(name, "max-scenes"))
         c->max_scenes = (int)v;
+    else if (!strcmp(name, "max-image-pixels"))
+        c->http.max_image_pixels = v;
+    else if (!strcmp(name, "max-env-pixels"))
+        c->max_env_pixels = v;
     else if (!strcmp(name, "gpu-scene-budget"))
         c->gpu_scene_budget_bytes = (size_t)v;
 }

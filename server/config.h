@@ -26,6 +26,7 @@ struct config {
     char shader_dir[512];  /* "" = embedded */
     char port_file[512];   /* "" = none */
     int max_scenes;
+    long long max_env_pixels;
     int log_level;
     bool help, version;
 };

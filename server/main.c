@@ -138,7 +138,8 @@ static int run(const struct config *cfg)
     }
     struct store_desc sdesc = {.data_dir = cfg->data_dir,
                                .limits = cfg->http.limits,
-                               .max_scenes = cfg->max_scenes};
+                               .max_scenes = cfg->max_scenes,
+                               .max_env_pixels = cfg->max_env_pixels};
     struct store *store = store_open(&sdesc, &e);
     struct gpu_work final = {.run = render_destroy_run, .user = rcw.render};
     if (store == NULL) {

@@ -48,8 +48,8 @@ static int test_failed_count;
             test_passed_count++;                                                               \
         } else {                                                                               \
             test_failed_count++;                                                               \
-            fprintf(stderr, "%s:%d: CHECK_NEAR failed: %s = %.9g, expected %s = %.9g +- %.3g\n", \
-                    __FILE__, __LINE__, #actual, a_, #expected, e_, t_);                       \
+            fprintf(stderr, "%s:%d: CHECK_NEAR failed: %s = %.12g, expected %s = %.12g +- %.3g (off by %.3g)\n", \
+                    __FILE__, __LINE__, #actual, a_, #expected, e_, t_, fabs(a_ - e_));                       \
         }                                                                                      \
     } while (0)
 

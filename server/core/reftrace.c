@@ -388,6 +388,7 @@ static void adaptive_step(struct march *m, const struct object_frame *fr, vec3 p
     double w_weight = extent / fmax(vec3_length(w), 1e-300);
     struct reftrace_ode y0 = {.p = p, .w = w}, y1;
     double err, e[3], hs = fmax(*h, h_floor);
+    hs = fmin(hs, m->set->step_voxels * fr->h_min);
     for (;;) {
         reftrace_step_dopri(fr->o, fr->scale, hs, &y0, &y1, e);
         err = e[0] + w_weight * e[1] + e[2] / fr->scale;
@@ -397,7 +398,11 @@ static void adaptive_step(struct march *m, const struct object_frame *fr, vec3 p
         hs = fmax(hs * fac, h_floor);
     }
     double grow = err > 0.0 ? ADAPT_SAFETY * pow(tol / err, 0.2) : ADAPT_GROW_MAX;
-    *h = fmax(hs * fmin(fmax(grow, ADAPT_SHRINK_MIN), ADAPT_GROW_MAX), h_floor);
+    /* Never grow beyond the configured step: in a uniform region the error estimate is
+     * zero and the step would grow until it jumps over a thin feature (the rim of a
+     * Luneburg lens) without ever sampling it. */
+    double h_max = m->set->step_voxels * fr->h_min;
+    *h = fmin(fmax(hs * fmin(fmax(grow, ADAPT_SHRINK_MIN), ADAPT_GROW_MAX), h_floor), h_max);
 
     s->leaving = outside_bounds(fr->o, y1.p);
     if (s->leaving) {

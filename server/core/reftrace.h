@@ -53,7 +53,7 @@ enum reftrace_integrator {
 
 struct reftrace_settings {
     enum reftrace_integrator integrator;
-    double step_voxels;        /* fixed step (euler, rk4); initial step (adaptive) */
+    double step_voxels;        /* fixed step (euler, rk4); initial and largest step (adaptive) */
     int max_steps;             /* over the whole ray */
     double boundary_threshold; /* docs/tracing.md "Sharp boundaries" */
     double ambient_ior;

@@ -94,7 +94,7 @@ static void execute(struct gpu *g, struct gpu_work *w)
     if (w->deadline_ms > 0 && gpu_now_ms() > w->deadline_ms) {
         err_set(&w->err, REFRACT_E_TIMEOUT,
                 "%s waited %lld ms in the GPU queue and passed its deadline; the GPU is busy "
-                "(queue length %zu), retry later or raise --request-timeout",
+                "(queue length %zu), retry later or raise --request-timeout-ms",
                 w->label ? w->label : "work", (long long)(gpu_now_ms() - w->queued_ms),
                 gpu_queue_length(g));
     } else {

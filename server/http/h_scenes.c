@@ -151,7 +151,7 @@ static void forget_scene(const struct http_app *app, const char *id)
     if (job == NULL)
         return;
     job->app = app;
-    snprintf(job->id, sizeof job->id, "%s", id);
+    snprintf(job->id, sizeof job->id, "%.*s", STORE_ID_MAX - 1, id);
     job->work = (struct gpu_work){.priority = GPU_PRIORITY_MAINTENANCE,
                                   .label = "scene free",
                                   .run = forget_run,

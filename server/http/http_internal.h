@@ -14,7 +14,7 @@
 #include "http.h"
 
 #define HTTP_MAX_PARAMS 3
-#define HTTP_PARAM_MAX 64
+#define HTTP_PARAM_MAX 256 /* longer than any valid id or name: handlers say why */
 
 struct http_request;
 
@@ -70,6 +70,10 @@ struct http_request {
 enum MHD_Result http_respond_error(struct http_request *req, enum refract_code code,
                                    const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 enum MHD_Result http_respond_err(struct http_request *req, const struct err *e);
+/* The same with extra response headers (name, value, ..., NULL). */
+enum MHD_Result http_respond_error_with(struct http_request *req, const char *const *headers,
+                                        enum refract_code code, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
 /* Serialises and consumes json. */
 enum MHD_Result http_respond_json(struct http_request *req, unsigned status, cJSON *json);
 /* Consumes bytes (malloc'd). */

@@ -27,6 +27,19 @@ static enum refract_code parse_body(const char *body, size_t len, cJSON **root, 
     return jr_parse(body, len, root, e);
 }
 
+/* An integer in 1..INT_MAX that must not exceed a configurable limit: beyond it the
+ * answer is LIMIT_EXCEEDED naming the flag, as for scene documents. */
+static enum refract_code limited_int(const cJSON *root, const char *key, int def, int limit,
+                                     const char *flag, int *out, struct err *e)
+{
+    enum refract_code rc = jr_int(root, "", key, false, def, 1, 2147483647, out, e);
+    if (rc == REFRACT_E_OK && *out > limit)
+        rc = err_set(e, REFRACT_E_LIMIT_EXCEEDED,
+                     "%s: %d exceeds the limit of %d (refractd %s raises it)", key, *out, limit,
+                     flag);
+    return rc;
+}
+
 /* The settings keys shared by render and trace requests. */
 static enum refract_code parse_settings(const cJSON *root, const struct scene *scene,
                                         const struct http_config *cfg,
@@ -39,8 +52,8 @@ static enum refract_code parse_settings(const cJSON *root, const struct scene *s
     if (rc == REFRACT_E_OK)
         rc = jr_number(root, "", "step", false, st->step_voxels, 0.01, 8.0, &st->step_voxels, e);
     if (rc == REFRACT_E_OK)
-        rc = jr_int(root, "", "max_steps", false, st->max_steps, 1, cfg->limits.max_steps,
-                    &st->max_steps, e);
+        rc = limited_int(root, "max_steps", st->max_steps, cfg->limits.max_steps, "--max-steps",
+                         &st->max_steps, e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(root, "", "boundary_threshold", false, st->boundary_threshold, 1e-6, 10.0,
                        &st->boundary_threshold, e);
@@ -65,17 +78,24 @@ static enum refract_code parse_camera(const cJSON *root, const struct scene *sce
         if (rc == REFRACT_E_OK)
             rc = jr_vec3(c, "camera", "up", false, cam->up, -1e6, 1e6, &cam->up, e);
         if (rc == REFRACT_E_OK)
-            rc = jr_number(c, "camera", "fov_y_deg", false, cam->fov_y_deg, 0.1, 179.0,
-                           &cam->fov_y_deg, e);
+            rc = jr_number_gt(c, "camera", "fov_y_deg", false, cam->fov_y_deg, 0.1, 179.0,
+                              &cam->fov_y_deg, e);
         if (rc != REFRACT_E_OK)
             return rc;
     }
-    rc = jr_int(root, "", "width", false, cam->width, 1, cfg->limits.max_image_dim, &cam->width, e);
+    rc = limited_int(root, "width", cam->width, cfg->limits.max_image_dim, "--max-image-dim",
+                     &cam->width, e);
     if (rc == REFRACT_E_OK)
-        rc = jr_int(root, "", "height", false, cam->height, 1, cfg->limits.max_image_dim,
-                    &cam->height, e);
+        rc = limited_int(root, "height", cam->height, cfg->limits.max_image_dim,
+                         "--max-image-dim", &cam->height, e);
     if (rc != REFRACT_E_OK)
         return rc;
+    long long pixels = (long long)cam->width * cam->height;
+    if (pixels > cfg->max_image_pixels)
+        return err_set(e, REFRACT_E_LIMIT_EXCEEDED,
+                       "width x height: %dx%d = %lld pixels exceed the limit of %lld (refractd "
+                       "--max-image-pixels raises it)",
+                       cam->width, cam->height, pixels, cfg->max_image_pixels);
     vec3 f = vec3_sub(cam->look_at, cam->eye);
     if (vec3_length(f) < 1e-9)
         return err_set(e, REFRACT_E_INVALID_FIELD,

@@ -61,7 +61,7 @@ enum MHD_Result http_respond_empty(struct http_request *req, unsigned status)
 }
 
 static enum MHD_Result respond_error_text(struct http_request *req, enum refract_code code,
-                                          const char *message)
+                                          const char *message, const char *const *headers)
 {
     int status = err_code_http_status(code);
     const char *route = req->route ? req->route->pattern : "(no route)";
@@ -73,7 +73,11 @@ static enum MHD_Result respond_error_text(struct http_request *req, enum refract
     cJSON *err = cJSON_AddObjectToObject(root, "error");
     cJSON_AddStringToObject(err, "code", err_code_json(code));
     cJSON_AddStringToObject(err, "message", message);
-    return http_respond_json(req, (unsigned)status, root);
+    char *text = cJSON_PrintUnformatted(root);
+    cJSON_Delete(root);
+    if (text == NULL)
+        return MHD_NO;
+    return queue(req, (unsigned)status, text, strlen(text), "application/json", headers);
 }
 
 enum MHD_Result http_respond_error(struct http_request *req, enum refract_code code,
@@ -84,11 +88,22 @@ enum MHD_Result http_respond_error(struct http_request *req, enum refract_code c
     va_start(ap, fmt);
     vsnprintf(message, sizeof message, fmt, ap);
     va_end(ap);
-    return respond_error_text(req, code, message);
+    return respond_error_text(req, code, message, NULL);
+}
+
+enum MHD_Result http_respond_error_with(struct http_request *req, const char *const *headers,
+                                        enum refract_code code, const char *fmt, ...)
+{
+    char message[ERR_MSG_MAX];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(message, sizeof message, fmt, ap);
+    va_end(ap);
+    return respond_error_text(req, code, message, headers);
 }
 
 enum MHD_Result http_respond_err(struct http_request *req, const struct err *e)
 {
     enum refract_code code = e->code == REFRACT_E_OK ? REFRACT_E_INTERNAL : e->code;
-    return respond_error_text(req, code, e->msg[0] ? e->msg : err_code_text(code));
+    return respond_error_text(req, code, e->msg[0] ? e->msg : err_code_text(code), NULL);
 }

@@ -98,9 +98,12 @@ static enum MHD_Result answer_no_route(struct http_request *req, const char *url
                                        const char *method)
 {
     char methods[64];
-    if (http_route_methods(url, methods, sizeof methods) > 0)
-        return http_respond_error(req, REFRACT_E_METHOD_NOT_ALLOWED,
-                                  "%s is not allowed on %s; allowed: %s", method, url, methods);
+    if (http_route_methods(url, methods, sizeof methods) > 0) {
+        const char *headers[] = {MHD_HTTP_HEADER_ALLOW, methods, NULL};
+        return http_respond_error_with(req, headers, REFRACT_E_METHOD_NOT_ALLOWED,
+                                       "%s is not allowed on %s; allowed: %s", method, url,
+                                       methods);
+    }
     return http_respond_error(req, REFRACT_E_NOT_FOUND,
                               "no route %s %s; proto/openapi.yaml lists the API (e.g. GET "
                               "/v1/health, POST /v1/scenes)",
@@ -237,10 +240,46 @@ static void apply_defaults(struct http_config *c)
         c->max_upload_bytes = (size_t)1 << 30;
     if (c->max_rays <= 0)
         c->max_rays = 65536;
+    if (c->max_image_pixels <= 0)
+        c->max_image_pixels = 4096LL * 4096;
     if (c->request_timeout_ms <= 0)
         c->request_timeout_ms = 120000;
     if (c->bind_address == NULL)
         c->bind_address = "127.0.0.1";
+}
+
+static int hex_value(char c)
+{
+    if (c >= '0' && c <= '9')
+        return c - '0';
+    if (c >= 'a' && c <= 'f')
+        return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F')
+        return c - 'A' + 10;
+    return -1;
+}
+
+/* Percent-decoding for the path and the query (libmicrohttpd's unescape hook). It decodes
+ * like the default except that "%00" stays literal: a decoded NUL would end the C string
+ * early, so "DELETE /v1/scenes/<id>%00xyz" would delete <id>. Left as "%00", the id or
+ * name fails validation and the client gets a clear error naming it. */
+static size_t unescape_keep_nul(void *cls, struct MHD_Connection *conn, char *s)
+{
+    (void)cls;
+    (void)conn;
+    char *out = s;
+    for (const char *in = s; *in != '\0';) {
+        int hi, lo;
+        if (in[0] == '%' && (hi = hex_value(in[1])) >= 0 && (lo = hex_value(in[2])) >= 0 &&
+            (hi | lo) != 0) {
+            *out++ = (char)(hi * 16 + lo);
+            in += 3;
+        } else {
+            *out++ = *in++;
+        }
+    }
+    *out = '\0';
+    return (size_t)(out - s);
 }
 
 struct http_server *http_server_start(const struct http_config *cfg, const struct http_app *app,
@@ -267,7 +306,7 @@ struct http_server *http_server_start(const struct http_config *cfg, const struc
         flags, 0, NULL, NULL, access_handler, srv, MHD_OPTION_EXTERNAL_LOGGER, mhd_log, srv,
         MHD_OPTION_SOCK_ADDR, &addr, MHD_OPTION_THREAD_POOL_SIZE, (unsigned)srv->cfg.threads,
         MHD_OPTION_NOTIFY_COMPLETED, on_completed, srv, MHD_OPTION_CONNECTION_TIMEOUT,
-        (unsigned)300, MHD_OPTION_END);
+        (unsigned)300, MHD_OPTION_UNESCAPE_CALLBACK, unescape_keep_nul, NULL, MHD_OPTION_END);
     if (srv->daemon == NULL) {
         err_set(e, REFRACT_E_IO,
                 "cannot listen on %s:%d (is the port taken by another process? pick another "

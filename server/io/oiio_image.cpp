@@ -219,7 +219,7 @@ enum refract_code check_spec(const OIIO::ImageSpec &spec, const ImageFormat &fmt
     if (pixels > max_pixels)
         return err_set(e, REFRACT_E_LIMIT_EXCEEDED,
                        "image: %d x %d = %lld pixels exceeds the limit of %lld pixels; scale "
-                       "the image down or raise the limit in the server configuration",
+                       "the image down or raise the limit (refractd --max-env-pixels)",
                        spec.width, spec.height, pixels, max_pixels);
     if ((unsigned long long)pixels > SIZE_MAX / (4 * sizeof(float)))
         return err_set(e, REFRACT_E_LIMIT_EXCEEDED,

@@ -249,6 +249,12 @@ enum refract_code jr_string(const cJSON *obj, const char *path, const char *key,
         return err_set(e, REFRACT_E_INVALID_FIELD,
                        "%s: expected a string of 1..%zu bytes, got %zu bytes",
                        jr_path(p, sizeof p, path, key), max_len, n);
+    for (size_t i = 0; i < n; i++)
+        if ((unsigned char)item->valuestring[i] < 0x20)
+            return err_set(e, REFRACT_E_INVALID_FIELD,
+                           "%s: control characters (U+0000..U+001F) are not allowed, found one "
+                           "at character %zu",
+                           jr_path(p, sizeof p, path, key), i);
     memcpy(out, item->valuestring, n + 1);
     return REFRACT_E_OK;
 }
@@ -447,7 +453,79 @@ static enum refract_code syntax_error(const char *text, size_t len, size_t off, 
                    what, near);
 }
 
+/* One pass over the strings of a document, before cJSON sees it:
+ *  - a raw control character inside a string is not JSON (RFC 8259 sect. 7) and a raw
+ *    NUL would end the C string early: returns its offset as an error;
+ *  - the escape \u0000 is valid JSON but cJSON decodes it into a C string that silently
+ *    ends there ("a\u0000b" would become "a"). *nul_escapes counts them; the caller
+ *    rewrites them to \u001f so the value keeps its length and jr_string rejects it as a
+ *    control character by name.
+ * Returns len when the strings are clean. */
+static size_t scan_strings(const char *text, size_t len, size_t *nul_escapes)
+{
+    bool in_string = false;
+    *nul_escapes = 0;
+    for (size_t i = 0; i < len; i++) {
+        unsigned char c = (unsigned char)text[i];
+        if (!in_string) {
+            in_string = c == '"';
+        } else if (c < 0x20) {
+            return i;
+        } else if (c == '"') {
+            in_string = false;
+        } else if (c == '\\' && i + 1 < len) {
+            if (text[i + 1] == 'u' && i + 5 < len && memcmp(text + i + 2, "0000", 4) == 0)
+                (*nul_escapes)++;
+            i++;
+        }
+    }
+    return len;
+}
+
+static void rewrite_nul_escapes(char *text, size_t len)
+{
+    bool in_string = false;
+    for (size_t i = 0; i < len; i++) {
+        if (!in_string) {
+            in_string = text[i] == '"';
+        } else if (text[i] == '"') {
+            in_string = false;
+        } else if (text[i] == '\\' && i + 1 < len) {
+            if (text[i + 1] == 'u' && i + 5 < len && memcmp(text + i + 2, "0000", 4) == 0)
+                memcpy(text + i + 2, "001f", 4);
+            i++;
+        }
+    }
+}
+
+static enum refract_code parse_clean(const char *text, size_t len, cJSON **out, struct err *e);
+
 enum refract_code jr_parse(const char *text, size_t len, cJSON **out, struct err *e)
+{
+    *out = NULL;
+    if (text == NULL)
+        return parse_clean(text, len, out, e);
+    size_t nul_escapes = 0, bad = scan_strings(text, len, &nul_escapes);
+    if (bad < len) {
+        char what[96];
+        snprintf(what, sizeof what,
+                 "raw control character 0x%02x inside a string (escape it, e.g. \\u%04x)",
+                 (unsigned char)text[bad], (unsigned char)text[bad]);
+        return syntax_error(text, len, bad, what, e);
+    }
+    if (nul_escapes == 0)
+        return parse_clean(text, len, out, e);
+    char *copy = malloc(len);
+    if (copy == NULL)
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory parsing JSON");
+    memcpy(copy, text, len);
+    rewrite_nul_escapes(copy, len);
+    enum refract_code rc = parse_clean(copy, len, out, e);
+    free(copy);
+    return rc;
+}
+
+static enum refract_code parse_clean(const char *text, size_t len, cJSON **out, struct err *e)
 {
     *out = NULL;
     size_t first = 0;

@@ -379,7 +379,7 @@ bool store_gpu_status_get(struct store *s, const char *id, struct store_gpu_stat
 static uint64_t fnv1a64(const void *data, size_t len)
 {
     const unsigned char *p = data;
-    uint64_t h = 1469598103934665603ull;
+    uint64_t h = 14695981039346656037ull; /* FNV-1a 64 offset basis */
     for (size_t i = 0; i < len; i++) {
         h ^= p[i];
         h *= 1099511628211ull;
@@ -682,7 +682,7 @@ struct store *store_open(const struct store_desc *desc, struct err *e)
     }
     DIR *d = opendir(scenes);
     if (d == NULL) {
-        err_set(e, REFRACT_E_IO, "cannot list %s", scenes);
+        err_set(e, REFRACT_E_STORAGE, "cannot list %s", scenes);
         store_close(s);
         return NULL;
     }

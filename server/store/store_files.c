@@ -17,18 +17,18 @@ enum refract_code store_mkdirs(const char *path, struct err *e)
 {
     char buf[1024];
     if (snprintf(buf, sizeof buf, "%s", path) >= (int)sizeof buf)
-        return err_set(e, REFRACT_E_IO, "path too long: %s", path);
+        return err_set(e, REFRACT_E_STORAGE, "path too long: %s", path);
     for (char *p = buf + 1; *p; p++) {
         if (*p != '/')
             continue;
         *p = '\0';
         if (mkdir(buf, 0750) != 0 && errno != EEXIST)
-            return err_set(e, REFRACT_E_IO, "cannot create directory %s: %s", buf,
+            return err_set(e, REFRACT_E_STORAGE, "cannot create directory %s: %s", buf,
                            strerror(errno));
         *p = '/';
     }
     if (mkdir(buf, 0750) != 0 && errno != EEXIST)
-        return err_set(e, REFRACT_E_IO, "cannot create directory %s: %s", buf, strerror(errno));
+        return err_set(e, REFRACT_E_STORAGE, "cannot create directory %s: %s", buf, strerror(errno));
     return REFRACT_E_OK;
 }
 
@@ -54,7 +54,7 @@ enum refract_code store_write_atomic(const char *path, const void *data, size_t 
     snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
     int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0640);
     if (fd < 0)
-        return err_set(e, REFRACT_E_IO, "cannot write %s: %s", tmp, strerror(errno));
+        return err_set(e, REFRACT_E_STORAGE, "cannot write %s: %s", tmp, strerror(errno));
     const char *p = data;
     size_t left = len;
     while (left > 0) {
@@ -65,7 +65,7 @@ enum refract_code store_write_atomic(const char *path, const void *data, size_t 
             int saved = errno;
             close(fd);
             unlink(tmp);
-            return err_set(e, REFRACT_E_IO, "writing %s failed: %s (is the disk full?)", tmp,
+            return err_set(e, REFRACT_E_STORAGE, "writing %s failed: %s (is the disk full?)", tmp,
                            strerror(saved));
         }
         p += n;
@@ -74,12 +74,12 @@ enum refract_code store_write_atomic(const char *path, const void *data, size_t 
     if (fsync(fd) != 0 || close(fd) != 0) {
         int saved = errno;
         unlink(tmp);
-        return err_set(e, REFRACT_E_IO, "flushing %s failed: %s", tmp, strerror(saved));
+        return err_set(e, REFRACT_E_STORAGE, "flushing %s failed: %s", tmp, strerror(saved));
     }
     if (rename(tmp, path) != 0) {
         int saved = errno;
         unlink(tmp);
-        return err_set(e, REFRACT_E_IO, "renaming %s to %s failed: %s", tmp, path,
+        return err_set(e, REFRACT_E_STORAGE, "renaming %s to %s failed: %s", tmp, path,
                        strerror(saved));
     }
     fsync_parent(path);
@@ -93,11 +93,11 @@ enum refract_code store_read_file(const char *path, size_t max_len, char **out, 
     *len = 0;
     FILE *f = fopen(path, "rb");
     if (f == NULL)
-        return err_set(e, REFRACT_E_IO, "cannot read %s: %s", path, strerror(errno));
+        return err_set(e, REFRACT_E_STORAGE, "cannot read %s: %s", path, strerror(errno));
     struct stat st;
     if (fstat(fileno(f), &st) != 0 || st.st_size < 0 || (size_t)st.st_size > max_len) {
         fclose(f);
-        return err_set(e, REFRACT_E_IO, "%s is larger than %zu bytes", path, max_len);
+        return err_set(e, REFRACT_E_STORAGE, "%s is larger than %zu bytes", path, max_len);
     }
     size_t n = (size_t)st.st_size;
     char *buf = malloc(n + 1);
@@ -109,7 +109,7 @@ enum refract_code store_read_file(const char *path, size_t max_len, char **out, 
     fclose(f);
     if (got != n) {
         free(buf);
-        return err_set(e, REFRACT_E_IO, "short read of %s", path);
+        return err_set(e, REFRACT_E_STORAGE, "short read of %s", path);
     }
     buf[n] = '\0';
     *out = buf;
@@ -125,7 +125,7 @@ enum refract_code store_remove_tree(const char *path, struct err *e)
     if (S_ISDIR(st.st_mode)) {
         DIR *d = opendir(path);
         if (d == NULL)
-            return err_set(e, REFRACT_E_IO, "cannot open %s: %s", path, strerror(errno));
+            return err_set(e, REFRACT_E_STORAGE, "cannot open %s: %s", path, strerror(errno));
         struct dirent *ent;
         while ((ent = readdir(d)) != NULL) {
             if (strcmp(ent->d_name, ".") == 0 || strcmp(ent->d_name, "..") == 0)
@@ -140,10 +140,10 @@ enum refract_code store_remove_tree(const char *path, struct err *e)
         }
         closedir(d);
         if (rmdir(path) != 0)
-            return err_set(e, REFRACT_E_IO, "cannot remove %s: %s", path, strerror(errno));
+            return err_set(e, REFRACT_E_STORAGE, "cannot remove %s: %s", path, strerror(errno));
         return REFRACT_E_OK;
     }
     if (unlink(path) != 0)
-        return err_set(e, REFRACT_E_IO, "cannot remove %s: %s", path, strerror(errno));
+        return err_set(e, REFRACT_E_STORAGE, "cannot remove %s: %s", path, strerror(errno));
     return REFRACT_E_OK;
 }
