@@ -265,6 +265,9 @@ static enum refract_code config_parse_file(struct config *c, const char *path, s
         if (*p == '#' || *p == '\n' || *p == '\0')
             continue;
         p[strcspn(p, "\r\n")] = '\0';
+        size_t end = strlen(p); /* trailing blanks are not part of the value */
+        while (end > 0 && (p[end - 1] == ' ' || p[end - 1] == '\t'))
+            p[--end] = '\0';
         char *value = p + strcspn(p, " \t");
         if (*value) {
             *value++ = '\0';
@@ -276,8 +279,11 @@ static enum refract_code config_parse_file(struct config *c, const char *path, s
                          "the keys)", path, line_no, p);
         else if (o->kind != OPT_FLAG && *value == '\0')
             rc = err_set(e, REFRACT_E_USAGE, "%s:%d: %s needs a value", path, line_no, p);
-        else
-            rc = apply(c, o, value, e);
+        else if ((rc = apply(c, o, value, e)) != REFRACT_E_OK) {
+            char inner[sizeof e->msg];
+            snprintf(inner, sizeof inner, "%s", e->msg);
+            err_set(e, rc, "%s:%d: %s", path, line_no, inner);
+        }
     }
     fclose(f);
     return rc;

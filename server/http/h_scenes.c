@@ -45,6 +45,7 @@ enum MHD_Result http_handle_health(struct http_request *req)
     cJSON_AddNumberToObject(lim, "max_voxels", (double)c->limits.max_voxels);
     cJSON_AddNumberToObject(lim, "max_objects", c->limits.max_objects);
     cJSON_AddNumberToObject(lim, "max_image_dim", c->limits.max_image_dim);
+    cJSON_AddNumberToObject(lim, "max_image_pixels", (double)c->max_image_pixels);
     cJSON_AddNumberToObject(lim, "max_steps", c->limits.max_steps);
     cJSON_AddNumberToObject(lim, "max_rays", c->max_rays);
     cJSON_AddNumberToObject(lim, "max_json_bytes", (double)c->max_json_bytes);

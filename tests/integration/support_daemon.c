@@ -51,6 +51,10 @@ static void spawn(struct test_daemon *d, const char *bin, const char *port_file,
     const char *argv[64];
     int n = 0;
     argv[n++] = bin;
+    /* The caller's options first, so that a --config FILE among them cannot move the
+     * daemon off the harness's ephemeral port and temporary data directory. */
+    for (int i = 0; extra && extra[i] && n < 54; i++)
+        argv[n++] = extra[i];
     argv[n++] = "--port";
     argv[n++] = "0";
     argv[n++] = "--bind";
@@ -59,8 +63,6 @@ static void spawn(struct test_daemon *d, const char *bin, const char *port_file,
     argv[n++] = port_file;
     argv[n++] = "--data-dir";
     argv[n++] = d->data_dir;
-    for (int i = 0; extra && extra[i] && n < 62; i++)
-        argv[n++] = extra[i];
     argv[n] = NULL;
     FILE *log = fopen(d->log_path, "a");
     if (log == NULL)

@@ -1,0 +1,279 @@
+/*
+ * test_cli.c - the refract CLI ($REFRACT_CLI, the real binary) against a real refractd:
+ * every command once on the happy path, and the failures a script must be able to tell
+ * apart by exit status (proto/refract_errors.h numbers, docs/cli.md):
+ *   - health, scene create (file and stdin) / list / show / delete, volume upload,
+ *     render -o (PNG and EXR, decoded and sized), trace;
+ *   - a missing scene (6), a volume file of the wrong size (17, before sending), a
+ *     daemon that is not there (21), a wrong command line (24), a bad scene (2).
+ */
+#include <fcntl.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "daemon.h"
+#include "io/io_image.h"
+#include "test.h"
+
+struct cli_run {
+    int status;   /* exit status, or -1 when it did not exit normally */
+    char *out;    /* stdout, NUL-terminated */
+    char *err;    /* stderr */
+};
+
+static char *slurp(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (f == NULL)
+        return strdup("");
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *buf = malloc((size_t)n + 1);
+    size_t got = fread(buf, 1, (size_t)n, f);
+    buf[got] = '\0';
+    fclose(f);
+    return buf;
+}
+
+/* Runs $REFRACT_CLI --url <daemon> ARGS... with stdin from `stdin_path` (or /dev/null). */
+static struct cli_run run_cli(const struct test_daemon *d, const char *url, const char *stdin_path,
+                              const char *const *args)
+{
+    struct cli_run r = {-1, NULL, NULL};
+    char out_path[400], err_path[400];
+    snprintf(out_path, sizeof out_path, "%s/cli.out", d->dir);
+    snprintf(err_path, sizeof err_path, "%s/cli.err", d->dir);
+    const char *cli = getenv("REFRACT_CLI");
+    const char *argv[32];
+    int n = 0;
+    argv[n++] = cli;
+    argv[n++] = "--url";
+    argv[n++] = url ? url : d->url;
+    for (int i = 0; args[i] && n < 31; i++)
+        argv[n++] = args[i];
+    argv[n] = NULL;
+    pid_t pid = fork();
+    if (pid == 0) {
+        int in = open(stdin_path ? stdin_path : "/dev/null", O_RDONLY);
+        int out = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0600);
+        int er = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0600);
+        if (in < 0 || out < 0 || er < 0)
+            _exit(127);
+        dup2(in, 0);
+        dup2(out, 1);
+        dup2(er, 2);
+        execv(cli, (char *const *)argv);
+        _exit(127);
+    }
+    int st = 0;
+    if (pid > 0 && waitpid(pid, &st, 0) == pid && WIFEXITED(st))
+        r.status = WEXITSTATUS(st);
+    r.out = slurp(out_path);
+    r.err = slurp(err_path);
+    if (r.status != 0)
+        fprintf(stderr, "  refract %s ...: exit %d, stderr: %s", args[0], r.status, r.err);
+    return r;
+}
+
+static void cli_run_free(struct cli_run *r)
+{
+    free(r->out);
+    free(r->err);
+}
+
+static bool file_starts_with(const char *path, const void *magic, size_t n)
+{
+    unsigned char buf[16] = {0};
+    FILE *f = fopen(path, "rb");
+    if (f == NULL)
+        return false;
+    size_t got = fread(buf, 1, n, f);
+    fclose(f);
+    return got == n && memcmp(buf, magic, n) == 0;
+}
+
+static void check_image_file(const char *path, int w, int h)
+{
+    char *bytes = NULL;
+    FILE *f = fopen(path, "rb");
+    CHECK(f != NULL);
+    if (f == NULL)
+        return;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    bytes = malloc((size_t)n);
+    CHECK(fread(bytes, 1, (size_t)n, f) == (size_t)n);
+    fclose(f);
+    struct io_image img = {0};
+    struct err e = {0};
+    CHECK_INT(io_image_decode(bytes, (size_t)n, 1 << 24, &img, &e), REFRACT_E_OK);
+    CHECK_INT(img.width, w);
+    CHECK_INT(img.height, h);
+    io_image_free(&img);
+    free(bytes);
+}
+
+/* Strips the trailing newline of a one-line output. */
+static void chomp(char *s)
+{
+    size_t n = strlen(s);
+    while (n > 0 && (s[n - 1] == '\n' || s[n - 1] == '\r'))
+        s[--n] = '\0';
+}
+
+int main(void)
+{
+    if (getenv("REFRACT_CLI") == NULL || access(getenv("REFRACT_CLI"), X_OK) != 0)
+        test_skip("test_cli", "REFRACT_CLI is not set to the refract binary (ctest sets it)");
+    struct test_daemon d;
+    if (!test_daemon_start(&d, NULL)) {
+        fprintf(stderr, "cannot start refractd: %s\n", d.why);
+        return 1;
+    }
+    char path[512];
+
+    /* health */
+    struct cli_run r = run_cli(&d, NULL, NULL, (const char *[]){"health", NULL});
+    CHECK_INT(r.status, 0);
+    CHECK_CONTAINS(r.out, "\"renderer\"");
+    CHECK_CONTAINS(r.out, "\"status\":\"ok\"");
+    cli_run_free(&r);
+
+    /* scene create from a file prints only the id */
+    snprintf(path, sizeof path, "%s/proto/examples/glass_sphere.json",
+             getenv("REFRACT_SOURCE_DIR"));
+    r = run_cli(&d, NULL, NULL, (const char *[]){"scene", "create", path, NULL});
+    CHECK_INT(r.status, 0);
+    chomp(r.out);
+    char id[64];
+    snprintf(id, sizeof id, "%s", r.out);
+    CHECK(strlen(id) > 0 && strchr(id, ' ') == NULL);
+    cli_run_free(&r);
+
+    /* ... and from stdin */
+    char stdin_path[400];
+    snprintf(stdin_path, sizeof stdin_path, "%s/small.json", d.dir);
+    FILE *f = fopen(stdin_path, "w");
+    fputs("{\"name\": \"small box\", \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], "
+          "\"max\": [1, 1, 1]}, \"resolution\": 16, \"ior\": 1.33}]}",
+          f);
+    fclose(f);
+    r = run_cli(&d, NULL, stdin_path, (const char *[]){"scene", "create", "-", NULL});
+    CHECK_INT(r.status, 0);
+    chomp(r.out);
+    char small_id[64];
+    snprintf(small_id, sizeof small_id, "%s", r.out);
+    cli_run_free(&r);
+
+    r = run_cli(&d, NULL, NULL, (const char *[]){"scene", "list", NULL});
+    CHECK_INT(r.status, 0);
+    CHECK_CONTAINS(r.out, id);
+    CHECK_CONTAINS(r.out, small_id);
+    cli_run_free(&r);
+
+    r = run_cli(&d, NULL, NULL, (const char *[]){"scene", "show", small_id, NULL});
+    CHECK_INT(r.status, 0);
+    CHECK_CONTAINS(r.out, "\"small box\"");
+    cli_run_free(&r);
+
+    /* render -o: PNG and EXR, format from the extension, size from the flags */
+    char png[400], exr[400];
+    snprintf(png, sizeof png, "%s/view.png", d.dir);
+    snprintf(exr, sizeof exr, "%s/view.exr", d.dir);
+    r = run_cli(&d, NULL, NULL,
+                (const char *[]){"render", id, "-o", png, "--width", "64", "--height", "48",
+                                 "--integrator", "euler", "--step", "1", NULL});
+    CHECK_INT(r.status, 0);
+    CHECK_CONTAINS(r.err, "64x48");
+    cli_run_free(&r);
+    CHECK(file_starts_with(png, "\x89PNG", 4));
+    check_image_file(png, 64, 48);
+    r = run_cli(&d, NULL, NULL,
+                (const char *[]){"render", id, "-o", exr, "--width", "40", "--height", "30",
+                                 "--eye", "0,0,5", NULL});
+    CHECK_INT(r.status, 0);
+    cli_run_free(&r);
+    CHECK(file_starts_with(exr, "\x76\x2f\x31\x01", 4)); /* OpenEXR magic 20000630 */
+    check_image_file(exr, 40, 30);
+
+    /* trace: a ray along the axis of the glass sphere exits straight on */
+    r = run_cli(&d, NULL, NULL,
+                (const char *[]){"trace", id, "--origin", "0,0,-3", "--direction", "0,0,1",
+                                 NULL});
+    CHECK_INT(r.status, 0);
+    CHECK_CONTAINS(r.out, "\"status\":\"exited\"");
+    CHECK_CONTAINS(r.out, "\"optical_path_length\"");
+    cli_run_free(&r);
+
+    /* volume upload: a 2x2x2 float32 file; then one of the wrong size is refused before
+     * anything is sent (exit 17, invalid_volume) */
+    char vol[400];
+    snprintf(vol, sizeof vol, "%s/v.f32", d.dir);
+    float values[8] = {1.1f, 1.2f, 1.3f, 1.4f, 1.5f, 1.6f, 1.7f, 1.8f};
+    f = fopen(vol, "wb");
+    fwrite(values, sizeof values[0], 8, f);
+    fclose(f);
+    r = run_cli(&d, NULL, NULL,
+                (const char *[]){"volume", "upload", small_id, "density", vol, "--dims",
+                                 "2,2,2", NULL});
+    CHECK_INT(r.status, 0);
+    CHECK_CONTAINS(r.out, "\"name\":\"density\"");
+    CHECK_CONTAINS(r.out, "\"min\":1.1");
+    cli_run_free(&r);
+    r = run_cli(&d, NULL, NULL,
+                (const char *[]){"volume", "upload", small_id, "density", vol, "--dims",
+                                 "2,2,3", NULL});
+    CHECK_INT(r.status, REFRACT_E_INVALID_VOLUME);
+    CHECK_CONTAINS(r.err, "refract: ");
+    CHECK_CONTAINS(r.err, "48");
+    cli_run_free(&r);
+
+    /* failures a script can tell apart */
+    r = run_cli(&d, NULL, NULL, (const char *[]){"scene", "show", "no_such_scene", NULL});
+    CHECK_INT(r.status, REFRACT_E_SCENE_NOT_FOUND);
+    CHECK_CONTAINS(r.err, "no_such_scene");
+    cli_run_free(&r);
+
+    snprintf(stdin_path, sizeof stdin_path, "%s/bad.json", d.dir);
+    f = fopen(stdin_path, "w");
+    fputs("{\"objects\": [{\"bounds\": {\"min\": [0, 0, 0], \"max\": [1, 1, 1]}, "
+          "\"resolution\": 16, \"ior\": -2}]}",
+          f);
+    fclose(f);
+    r = run_cli(&d, NULL, NULL, (const char *[]){"scene", "create", stdin_path, NULL});
+    CHECK_INT(r.status, REFRACT_E_INVALID_FIELD);
+    CHECK_CONTAINS(r.err, "objects[0].ior");
+    cli_run_free(&r);
+
+    r = run_cli(&d, NULL, NULL, (const char *[]){"render", id, NULL}); /* no -o */
+    CHECK_INT(r.status, REFRACT_E_USAGE);
+    CHECK_CONTAINS(r.err, "-o");
+    cli_run_free(&r);
+
+    r = run_cli(&d, NULL, NULL, (const char *[]){"rendr", id, NULL});
+    CHECK_INT(r.status, REFRACT_E_USAGE);
+    cli_run_free(&r);
+
+    /* a port nothing listens on: port 1 is privileged and unused on a test machine */
+    r = run_cli(&d, "http://127.0.0.1:1", NULL, (const char *[]){"health", NULL});
+    CHECK_INT(r.status, REFRACT_E_CONNECT_FAILED);
+    CHECK_CONTAINS(r.err, "127.0.0.1:1");
+    cli_run_free(&r);
+
+    /* delete, then it is gone */
+    r = run_cli(&d, NULL, NULL, (const char *[]){"scene", "delete", small_id, NULL});
+    CHECK_INT(r.status, 0);
+    cli_run_free(&r);
+    r = run_cli(&d, NULL, NULL, (const char *[]){"scene", "show", small_id, NULL});
+    CHECK_INT(r.status, REFRACT_E_SCENE_NOT_FOUND);
+    cli_run_free(&r);
+
+    CHECK_INT(test_daemon_stop(&d), 0);
+    test_daemon_cleanup(&d);
+    return test_summary("test_cli");
+}
