@@ -5,9 +5,10 @@
  *
  *     build/refract-bench [--scenes glass_sphere,luneburg_lens] [--resolutions 64,128,256]
  *                         [--sizes 320x240,640x480,1280x720,1920x1080]
- *                         [--integrators rk4,euler] [--step 0.5] [--budget-ms 3000]
+ *                         [--integrators rk4,euler] [--steps 0.5] [--budget-ms 3000]
  *
- * For every scene, voxel resolution, image size and integrator it renders once to warm
+ * For every scene, voxel resolution, integrator, step (voxels) and image size it renders
+ * once to warm
  * up (llvmpipe compiles a shader variant on its first dispatch), then repeats while the
  * time budget lasts (at least once, at most 7 times) and reports the median GPU time
  * (dispatch to glFinish, no read-back) and million rays per second. Scene build time
@@ -35,8 +36,7 @@ struct list {
 };
 
 struct options {
-    struct list scenes, resolutions, sizes, integrators;
-    double step;
+    struct list scenes, resolutions, sizes, integrators, steps;
     double budget_ms;
     const char *examples_dir;
 };
@@ -196,9 +196,10 @@ static void bench_scene(struct gpu *gpu, struct bench_ctx *c, const struct optio
         scene_destroy(s);
         return;
     }
-    printf("| %s | %d^3 | build | | %.0f | | %.1f MiB |\n", name, res, c->status.build_ms,
+    printf("| %s | %d^3 | build | | | %.0f | | %.1f MiB |\n", name, res, c->status.build_ms,
            (double)c->status.gpu_bytes / 1048576.0);
     for (int k = 0; k < o->integrators.count; k++) {
+        for (int st = 0; st < o->steps.count; st++) {
         for (int z = 0; z < o->sizes.count; z++) {
             int w = 0, h = 0;
             if (sscanf(o->sizes.item[z], "%dx%d", &w, &h) != 2)
@@ -207,7 +208,7 @@ static void bench_scene(struct gpu *gpu, struct bench_ctx *c, const struct optio
             c->req.camera.width = w;
             c->req.camera.height = h;
             c->req.settings = s->render;
-            c->req.settings.step_voxels = o->step;
+            c->req.settings.step_voxels = atof(o->steps.item[st]);
             c->req.settings.integrator = strcmp(o->integrators.item[k], "euler") == 0
                                              ? SCENE_INTEGRATOR_EULER
                                              : SCENE_INTEGRATOR_RK4;
@@ -226,9 +227,11 @@ static void bench_scene(struct gpu *gpu, struct bench_ctx *c, const struct optio
                 continue;
             qsort(times, (size_t)runs, sizeof times[0], compare_doubles);
             double median = times[runs / 2];
-            printf("| %s | %d^3 | %dx%d | %s | %.1f | %.2f | %d runs |\n", name, res, w, h,
-                   o->integrators.item[k], median, (double)w * h / (median * 1000.0), runs);
+            printf("| %s | %d^3 | %dx%d | %s | %s | %.1f | %.2f | %d runs |\n", name, res, w, h,
+                   o->integrators.item[k], o->steps.item[st], median,
+                   (double)w * h / (median * 1000.0), runs);
             fflush(stdout);
+        }
         }
     }
     on_gpu(gpu, c, 3);
@@ -237,7 +240,8 @@ static void bench_scene(struct gpu *gpu, struct bench_ctx *c, const struct optio
 
 int main(int argc, char **argv)
 {
-    struct options o = {.step = 0.5, .budget_ms = 3000, .examples_dir = "proto/examples"};
+    struct options o = {.budget_ms = 3000, .examples_dir = "proto/examples"};
+    split("0.5", &o.steps);
     split("glass_sphere,luneburg_lens", &o.scenes);
     split("64,128,256", &o.resolutions);
     split("320x240,640x480,1280x720,1920x1080", &o.sizes);
@@ -251,8 +255,8 @@ int main(int argc, char **argv)
             split(argv[i + 1], &o.sizes);
         else if (!strcmp(argv[i], "--integrators"))
             split(argv[i + 1], &o.integrators);
-        else if (!strcmp(argv[i], "--step"))
-            o.step = atof(argv[i + 1]);
+        else if (!strcmp(argv[i], "--steps"))
+            split(argv[i + 1], &o.steps);
         else if (!strcmp(argv[i], "--budget-ms"))
             o.budget_ms = atof(argv[i + 1]);
         else if (!strcmp(argv[i], "--examples"))
@@ -274,8 +278,8 @@ int main(int argc, char **argv)
     if (on_gpu(gpu, &c, 0) != REFRACT_E_OK)
         return 1;
     print_header(gpu, argc, argv);
-    printf("| scene | voxels | image | integrator | GPU ms (median) | Mrays/s | notes |\n");
-    printf("|---|---|---|---|---|---|---|\n");
+    printf("| scene | voxels | image | integrator | step | GPU ms (median) | Mrays/s | notes |\n");
+    printf("|---|---|---|---|---|---|---|---|\n");
     for (int si = 0; si < o.scenes.count; si++)
         for (int ri = 0; ri < o.resolutions.count; ri++)
             bench_scene(gpu, &c, &o, o.scenes.item[si], atoi(o.resolutions.item[ri]));

@@ -4,8 +4,9 @@
  * Each CHECK prints file:line and what differed when it fails, counts, and lets the
  * test go on so one run shows every failure. A test's main() ends with
  * `return test_summary("name");`, which prints "N passed, N failed" (the line CI
- * reads) and returns non-zero when anything failed. test_skip() exits 77 after saying
- * why; ctest reports it as failed unless SKIP_RETURN_CODE is set, so skipping is loud.
+ * reads) and returns non-zero when anything failed. test_setup_failed() fails a test
+ * that cannot set up (no GL context, no daemon); test_skip() exits 77 (ctest: skipped)
+ * only when a binary is run by hand without the environment ctest sets.
  */
 #ifndef REFRACT_TEST_H
 #define REFRACT_TEST_H
@@ -96,6 +97,15 @@ static inline int test_summary(const char *name)
     return test_failed_count == 0 && test_passed_count > 0 ? 0 : 1;
 }
 
+/* A test that cannot set up what it checks (no GL context, a daemon that does not start)
+ * fails: Mesa's software device is a dependency, so in CI this is a real breakage. */
+static inline void test_setup_failed(const char *name, const char *why)
+{
+    printf("%s: FAILED to set up: %s\n", name, why);
+    exit(1);
+}
+
+/* Only for running a test binary by hand without the environment ctest provides. */
 static inline void test_skip(const char *name, const char *why)
 {
     printf("%s: SKIPPED: %s\n", name, why);

@@ -4,7 +4,7 @@
  *
  *     struct test_daemon d;
  *     if (!test_daemon_start(&d, NULL))
- *         test_skip("test_x", d.why);
+ *         test_setup_failed("test_x", d.why);
  *     ... refract_render(d.client, ...) ...
  *     CHECK_INT(test_daemon_stop(&d), 0);   // SIGTERM, clean exit expected
  *

@@ -649,7 +649,7 @@ int main(void)
            (unsigned long long)seed, (unsigned long long)seed);
     struct test_daemon d;
     if (!test_daemon_start(&d, daemon_args))
-        test_skip("test_bad_input_fuzz", d.why);
+        test_setup_failed("test_bad_input_fuzz", d.why);
     char id[REFRACT_ID_SIZE] = "";
     CHECK(test_create_scene(&d, scene_seeds[0], id));
 

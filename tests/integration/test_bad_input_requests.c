@@ -621,7 +621,7 @@ int main(void)
 {
     struct test_daemon d;
     if (!test_daemon_start(&d, daemon_args))
-        test_skip("test_bad_input_requests", d.why);
+        test_setup_failed("test_bad_input_requests", d.why);
     char id[REFRACT_ID_SIZE] = "";
     CHECK(test_create_scene(&d, VALID_SCENE, id));
     struct refract_image png = {0};

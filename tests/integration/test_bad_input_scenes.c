@@ -488,7 +488,7 @@ int main(void)
 {
     struct test_daemon d;
     if (!test_daemon_start(&d, daemon_args))
-        test_skip("test_bad_input_scenes", d.why);
+        test_setup_failed("test_bad_input_scenes", d.why);
     printf("cases per endpoint:\n");
     unknown_paths_are_404_and_wrong_methods_are_405(&d);
     each_bad_scene_document_gets_its_error(&d);

@@ -835,7 +835,7 @@ int main(void)
     struct test_daemon d;
     if (!test_daemon_start(&d, NULL)) {
         test_summary("test_openapi_contract (without refractd)");
-        test_skip("test_openapi_contract", d.why);
+        test_setup_failed("test_openapi_contract", d.why);
     }
     char scene[REFRACT_ID_SIZE] = "", scratch[REFRACT_ID_SIZE] = "";
     CHECK(test_create_scene(&d, test_scene, scene));

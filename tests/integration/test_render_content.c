@@ -212,7 +212,7 @@ int main(void)
 {
     struct test_daemon d;
     if (!test_daemon_start(&d, NULL))
-        test_skip("test_render_content", d.why);
+        test_setup_failed("test_render_content", d.why);
     char sphere[REFRACT_ID_SIZE], absorber[REFRACT_ID_SIZE];
     CHECK(test_create_scene(&d, sphere_scene, sphere));
     CHECK(test_create_scene(&d, blue_absorber_scene, absorber));

@@ -432,7 +432,7 @@ int main(void)
 {
     struct test_daemon d;
     if (!test_daemon_start(&d, NULL))
-        test_skip("test_trace_reference", d.why);
+        test_setup_failed("test_trace_reference", d.why);
     char *health = NULL;
     if (refract_health(d.client, &health) == REFRACT_E_OK && strstr(health, "\"software\"") == NULL)
         gpu_tol = 3e-3;
