@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include "daemon.h"
+#include "expect.h"
 #include "test.h"
 
 /* The daemon's limits; the cases below are written against them. */
@@ -43,109 +44,7 @@ static const char *const daemon_args[] = {
 #define VALID_SCENE                                                                                \
     "{\"name\": \"ok\", \"camera\": {\"width\": 32, \"height\": 24}, \"objects\": [" OBJ "]}"
 
-/* ---- how each case is checked ---------------------------------------------------------- */
-
-static const char *section_name = "";
-static int section_cases;
-
-/* Starts a group of cases; prints how many cases the previous group had. */
-static void section(const char *name)
-{
-    if (section_name[0] != '\0')
-        printf("  %-34s %3d cases\n", section_name, section_cases);
-    section_name = name;
-    section_cases = 0;
-}
-
-static size_t text_len(const char *s)
-{
-    return s ? strlen(s) : 0;
-}
-
-/* Writes into why (empty when it matches) how the answer differs from the expected error:
- * the status, application/json, {"error": {"code", "message"}}, the code, each needle. */
-static void error_mismatch(const struct refract_response *r, long status, const char *code,
-                           const char *const *needles, char *why, size_t size)
-{
-    why[0] = '\0';
-    cJSON *root = cJSON_ParseWithLength(r->body, r->body_len);
-    const cJSON *err = cJSON_GetObjectItemCaseSensitive(root, "error");
-    const cJSON *c = cJSON_GetObjectItemCaseSensitive(err, "code");
-    const cJSON *m = cJSON_GetObjectItemCaseSensitive(err, "message");
-    if (r->status != status)
-        snprintf(why, size, "HTTP status %ld, expected %ld", r->status, status);
-    else if (strncmp(r->content_type, "application/json", 16) != 0)
-        snprintf(why, size, "Content-Type \"%s\", expected application/json", r->content_type);
-    else if (!cJSON_IsString(c) || !cJSON_IsString(m) || m->valuestring[0] == '\0')
-        snprintf(why, size, "not an {\"error\": {\"code\", \"message\"}} body");
-    else if (strcmp(c->valuestring, code) != 0)
-        snprintf(why, size, "error.code \"%s\", expected \"%s\"", c->valuestring, code);
-    for (size_t i = 0; why[0] == '\0' && needles[i] != NULL; i++) {
-        if (strstr(m->valuestring, needles[i]) == NULL)
-            snprintf(why, size, "the message lacks \"%s\"", needles[i]);
-    }
-    cJSON_Delete(root);
-}
-
-/* Sends one request and checks that the answer is the error (status, code, needles). */
-static void expect_error_at(const char *file, int line, struct test_daemon *d, const char *method,
-                            const char *path, const void *body, size_t len,
-                            const char *content_type, long status, const char *code,
-                            const char *const *needles)
-{
-    struct refract_response r;
-    char why[300];
-    section_cases++;
-    int rc = refract_request(d->client, method, path, body, len, content_type, &r);
-    if (rc != REFRACT_E_OK)
-        snprintf(why, sizeof why, "no HTTP answer (%s)", refract_errmsg(d->client));
-    else
-        error_mismatch(&r, status, code, needles, why, sizeof why);
-    if (why[0] == '\0') {
-        test_passed_count++;
-    } else {
-        test_failed_count++;
-        fprintf(stderr, "%s:%d: %s %s [%s]: expected %ld %s", file, line, method, path,
-                section_name, status, code);
-        for (size_t i = 0; needles[i] != NULL; i++)
-            fprintf(stderr, " \"%s\"", needles[i]);
-        fprintf(stderr, "\n    %s; got %ld %s\n", why, rc == REFRACT_E_OK ? r.status : -1L,
-                rc == REFRACT_E_OK ? r.body : "");
-    }
-    if (rc == REFRACT_E_OK)
-        refract_response_free(&r);
-}
-
-/* A JSON body (or none when json is NULL) expected to give the error. */
-#define EXPECT_ERROR(d, method, path, json, status, code, ...)                                     \
-    expect_error_at(__FILE__, __LINE__, (d), (method), (path), (json), text_len(json),             \
-                    (json) ? "application/json" : NULL, (status), (code),                          \
-                    (const char *const[]){__VA_ARGS__, NULL})
-
-/* Raw bytes with a Content-Type expected to give the error. */
-#define EXPECT_RAW_ERROR(d, method, path, bytes, len, ctype, status, code, ...)                    \
-    expect_error_at(__FILE__, __LINE__, (d), (method), (path), (bytes), (len), (ctype), (status),  \
-                    (code), (const char *const[]){__VA_ARGS__, NULL})
-
-/* Sends a JSON request and checks its status; returns the body (new string, caller frees)
- * or NULL. */
-static char *expect_status_at(const char *file, int line, struct test_daemon *d, const char *method,
-                              const char *path, const char *json, long status)
-{
-    char *body = NULL;
-    long got = test_request(d, method, path, json, &body);
-    if (got == status) {
-        test_passed_count++;
-        return body;
-    }
-    test_failed_count++;
-    fprintf(stderr, "%s:%d: %s %s: expected HTTP %ld, got %ld: %s\n", file, line, method, path,
-            status, got, body ? body : "(no answer)");
-    free(body);
-    return NULL;
-}
-#define EXPECT_STATUS(d, method, path, json, status)                                               \
-    expect_status_at(__FILE__, __LINE__, (d), (method), (path), (json), (status))
+/* ---- helpers beyond the checks in expect.h -------------------------------------------- */
 
 /* Creates a scene; writes its id into id (REFRACT_ID_SIZE bytes). */
 static bool create_scene(struct test_daemon *d, const char *json, char *id)

@@ -148,6 +148,70 @@ static void report(const char *what, struct deviation d)
            d.pos, d.dir, d.opl, d.trans, d.status_mismatch);
 }
 
+/* ---- one GRIN check: the same rays on the GPU and on the CPU --------------------------- */
+
+#define MAX_CHECK_RAYS 32
+
+/* What one scene's rays gave: the GPU hits, the CPU reference on the same voxels and
+ * integrator (same_voxels), and the adaptive trace of the exact continuous field
+ * (vs_exact, exact_hits) when the scene has an analytic form. */
+struct traced {
+    struct scene *scene;
+    struct scene_reference vox, exact;
+    bool has_exact;
+    struct gpu_hit hits[MAX_CHECK_RAYS];
+    struct reftrace_result voxel_hits[MAX_CHECK_RAYS], exact_hits[MAX_CHECK_RAYS];
+    struct deviation same_voxels, vs_exact;
+};
+
+/* Creates the scene in the daemon, traces the rays there and on the CPU, and prints the
+ * deviations as "<label>: GPU vs ...". Returns false (after a failed CHECK) when the
+ * scene or the trace could not be made; traced_free() in any case. */
+static bool trace_both_ways(struct test_daemon *d, const char *json, const char *label,
+                            bool with_exact, const struct ray *rays, int n, struct traced *t)
+{
+    memset(t, 0, sizeof *t);
+    char id[REFRACT_ID_SIZE];
+    t->scene = parse(json);
+    if (t->scene == NULL || n > MAX_CHECK_RAYS || !test_create_scene(d, json, id)) {
+        CHECK(false);
+        return false;
+    }
+    int got = gpu_trace(d, id, rays, n, "", t->hits);
+    CHECK_INT(got, n);
+    struct err e = {0};
+    enum refract_code rc =
+        scene_reference_build(t->scene, SCENE_REFERENCE_VOXELS, NULL, NULL, &t->vox, &e);
+    CHECK_INT(rc, REFRACT_E_OK);
+    if (got != n || rc != REFRACT_E_OK)
+        return false;
+    char what[96];
+    t->same_voxels = compare(&t->vox, &t->vox.settings, rays, t->hits, n, t->voxel_hits);
+    snprintf(what, sizeof what, "%s: GPU vs CPU, same voxels", label);
+    report(what, t->same_voxels);
+    if (!with_exact)
+        return true;
+    rc = scene_reference_build(t->scene, SCENE_REFERENCE_ANALYTIC, NULL, NULL, &t->exact, &e);
+    CHECK_INT(rc, REFRACT_E_OK);
+    if (rc != REFRACT_E_OK)
+        return false;
+    t->has_exact = true;
+    struct reftrace_settings adaptive = t->exact.settings;
+    adaptive.integrator = REFTRACE_ADAPTIVE;
+    adaptive.tolerance = 1e-10;
+    t->vs_exact = compare(&t->exact, &adaptive, rays, t->hits, n, t->exact_hits);
+    snprintf(what, sizeof what, "%s: GPU vs exact field (adaptive)", label);
+    report(what, t->vs_exact);
+    return true;
+}
+
+static void traced_free(struct traced *t)
+{
+    scene_reference_free(&t->vox); /* safe on the zeroed struct of a failed build */
+    scene_reference_free(&t->exact);
+    scene_destroy(t->scene);
+}
+
 /* ---- Luneburg ------------------------------------------------------------------------ */
 
 static const char *const luneburg_json =
@@ -158,13 +222,6 @@ static const char *const luneburg_json =
 
 static void luneburg_focuses_parallel_rays_on_far_side(struct test_daemon *d)
 {
-    char id[REFRACT_ID_SIZE];
-    struct scene *s = parse(luneburg_json);
-    if (s == NULL || !test_create_scene(d, luneburg_json, id)) {
-        CHECK(false);
-        scene_destroy(s);
-        return;
-    }
     struct ray rays[18];
     int n = 0;
     for (int k = 1; k <= 9; k++) {
@@ -172,49 +229,34 @@ static void luneburg_focuses_parallel_rays_on_far_side(struct test_daemon *d)
         rays[n++] = (struct ray){{0.0, h, -2.0}, {0, 0, 1}};
         rays[n++] = (struct ray){{h * 0.6, -h * 0.8, -2.0}, {0, 0, 1}};
     }
-    struct gpu_hit hits[18];
-    CHECK_INT(gpu_trace(d, id, rays, n, "", hits), n);
-
-    struct scene_reference vox, exact;
-    struct err e = {0};
-    CHECK_INT(scene_reference_build(s, SCENE_REFERENCE_VOXELS, NULL, NULL, &vox, &e),
-              REFRACT_E_OK);
-    CHECK_INT(scene_reference_build(s, SCENE_REFERENCE_ANALYTIC, NULL, NULL, &exact, &e),
-              REFRACT_E_OK);
-    struct deviation dv = compare(&vox, &vox.settings, rays, hits, n, NULL);
-    report("luneburg 64^3: GPU vs CPU, same voxels", dv);
-    struct reftrace_settings adaptive = exact.settings;
-    adaptive.integrator = REFTRACE_ADAPTIVE;
-    adaptive.tolerance = 1e-10;
-    struct reftrace_result ex[18];
-    struct deviation da = compare(&exact, &adaptive, rays, hits, n, ex);
-    report("luneburg 64^3: GPU vs exact field (adaptive)", da);
-
-    /* Closed form: the exact reference focuses on (0, 0, 1) within 1e-6, so the lens
-     * is right; the GPU focus error is the voxel discretisation error. */
-    double worst_exact = 0.0, worst_gpu = 0.0;
-    for (int i = 0; i < n; i++) {
-        /* Rays leave the bounds at z = 1.05 on straight lines (n = 1 outside the lens):
-         * their closest approach to the focus (0, 0, 1) measures the focusing error. */
-        worst_exact = fmax(worst_exact, miss_distance(ex[i].exit_origin, ex[i].exit_direction,
-                                                      (vec3){0, 0, 1}));
-        worst_gpu = fmax(worst_gpu, miss_distance(hits[i].x, hits[i].d, (vec3){0, 0, 1}));
+    struct traced t;
+    if (trace_both_ways(d, luneburg_json, "luneburg 64^3", true, rays, n, &t)) {
+        /* Closed form: the exact reference focuses on (0, 0, 1) within 1e-6, so the lens
+         * is right; the GPU focus error is the voxel discretisation error. Rays leave the
+         * bounds at z = 1.05 on straight lines (n = 1 outside the lens): their closest
+         * approach to the focus (0, 0, 1) measures the focusing error. */
+        double worst_exact = 0.0, worst_gpu = 0.0;
+        for (int i = 0; i < n; i++) {
+            worst_exact = fmax(worst_exact, miss_distance(t.exact_hits[i].exit_origin,
+                                                          t.exact_hits[i].exit_direction,
+                                                          (vec3){0, 0, 1}));
+            worst_gpu = fmax(worst_gpu, miss_distance(t.hits[i].x, t.hits[i].d, (vec3){0, 0, 1}));
+        }
+        printf("luneburg focus: exact reference %.2e R, GPU 64^3 %.2e R\n", worst_exact,
+               worst_gpu);
+        CHECK_MSG(worst_exact < 1e-5, "exact focus error %g", worst_exact);
+        CHECK_MSG(worst_gpu < 0.03, "GPU focus error %g R", worst_gpu);
+        /* GPU float32 vs CPU double on the same voxels and integrator. */
+        CHECK_INT(t.same_voxels.status_mismatch, 0);
+        CHECK_MSG(t.same_voxels.pos < gpu_tol, "position deviation %g", t.same_voxels.pos);
+        CHECK_MSG(t.same_voxels.dir < gpu_tol, "direction deviation %g", t.same_voxels.dir);
+        CHECK_MSG(t.same_voxels.opl < gpu_tol, "OPL deviation %g", t.same_voxels.opl);
+        /* Discretisation at 64^3: measured ~1e-2; bound it. */
+        CHECK_INT(t.vs_exact.status_mismatch, 0);
+        CHECK_MSG(t.vs_exact.dir < 0.05, "direction error vs exact %g", t.vs_exact.dir);
+        CHECK_MSG(t.vs_exact.opl < 0.02, "OPL error vs exact %g", t.vs_exact.opl);
     }
-    printf("luneburg focus: exact reference %.2e R, GPU 64^3 %.2e R\n", worst_exact, worst_gpu);
-    CHECK_MSG(worst_exact < 1e-5, "exact focus error %g", worst_exact);
-    CHECK_MSG(worst_gpu < 0.03, "GPU focus error %g R", worst_gpu);
-    /* GPU float32 vs CPU double on the same voxels and integrator. */
-    CHECK_INT(dv.status_mismatch, 0);
-    CHECK_MSG(dv.pos < gpu_tol, "position deviation %g", dv.pos);
-    CHECK_MSG(dv.dir < gpu_tol, "direction deviation %g", dv.dir);
-    CHECK_MSG(dv.opl < gpu_tol, "OPL deviation %g", dv.opl);
-    /* Discretisation at 64^3: measured ~1e-2; bound it. */
-    CHECK_INT(da.status_mismatch, 0);
-    CHECK_MSG(da.dir < 0.05, "direction error vs exact %g", da.dir);
-    CHECK_MSG(da.opl < 0.02, "OPL error vs exact %g", da.opl);
-    scene_reference_free(&vox);
-    scene_reference_free(&exact);
-    scene_destroy(s);
+    traced_free(&t);
 }
 
 /* ---- Maxwell fish-eye ---------------------------------------------------------------- */
@@ -228,56 +270,37 @@ static const char *const fisheye_json =
 /* Rays from the surface point (0, 0, -1) in many directions: all pass the antipode. */
 static void fisheye_images_surface_point_to_antipode(struct test_daemon *d)
 {
-    char id[REFRACT_ID_SIZE];
-    struct scene *s = parse(fisheye_json);
-    if (s == NULL || !test_create_scene(d, fisheye_json, id)) {
-        CHECK(false);
-        scene_destroy(s);
-        return;
-    }
     struct ray rays[12];
     int n = 0;
     for (int k = 0; k < 12; k++) {
         double a = (k + 0.5) * (M_PI / 2.2) / 12.0, phi = k * 2.4;
         rays[n++] = (struct ray){{0, 0, -1.0}, {sin(a) * cos(phi), sin(a) * sin(phi), cos(a)}};
     }
-    struct gpu_hit hits[12];
-    CHECK_INT(gpu_trace(d, id, rays, n, "", hits), n);
-    struct scene_reference vox, exact;
-    struct err e = {0};
-    CHECK_INT(scene_reference_build(s, SCENE_REFERENCE_VOXELS, NULL, NULL, &vox, &e),
-              REFRACT_E_OK);
-    CHECK_INT(scene_reference_build(s, SCENE_REFERENCE_ANALYTIC, NULL, NULL, &exact, &e),
-              REFRACT_E_OK);
-    struct deviation dv = compare(&vox, &vox.settings, rays, hits, n, NULL);
-    report("fisheye 64^3: GPU vs CPU, same voxels", dv);
-    struct reftrace_settings adaptive = exact.settings;
-    adaptive.integrator = REFTRACE_ADAPTIVE;
-    adaptive.tolerance = 1e-10;
-    struct reftrace_result ex[12];
-    struct deviation da = compare(&exact, &adaptive, rays, hits, n, ex);
-    report("fisheye 64^3: GPU vs exact field (adaptive)", da);
-    /* Outside r = 1 the index is n0/2 = 1, so exit rays are straight lines: their closest
-     * approach to the antipode (0, 0, 1) measures the imaging error. */
-    double worst = 0.0, worst_exact = 0.0;
-    for (int i = 0; i < n; i++) {
-        worst = fmax(worst, miss_distance(hits[i].x, hits[i].d, (vec3){0, 0, 1}));
-        worst_exact = fmax(worst_exact, miss_distance(ex[i].exit_origin, ex[i].exit_direction,
-                                                      (vec3){0, 0, 1}));
+    struct traced t;
+    if (trace_both_ways(d, fisheye_json, "fisheye 64^3", true, rays, n, &t)) {
+        /* Outside r = 1 the index is n0/2 = 1, so exit rays are straight lines: their
+         * closest approach to the antipode (0, 0, 1) measures the imaging error. */
+        double worst = 0.0, worst_exact = 0.0;
+        for (int i = 0; i < n; i++) {
+            worst = fmax(worst, miss_distance(t.hits[i].x, t.hits[i].d, (vec3){0, 0, 1}));
+            worst_exact = fmax(worst_exact, miss_distance(t.exact_hits[i].exit_origin,
+                                                          t.exact_hits[i].exit_direction,
+                                                          (vec3){0, 0, 1}));
+        }
+        printf("fisheye: rays pass the antipode within %.2e (GPU 64^3), %.2e (exact)\n", worst,
+               worst_exact);
+        CHECK_MSG(worst_exact < 1e-4, "exact antipode miss %g", worst_exact);
+        CHECK_MSG(worst < 0.03, "antipode miss %g", worst);
+        CHECK_INT(t.same_voxels.status_mismatch, 0);
+        CHECK_MSG(t.same_voxels.pos < gpu_tol && t.same_voxels.dir < gpu_tol,
+                  "GPU vs CPU %g %g", t.same_voxels.pos, t.same_voxels.dir);
+        /* All rays cross at the antipode, where grad n jumps from 1 to 0 across the
+         * sphere (a kink the voxels smooth over one voxel): exit directions there are
+         * sensitive, measured ~0.06 rad at 64^3, while the imaging itself (the antipode
+         * miss) is 1e-3. */
+        CHECK_MSG(t.vs_exact.dir < 0.15, "vs exact %g", t.vs_exact.dir);
     }
-    printf("fisheye: rays pass the antipode within %.2e (GPU 64^3), %.2e (exact)\n", worst,
-           worst_exact);
-    CHECK_MSG(worst_exact < 1e-4, "exact antipode miss %g", worst_exact);
-    CHECK_MSG(worst < 0.03, "antipode miss %g", worst);
-    CHECK_INT(dv.status_mismatch, 0);
-    CHECK_MSG(dv.pos < gpu_tol && dv.dir < gpu_tol, "GPU vs CPU %g %g", dv.pos, dv.dir);
-    /* All rays cross at the antipode, where grad n jumps from 1 to 0 across the sphere
-     * (a kink the voxels smooth over one voxel): exit directions there are sensitive,
-     * measured ~0.06 rad at 64^3, while the imaging itself (the antipode miss) is 1e-3. */
-    CHECK_MSG(da.dir < 0.15, "vs exact %g", da.dir);
-    scene_reference_free(&vox);
-    scene_reference_free(&exact);
-    scene_destroy(s);
+    traced_free(&t);
 }
 
 /* ---- linear gradient: face refraction, and a mirage ------------------------------------ */
@@ -290,13 +313,6 @@ static const char *const linear_json =
 
 static void linear_gradient_bends_rays_and_turns_grazing_ones(struct test_daemon *d)
 {
-    char id[REFRACT_ID_SIZE];
-    struct scene *s = parse(linear_json);
-    if (s == NULL || !test_create_scene(d, linear_json, id)) {
-        CHECK(false);
-        scene_destroy(s);
-        return;
-    }
     struct ray rays[8];
     int n = 0;
     /* Launched from inside, slightly downwards toward lower n: they turn around (mirage)
@@ -306,36 +322,25 @@ static void linear_gradient_bends_rays_and_turns_grazing_ones(struct test_daemon
     /* From outside through the faces (n at the faces differs from the ambient 1). */
     for (int k = 0; k < 4; k++)
         rays[n++] = (struct ray){{-0.3 * k, 0.1, -3}, vec3_normalize((vec3){0.1 * k, 0.05, 1})};
-    struct gpu_hit hits[8];
-    CHECK_INT(gpu_trace(d, id, rays, n, "", hits), n);
-    struct scene_reference vox, exact;
-    struct err e = {0};
-    CHECK_INT(scene_reference_build(s, SCENE_REFERENCE_VOXELS, NULL, NULL, &vox, &e),
-              REFRACT_E_OK);
-    CHECK_INT(scene_reference_build(s, SCENE_REFERENCE_ANALYTIC, NULL, NULL, &exact, &e),
-              REFRACT_E_OK);
-    struct deviation dv = compare(&vox, &vox.settings, rays, hits, n, NULL);
-    report("linear: GPU vs CPU, same voxels", dv);
-    struct reftrace_settings adaptive = exact.settings;
-    adaptive.integrator = REFTRACE_ADAPTIVE;
-    adaptive.tolerance = 1e-10;
-    struct deviation da = compare(&exact, &adaptive, rays, hits, n, NULL);
-    report("linear: GPU vs exact field (adaptive)", da);
-    for (int i = 0; i < 4; i++) {
-        printf("  mirage ray %d: %s at (%.3f %.3f %.3f) dir (%.3f %.3f %.3f)\n", i, hits[i].status,
-               hits[i].x.x, hits[i].x.y, hits[i].x.z, hits[i].d.x, hits[i].d.y, hits[i].d.z);
-        CHECK_MSG(hits[i].d.y > 0.0, "mirage ray %d did not turn upwards (d.y %g)", i,
-                  hits[i].d.y);
+    struct traced t;
+    if (trace_both_ways(d, linear_json, "linear", true, rays, n, &t)) {
+        for (int i = 0; i < 4; i++) {
+            const struct gpu_hit *h = &t.hits[i];
+            printf("  mirage ray %d: %s at (%.3f %.3f %.3f) dir (%.3f %.3f %.3f)\n", i,
+                   h->status, h->x.x, h->x.y, h->x.z, h->d.x, h->d.y, h->d.z);
+            CHECK_MSG(h->d.y > 0.0, "mirage ray %d did not turn upwards (d.y %g)", i, h->d.y);
+        }
+        CHECK_INT(t.same_voxels.status_mismatch, 0);
+        CHECK_MSG(t.same_voxels.pos < gpu_tol && t.same_voxels.dir < gpu_tol,
+                  "GPU vs CPU %g %g", t.same_voxels.pos, t.same_voxels.dir);
+        /* A linear field is exactly representable by trilinear voxels: only float error. */
+        CHECK_INT(t.vs_exact.status_mismatch, 0);
+        CHECK_MSG(t.vs_exact.pos < 1e-3 && t.vs_exact.dir < 1e-3, "vs exact %g %g",
+                  t.vs_exact.pos, t.vs_exact.dir);
+        CHECK_MSG(t.same_voxels.trans < 1e-4, "face Fresnel transmittance deviation %g",
+                  t.same_voxels.trans);
     }
-    CHECK_INT(dv.status_mismatch, 0);
-    CHECK_MSG(dv.pos < gpu_tol && dv.dir < gpu_tol, "GPU vs CPU %g %g", dv.pos, dv.dir);
-    /* A linear field is exactly representable by trilinear voxels: only float error. */
-    CHECK_INT(da.status_mismatch, 0);
-    CHECK_MSG(da.pos < 1e-3 && da.dir < 1e-3, "vs exact %g %g", da.pos, da.dir);
-    CHECK_MSG(dv.trans < 1e-4, "face Fresnel transmittance deviation %g", dv.trans);
-    scene_reference_free(&vox);
-    scene_reference_free(&exact);
-    scene_destroy(s);
+    traced_free(&t);
 }
 
 /* ---- gaussian lens ---------------------------------------------------------------------- */
@@ -348,39 +353,20 @@ static const char *const gaussian_json =
 
 static void gaussian_lens_matches_reference(struct test_daemon *d)
 {
-    char id[REFRACT_ID_SIZE];
-    struct scene *s = parse(gaussian_json);
-    if (s == NULL || !test_create_scene(d, gaussian_json, id)) {
-        CHECK(false);
-        scene_destroy(s);
-        return;
-    }
     struct ray rays[10];
     int n = 0;
     for (int k = 0; k < 10; k++)
         rays[n++] = (struct ray){{0.05 * k, 0.08 * k - 0.3, -2}, {0, 0, 1}};
-    struct gpu_hit hits[10];
-    CHECK_INT(gpu_trace(d, id, rays, n, "", hits), n);
-    struct scene_reference vox, exact;
-    struct err e = {0};
-    CHECK_INT(scene_reference_build(s, SCENE_REFERENCE_VOXELS, NULL, NULL, &vox, &e),
-              REFRACT_E_OK);
-    CHECK_INT(scene_reference_build(s, SCENE_REFERENCE_ANALYTIC, NULL, NULL, &exact, &e),
-              REFRACT_E_OK);
-    struct deviation dv = compare(&vox, &vox.settings, rays, hits, n, NULL);
-    report("gaussian 64^3: GPU vs CPU, same voxels", dv);
-    struct reftrace_settings adaptive = exact.settings;
-    adaptive.integrator = REFTRACE_ADAPTIVE;
-    adaptive.tolerance = 1e-10;
-    struct deviation da = compare(&exact, &adaptive, rays, hits, n, NULL);
-    report("gaussian 64^3: GPU vs exact field (adaptive)", da);
-    CHECK_INT(dv.status_mismatch, 0);
-    CHECK_MSG(dv.pos < gpu_tol && dv.dir < gpu_tol, "GPU vs CPU %g %g", dv.pos, dv.dir);
-    CHECK_INT(da.status_mismatch, 0);
-    CHECK_MSG(da.pos < 0.02 && da.dir < 0.02, "vs exact %g %g", da.pos, da.dir);
-    scene_reference_free(&vox);
-    scene_reference_free(&exact);
-    scene_destroy(s);
+    struct traced t;
+    if (trace_both_ways(d, gaussian_json, "gaussian 64^3", true, rays, n, &t)) {
+        CHECK_INT(t.same_voxels.status_mismatch, 0);
+        CHECK_MSG(t.same_voxels.pos < gpu_tol && t.same_voxels.dir < gpu_tol,
+                  "GPU vs CPU %g %g", t.same_voxels.pos, t.same_voxels.dir);
+        CHECK_INT(t.vs_exact.status_mismatch, 0);
+        CHECK_MSG(t.vs_exact.pos < 0.02 && t.vs_exact.dir < 0.02, "vs exact %g %g",
+                  t.vs_exact.pos, t.vs_exact.dir);
+    }
+    traced_free(&t);
 }
 
 /* ---- a sharp glass sphere: Fresnel events agree --------------------------------------- */
@@ -394,38 +380,26 @@ static const char *const glass_json =
 
 static void glass_sphere_fresnel_and_absorption_match_reference(struct test_daemon *d)
 {
-    char id[REFRACT_ID_SIZE];
-    struct scene *s = parse(glass_json);
-    if (s == NULL || !test_create_scene(d, glass_json, id)) {
-        CHECK(false);
-        scene_destroy(s);
-        return;
-    }
     struct ray rays[10];
     int n = 0;
     for (int k = 0; k < 10; k++)
         rays[n++] = (struct ray){{0, 0.07 * k, -3}, {0, 0, 1}};
-    struct gpu_hit hits[10];
-    CHECK_INT(gpu_trace(d, id, rays, n, "", hits), n);
-    struct scene_reference vox;
-    struct err e = {0};
-    CHECK_INT(scene_reference_build(s, SCENE_REFERENCE_VOXELS, NULL, NULL, &vox, &e),
-              REFRACT_E_OK);
-    struct reftrace_result ref[10];
-    struct deviation dv = compare(&vox, &vox.settings, rays, hits, n, ref);
-    report("glass sphere 64^3: GPU vs CPU, same voxels", dv);
-    CHECK_INT(dv.status_mismatch, 0);
-    CHECK_MSG(dv.pos < gpu_tol && dv.dir < gpu_tol, "GPU vs CPU %g %g", dv.pos, dv.dir);
-    CHECK_MSG(dv.trans < gpu_tol, "transmittance deviation %g", dv.trans);
-    /* The axial ray: two Fresnel events at normal incidence (0.96^2) and Beer-Lambert
-     * over the diameter, blue absorbed most. */
-    double axial_expected = 0.96 * 0.96 * exp(-0.9 * 1.6);
-    printf("axial ray: T_b = %.4f (GPU), %.4f (CPU), closed form %.4f\n", hits[0].t.z,
-           ref[0].transmittance.z, axial_expected);
-    CHECK_NEAR(hits[0].t.z, axial_expected, 0.03 * axial_expected);
-    CHECK(hits[0].t.x > hits[0].t.y && hits[0].t.y > hits[0].t.z);
-    scene_reference_free(&vox);
-    scene_destroy(s);
+    struct traced t;
+    if (trace_both_ways(d, glass_json, "glass sphere 64^3", false, rays, n, &t)) {
+        CHECK_INT(t.same_voxels.status_mismatch, 0);
+        CHECK_MSG(t.same_voxels.pos < gpu_tol && t.same_voxels.dir < gpu_tol,
+                  "GPU vs CPU %g %g", t.same_voxels.pos, t.same_voxels.dir);
+        CHECK_MSG(t.same_voxels.trans < gpu_tol, "transmittance deviation %g",
+                  t.same_voxels.trans);
+        /* The axial ray: two Fresnel events at normal incidence (0.96^2) and Beer-Lambert
+         * over the diameter, blue absorbed most. */
+        double axial_expected = 0.96 * 0.96 * exp(-0.9 * 1.6);
+        printf("axial ray: T_b = %.4f (GPU), %.4f (CPU), closed form %.4f\n", t.hits[0].t.z,
+               t.voxel_hits[0].transmittance.z, axial_expected);
+        CHECK_NEAR(t.hits[0].t.z, axial_expected, 0.03 * axial_expected);
+        CHECK(t.hits[0].t.x > t.hits[0].t.y && t.hits[0].t.y > t.hits[0].t.z);
+    }
+    traced_free(&t);
 }
 
 int main(void)
