@@ -16,6 +16,7 @@
 const float MARCH_INDEX_EPS = 1e-6;       // |n_field - n_ambient| below this: no interface
 const float MARCH_ABSORBED = 1e-6;        // throughput below this: the ray is absorbed
 const float MARCH_EXIT_EPS = 1e-3;        // voxels: a bounds this close behind is already left
+const float MARCH_RAMP_SLOPE_RATIO = 0.5; // zone sides keep this much of the slope: a ramp
 
 struct march_state {
     vec3 x;          // world position
@@ -177,6 +178,7 @@ struct march_zone {
     bool inside; // in a zone (|grad n| h_min above the threshold, with hysteresis)
     bool armed;  // its middle index has not been crossed yet
     float n_lo, n_hi, n_mid;
+    float slope_sides; // the smaller slope along N at the two probes (smooth-ramp test)
 };
 
 void march_zone_enter(inout march_zone z, int obj, vec3 p, vec4 sample_at_p)
@@ -184,9 +186,12 @@ void march_zone_enter(inout march_zone z, int obj, vec3 p, vec4 sample_at_p)
     vec3 N = normalize(sample_at_p.rgb);
     float h_min = params.objects[obj].bounds_max.w;
     float k = (3.0 * params.objects[obj].inv_voxel_size.w + 2.0) * h_min;
-    z.n_lo = volume_sample_ior_grad(obj, p - k * N).a;
-    z.n_hi = volume_sample_ior_grad(obj, p + k * N).a;
+    vec4 lo = volume_sample_ior_grad(obj, p - k * N);
+    vec4 hi = volume_sample_ior_grad(obj, p + k * N);
+    z.n_lo = lo.a;
+    z.n_hi = hi.a;
     z.n_mid = 0.5 * (z.n_lo + z.n_hi);
+    z.slope_sides = min(dot(lo.rgb, N), dot(hi.rgb, N));
     z.inside = true;
     z.armed = true;
 }
@@ -202,6 +207,11 @@ void march_zone_event(inout march_state s, inout march_zone z, int obj, vec4 sam
 {
     z.armed = false;
     if (dot(sample_at_p.rgb, sample_at_p.rgb) <= 0.0)
+        return;
+    // A smooth ramp, not an interface: the slope continues on both sides of the zone at
+    // more than half its value here. The ray equation bends the ray; there is no surface
+    // to reflect from (a steep GRIN field must not lose light to grazing "Fresnel").
+    if (z.slope_sides > MARCH_RAMP_SLOPE_RATIO * length(sample_at_p.rgb))
         return;
     vec3 N = normalize(sample_at_p.rgb);
     bool rising = sample_at_p.a > n_before;

@@ -32,6 +32,7 @@
 #define INDEX_EPS 1e-6      /* |n - ambient_n| at or below this: no interface */
 #define EXIT_EPS_VOXELS 1e-3 /* an object counts only if its exit is further than this */
 #define ABSORBED_EPS 1e-6   /* T_f * max(exp(-alpha)) below this: absorbed */
+#define RAMP_SLOPE_RATIO 0.5 /* zone sides keep this much of the slope: a ramp, no event */
 /* Adaptive integrator: step-size factors per step and the smallest step relative to
  * the object's largest extent. */
 #define ADAPT_SHRINK_MIN 0.2
@@ -208,20 +209,22 @@ static bool cross_face(struct march *m, const struct object_frame *fr, vec3 *q, 
 /* Sharp boundaries inside the field (docs/tracing.md "Sharp boundaries"): entering a
  * zone where |grad n| h_min exceeds the threshold probes the index k = (3 sigma + 2)
  * h_min to either side along grad n; the Fresnel event happens where the ray crosses the
- * zone's middle index, once per zone. */
+ * zone's middle index, once per zone, unless the slope continues on both sides (a ramp). */
 struct zone {
     bool inside, armed;
     double n_lo, n_hi, n_mid;
+    double slope_sides; /* the smaller slope along the normal at the two probes */
 };
 
 static void zone_enter(struct zone *z, const struct object_frame *fr, vec3 p, vec3 grad)
 {
     vec3 nrm = vec3_normalize(grad);
     double k = (3.0 * fr->o->smoothing_sigma_voxels + 2.0) * fr->h_min;
-    vec3 g_unused;
-    z->n_lo = reftrace_sample_ior(fr->o, vec3_madd(p, nrm, -k), &g_unused);
-    z->n_hi = reftrace_sample_ior(fr->o, vec3_madd(p, nrm, k), &g_unused);
+    vec3 g_lo, g_hi;
+    z->n_lo = reftrace_sample_ior(fr->o, vec3_madd(p, nrm, -k), &g_lo);
+    z->n_hi = reftrace_sample_ior(fr->o, vec3_madd(p, nrm, k), &g_hi);
     z->n_mid = 0.5 * (z->n_lo + z->n_hi);
+    z->slope_sides = fmin(vec3_dot(g_lo, nrm), vec3_dot(g_hi, nrm));
     z->inside = true;
     z->armed = true;
 }
@@ -239,6 +242,11 @@ static void zone_event(struct march *m, struct zone *z, const struct object_fram
 {
     z->armed = false;
     if (vec3_length(grad) <= 0.0)
+        return;
+    /* A smooth ramp, not an interface: the slope continues on both sides of the zone at
+     * more than half its value here. The ray equation bends the ray; there is no surface
+     * to reflect from (a steep GRIN field must not lose light to grazing "Fresnel"). */
+    if (z->slope_sides > RAMP_SLOPE_RATIO * vec3_length(grad))
         return;
     vec3 nrm = vec3_normalize(grad);
     bool rising = n_after > n_before;

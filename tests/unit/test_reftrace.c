@@ -764,6 +764,52 @@ static void sharp_ball_reflects_fresnel_share_once_per_crossing(void)
     free(ig);
 }
 
+/* A steep linear ramp (n = 1.3 + 0.2 y at 16^3: 0.025 per voxel, above the 0.02 boundary
+ * threshold) is a smooth field, not an interface: crossing its zone must add no Fresnel
+ * event, even at grazing incidence to grad n (where a spurious one would reflect 80%).
+ * So T equals the trace with zones disabled, i.e. only the two bounds faces reflect.
+ * The same test keeps true interfaces: an unsmoothed ball still loses 4% per crossing. */
+static void steep_ramp_has_no_interface_but_a_sharp_ball_does(void)
+{
+    double *ig = voxelise(&(struct grin_profile){.kind = GRIN_LINEAR, .n0 = 1.3,
+                                                  .gradient = {0, 0.2, 0}},
+                          16, 0.0, 0, 0);
+    struct reftrace_grid grid = {.ior_grad = ig};
+    struct reftrace_object ramp = {.bmin = {-1, -1, -1},
+                                   .bmax = {1, 1, 1},
+                                   .res = {16, 16, 16},
+                                   .xf = xform_identity(),
+                                   .grid = &grid};
+    for (int i = 0; i < 2; i++) {
+        struct reftrace_settings s = settings_for(all_integrators[i], 0.5), off = s;
+        off.boundary_threshold = 10.0;
+        struct reftrace_result with_zones, without;
+        for (int k = 0; k < 5; k++) {
+            vec3 o = {0.1 * k, -0.5 + 0.2 * k, -3};
+            reftrace_ray(&ramp, 1, &s, o, (vec3){0, 0, 1}, &with_zones);
+            reftrace_ray(&ramp, 1, &off, o, (vec3){0, 0, 1}, &without);
+            CHECK_INT(with_zones.status, RAY_EXITED);
+            CHECK_NEAR(with_zones.transmittance.x, without.transmittance.x, 1e-12);
+            CHECK_MSG(with_zones.transmittance.x > 0.9, "ray %d T %g", k, with_zones.transmittance.x);
+        }
+    }
+    free(ig);
+
+    double *ball = voxelise(NULL, 64, 0.0, 1.5, 0.5);
+    struct reftrace_grid bg = {.ior_grad = ball};
+    struct reftrace_object obj = {.bmin = {-1, -1, -1},
+                                  .bmax = {1, 1, 1},
+                                  .res = {64, 64, 64},
+                                  .xf = xform_identity(),
+                                  .grid = &bg};
+    struct reftrace_settings s = settings_for(REFTRACE_RK4, 0.5);
+    struct reftrace_result r;
+    reftrace_ray(&obj, 1, &s, (vec3){0.001, 0.002, -3}, (vec3){0, 0, 1}, &r);
+    CHECK_INT(r.status, RAY_EXITED);
+    CHECK_NEAR(r.transmittance.x, 0.96 * 0.96, 2e-3);
+    free(ball);
+}
+
 /* Measurement, not a closed form: Euler and RK4 at half a voxel on a 128^3 Luneburg
  * grid (no smoothing, central-difference gradient) against the analytic focus. The
  * bounds only guard against regressions; the printed numbers are what to compare. */
@@ -817,6 +863,7 @@ int main(void)
     uniform_emission_adds_radiance_times_length();
     transformed_object_matches_the_equivalent_untransformed_one();
     sharp_ball_reflects_fresnel_share_once_per_crossing();
+    steep_ramp_has_no_interface_but_a_sharp_ball_does();
     luneburg_grid_at_128_voxels_focuses_near_the_analytic_point();
     return test_summary("test_reftrace");
 }
