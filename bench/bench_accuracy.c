@@ -124,8 +124,8 @@ int main(int argc, char **argv)
                 psum += dp;
                 nsteps += r.steps;
             }
-            printf("| %s | %.2f | %.2e | %.2e | %.2e | %.2e | %.0f |\n", names[it], steps[si],
-                   dmax, dsum / count, pmax, psum / count, nsteps / count);
+            printf("| %s | %.2f | %.2e | %.2e | %.2e | %.2e | %.0f |\n", names[it], steps[si], dmax,
+                   dsum / count, pmax, psum / count, nsteps / count);
         }
     }
     scene_reference_free(&vox);

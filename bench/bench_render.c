@@ -200,38 +200,38 @@ static void bench_scene(struct gpu *gpu, struct bench_ctx *c, const struct optio
            (double)c->status.gpu_bytes / 1048576.0);
     for (int k = 0; k < o->integrators.count; k++) {
         for (int st = 0; st < o->steps.count; st++) {
-        for (int z = 0; z < o->sizes.count; z++) {
-            int w = 0, h = 0;
-            if (sscanf(o->sizes.item[z], "%dx%d", &w, &h) != 2)
-                continue;
-            c->req.camera = s->camera;
-            c->req.camera.width = w;
-            c->req.camera.height = h;
-            c->req.settings = s->render;
-            c->req.settings.step_voxels = atof(o->steps.item[st]);
-            c->req.settings.integrator = strcmp(o->integrators.item[k], "euler") == 0
-                                             ? SCENE_INTEGRATOR_EULER
-                                             : SCENE_INTEGRATOR_RK4;
-            if (on_gpu(gpu, c, 2) != REFRACT_E_OK) /* warm-up: variant compile */
-                continue;
-            double times[7];
-            int runs = 0;
-            double spent = 0.0;
-            while (runs < 7 && (runs == 0 || spent < o->budget_ms)) {
-                if (on_gpu(gpu, c, 2) != REFRACT_E_OK)
-                    break;
-                times[runs++] = c->result.gpu_ms;
-                spent += c->result.gpu_ms;
+            for (int z = 0; z < o->sizes.count; z++) {
+                int w = 0, h = 0;
+                if (sscanf(o->sizes.item[z], "%dx%d", &w, &h) != 2)
+                    continue;
+                c->req.camera = s->camera;
+                c->req.camera.width = w;
+                c->req.camera.height = h;
+                c->req.settings = s->render;
+                c->req.settings.step_voxels = atof(o->steps.item[st]);
+                c->req.settings.integrator = strcmp(o->integrators.item[k], "euler") == 0
+                                                 ? SCENE_INTEGRATOR_EULER
+                                                 : SCENE_INTEGRATOR_RK4;
+                if (on_gpu(gpu, c, 2) != REFRACT_E_OK) /* warm-up: variant compile */
+                    continue;
+                double times[7];
+                int runs = 0;
+                double spent = 0.0;
+                while (runs < 7 && (runs == 0 || spent < o->budget_ms)) {
+                    if (on_gpu(gpu, c, 2) != REFRACT_E_OK)
+                        break;
+                    times[runs++] = c->result.gpu_ms;
+                    spent += c->result.gpu_ms;
+                }
+                if (runs == 0)
+                    continue;
+                qsort(times, (size_t)runs, sizeof times[0], compare_doubles);
+                double median = times[runs / 2];
+                printf("| %s | %d^3 | %dx%d | %s | %s | %.1f | %.2f | %d runs |\n", name, res, w, h,
+                       o->integrators.item[k], o->steps.item[st], median,
+                       (double)w * h / (median * 1000.0), runs);
+                fflush(stdout);
             }
-            if (runs == 0)
-                continue;
-            qsort(times, (size_t)runs, sizeof times[0], compare_doubles);
-            double median = times[runs / 2];
-            printf("| %s | %d^3 | %dx%d | %s | %s | %.1f | %.2f | %d runs |\n", name, res, w, h,
-                   o->integrators.item[k], o->steps.item[st], median,
-                   (double)w * h / (median * 1000.0), runs);
-            fflush(stdout);
-        }
         }
     }
     on_gpu(gpu, c, 3);

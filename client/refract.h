@@ -104,8 +104,7 @@ int refract_scene_delete(refract_client *c, const char *scene_id);
  * float32 data (dims[0]*dims[1]*dims[2]*components values, x fastest). json_out
  * (optional, may be NULL) receives the server's description of what it stored. */
 int refract_volume_upload(refract_client *c, const char *scene_id, const char *name,
-                          const int dims[3], int components, const float *data,
-                          char **json_out);
+                          const int dims[3], int components, const float *data, char **json_out);
 
 /* PUT /v1/scenes/{id}/environment with an EXR, Radiance HDR, PNG or JPEG file's bytes.
  * json_out (optional, may be NULL) receives the server's description of what it stored. */
@@ -114,11 +113,11 @@ int refract_environment_upload(refract_client *c, const char *scene_id, const vo
 
 /* A rendered image. */
 struct refract_image {
-    void *bytes;            /* encoded PNG, JPEG or EXR; owned */
+    void *bytes; /* encoded PNG, JPEG or EXR; owned */
     size_t len;
-    char content_type[64];  /* image/png, image/jpeg or image/x-exr */
-    double render_ms;       /* GPU time reported by refractd (X-Render-Time-Ms) */
-    char renderer[256];     /* GL_RENDERER reported by refractd (X-Renderer) */
+    char content_type[64]; /* image/png, image/jpeg or image/x-exr */
+    double render_ms;      /* GPU time reported by refractd (X-Render-Time-Ms) */
+    char renderer[256];    /* GL_RENDERER reported by refractd (X-Renderer) */
 };
 void refract_image_free(struct refract_image *img);
 

@@ -26,7 +26,8 @@
     X(MISSING_FIELD, 4, 400, "missing_field", "a required field is absent")                        \
     X(NOT_FOUND, 5, 404, "not_found", "no such route or resource")                                 \
     X(SCENE_NOT_FOUND, 6, 404, "scene_not_found", "no scene with this id")                         \
-    X(METHOD_NOT_ALLOWED, 7, 405, "method_not_allowed", "the route exists but not for this method")\
+    X(METHOD_NOT_ALLOWED, 7, 405, "method_not_allowed",                                            \
+      "the route exists but not for this method")                                                  \
     X(BODY_TOO_LARGE, 8, 413, "body_too_large", "the request body exceeds the configured limit")   \
     X(LIMIT_EXCEEDED, 9, 422, "limit_exceeded",                                                    \
       "a size, resolution or count exceeds a configured limit")                                    \
@@ -47,8 +48,8 @@
     X(CONNECT_FAILED, 21, 0, "connect_failed", "could not connect to refractd")                    \
     X(PROTOCOL, 22, 0, "protocol_error", "refractd's reply could not be understood")               \
     X(IO, 23, 0, "io_error", "a local file could not be read or written")                          \
-    X(USAGE, 24, 0, "usage", "the command line is wrong")                                        \
-    X(STORAGE, 25, 507, "storage_error",                                                       \
+    X(USAGE, 24, 0, "usage", "the command line is wrong")                                          \
+    X(STORAGE, 25, 507, "storage_error",                                                           \
       "refractd could not read or write its data directory (disk full? permissions?)")
 
 enum refract_code {

@@ -115,7 +115,7 @@ static bool parse_number(const char *text, bool with_suffix, long long *out)
     if (end == text || errno != 0)
         return false;
     if (with_suffix && *end) {
-        long long mult = *end == 'K' || *end == 'k' ? 1ll << 10
+        long long mult = *end == 'K' || *end == 'k'   ? 1ll << 10
                          : *end == 'M' || *end == 'm' ? 1ll << 20
                          : *end == 'G' || *end == 'g' ? 1ll << 30
                                                       : 0;
@@ -198,9 +198,8 @@ static enum refract_code apply(struct config *c, const struct option_def *o, con
     case OPT_SIZE: {
         long long v = 0;
         if (!parse_number(value, o->kind == OPT_SIZE, &v) || v < o->min || v > o->max)
-            return err_set(e, REFRACT_E_USAGE, "--%s %s: expected %s in %lld..%lld", o->name,
-                           value, o->kind == OPT_SIZE ? "a size (K/M/G suffix allowed)"
-                                                      : "an integer",
+            return err_set(e, REFRACT_E_USAGE, "--%s %s: expected %s in %lld..%lld", o->name, value,
+                           o->kind == OPT_SIZE ? "a size (K/M/G suffix allowed)" : "an integer",
                            o->min, o->max);
         store_int(c, o->name, v);
         return REFRACT_E_OK;
@@ -275,8 +274,10 @@ static enum refract_code config_parse_file(struct config *c, const char *path, s
         }
         const struct option_def *o = find_option(p);
         if (o == NULL || o->kind == OPT_CONFIG)
-            rc = err_set(e, REFRACT_E_USAGE, "%s:%d: unknown key \"%s\" (refractd --help lists "
-                         "the keys)", path, line_no, p);
+            rc = err_set(e, REFRACT_E_USAGE,
+                         "%s:%d: unknown key \"%s\" (refractd --help lists "
+                         "the keys)",
+                         path, line_no, p);
         else if (o->kind != OPT_FLAG && *value == '\0')
             rc = err_set(e, REFRACT_E_USAGE, "%s:%d: %s needs a value", path, line_no, p);
         else if ((rc = apply(c, o, value, e)) != REFRACT_E_OK) {
@@ -294,8 +295,7 @@ enum refract_code config_parse_args(struct config *c, int argc, char **argv, str
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         if (strncmp(arg, "--", 2) != 0)
-            return err_set(e, REFRACT_E_USAGE, "unexpected argument \"%s\" (refractd --help)",
-                           arg);
+            return err_set(e, REFRACT_E_USAGE, "unexpected argument \"%s\" (refractd --help)", arg);
         char name[64];
         const char *eq = strchr(arg + 2, '=');
         size_t len = eq ? (size_t)(eq - arg - 2) : strlen(arg + 2);

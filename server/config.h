@@ -22,9 +22,9 @@ struct config {
     struct gpu_desc gpu;
     size_t gpu_scene_budget_bytes;
     char data_dir[512];
-    char scene_dir[512];   /* "" = none */
-    char shader_dir[512];  /* "" = embedded */
-    char port_file[512];   /* "" = none */
+    char scene_dir[512];  /* "" = none */
+    char shader_dir[512]; /* "" = embedded */
+    char port_file[512];  /* "" = none */
     int max_scenes;
     long long max_env_pixels;
     int log_level;

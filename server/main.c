@@ -129,8 +129,8 @@ static int run(const struct config *cfg)
         return 1;
     }
     struct render_create_work rcw = {.desc = {.scene_budget_bytes = cfg->gpu_scene_budget_bytes}};
-    rcw.work = (struct gpu_work){.priority = GPU_PRIORITY_INTERACTIVE, .run = render_create_run,
-                                 .user = &rcw};
+    rcw.work = (struct gpu_work){
+        .priority = GPU_PRIORITY_INTERACTIVE, .run = render_create_run, .user = &rcw};
     if (gpu_run_sync(gpu, &rcw.work) != REFRACT_E_OK) {
         log_error("main", "renderer: %s", rcw.work.err.msg);
         gpu_destroy(gpu, NULL);
@@ -161,8 +161,7 @@ static int run(const struct config *cfg)
     if (cfg->port_file[0])
         write_port_file(cfg->port_file, port);
     log_info("main", "refractd %s listening on http://%s:%d (renderer: %s; data: %s)",
-             REFRACT_VERSION, cfg->http.bind_address, port, gpu_info(gpu)->renderer,
-             cfg->data_dir);
+             REFRACT_VERSION, cfg->http.bind_address, port, gpu_info(gpu)->renderer, cfg->data_dir);
     prepare_all(&app);
 
     int sig = 0;

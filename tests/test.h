@@ -19,76 +19,78 @@
 static int test_passed_count;
 static int test_failed_count;
 
-#define CHECK(cond)                                                                            \
-    do {                                                                                       \
-        if (cond) {                                                                            \
-            test_passed_count++;                                                               \
-        } else {                                                                               \
-            test_failed_count++;                                                               \
-            fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond);           \
-        }                                                                                      \
+#define CHECK(cond)                                                                                \
+    do {                                                                                           \
+        if (cond) {                                                                                \
+            test_passed_count++;                                                                   \
+        } else {                                                                                   \
+            test_failed_count++;                                                                   \
+            fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond);               \
+        }                                                                                          \
     } while (0)
 
-#define CHECK_MSG(cond, ...)                                                                   \
-    do {                                                                                       \
-        if (cond) {                                                                            \
-            test_passed_count++;                                                               \
-        } else {                                                                               \
-            test_failed_count++;                                                               \
-            fprintf(stderr, "%s:%d: CHECK failed: %s: ", __FILE__, __LINE__, #cond);           \
-            fprintf(stderr, __VA_ARGS__);                                                      \
-            fputc('\n', stderr);                                                               \
-        }                                                                                      \
+#define CHECK_MSG(cond, ...)                                                                       \
+    do {                                                                                           \
+        if (cond) {                                                                                \
+            test_passed_count++;                                                                   \
+        } else {                                                                                   \
+            test_failed_count++;                                                                   \
+            fprintf(stderr, "%s:%d: CHECK failed: %s: ", __FILE__, __LINE__, #cond);               \
+            fprintf(stderr, __VA_ARGS__);                                                          \
+            fputc('\n', stderr);                                                                   \
+        }                                                                                          \
     } while (0)
 
 /* |actual - expected| <= tol */
-#define CHECK_NEAR(actual, expected, tol)                                                      \
-    do {                                                                                       \
-        double a_ = (double)(actual), e_ = (double)(expected), t_ = (double)(tol);            \
-        if (fabs(a_ - e_) <= t_) {                                                             \
-            test_passed_count++;                                                               \
-        } else {                                                                               \
-            test_failed_count++;                                                               \
-            fprintf(stderr, "%s:%d: CHECK_NEAR failed: %s = %.12g, expected %s = %.12g +- %.3g (off by %.3g)\n", \
-                    __FILE__, __LINE__, #actual, a_, #expected, e_, t_, fabs(a_ - e_));                       \
-        }                                                                                      \
+#define CHECK_NEAR(actual, expected, tol)                                                          \
+    do {                                                                                           \
+        double a_ = (double)(actual), e_ = (double)(expected), t_ = (double)(tol);                 \
+        if (fabs(a_ - e_) <= t_) {                                                                 \
+            test_passed_count++;                                                                   \
+        } else {                                                                                   \
+            test_failed_count++;                                                                   \
+            fprintf(stderr,                                                                        \
+                    "%s:%d: CHECK_NEAR failed: %s = %.12g, expected %s = %.12g +- %.3g (off by "   \
+                    "%.3g)\n",                                                                     \
+                    __FILE__, __LINE__, #actual, a_, #expected, e_, t_, fabs(a_ - e_));            \
+        }                                                                                          \
     } while (0)
 
-#define CHECK_INT(actual, expected)                                                            \
-    do {                                                                                       \
-        long long a_ = (long long)(actual), e_ = (long long)(expected);                        \
-        if (a_ == e_) {                                                                        \
-            test_passed_count++;                                                               \
-        } else {                                                                               \
-            test_failed_count++;                                                               \
-            fprintf(stderr, "%s:%d: CHECK_INT failed: %s = %lld, expected %lld\n", __FILE__,   \
-                    __LINE__, #actual, a_, e_);                                                \
-        }                                                                                      \
+#define CHECK_INT(actual, expected)                                                                \
+    do {                                                                                           \
+        long long a_ = (long long)(actual), e_ = (long long)(expected);                            \
+        if (a_ == e_) {                                                                            \
+            test_passed_count++;                                                                   \
+        } else {                                                                                   \
+            test_failed_count++;                                                                   \
+            fprintf(stderr, "%s:%d: CHECK_INT failed: %s = %lld, expected %lld\n", __FILE__,       \
+                    __LINE__, #actual, a_, e_);                                                    \
+        }                                                                                          \
     } while (0)
 
-#define CHECK_STR(actual, expected)                                                            \
-    do {                                                                                       \
-        const char *a_ = (actual), *e_ = (expected);                                           \
-        if (a_ != NULL && e_ != NULL && strcmp(a_, e_) == 0) {                                 \
-            test_passed_count++;                                                               \
-        } else {                                                                               \
-            test_failed_count++;                                                               \
-            fprintf(stderr, "%s:%d: CHECK_STR failed: %s = \"%s\", expected \"%s\"\n",         \
-                    __FILE__, __LINE__, #actual, a_ ? a_ : "(null)", e_ ? e_ : "(null)");      \
-        }                                                                                      \
+#define CHECK_STR(actual, expected)                                                                \
+    do {                                                                                           \
+        const char *a_ = (actual), *e_ = (expected);                                               \
+        if (a_ != NULL && e_ != NULL && strcmp(a_, e_) == 0) {                                     \
+            test_passed_count++;                                                                   \
+        } else {                                                                                   \
+            test_failed_count++;                                                                   \
+            fprintf(stderr, "%s:%d: CHECK_STR failed: %s = \"%s\", expected \"%s\"\n", __FILE__,   \
+                    __LINE__, #actual, a_ ? a_ : "(null)", e_ ? e_ : "(null)");                    \
+        }                                                                                          \
     } while (0)
 
 /* strstr(haystack, needle) != NULL */
-#define CHECK_CONTAINS(haystack, needle)                                                       \
-    do {                                                                                       \
-        const char *h_ = (haystack), *n_ = (needle);                                           \
-        if (h_ != NULL && strstr(h_, n_) != NULL) {                                            \
-            test_passed_count++;                                                               \
-        } else {                                                                               \
-            test_failed_count++;                                                               \
-            fprintf(stderr, "%s:%d: CHECK_CONTAINS failed: %s = \"%s\" lacks \"%s\"\n",        \
-                    __FILE__, __LINE__, #haystack, h_ ? h_ : "(null)", n_);                    \
-        }                                                                                      \
+#define CHECK_CONTAINS(haystack, needle)                                                           \
+    do {                                                                                           \
+        const char *h_ = (haystack), *n_ = (needle);                                               \
+        if (h_ != NULL && strstr(h_, n_) != NULL) {                                                \
+            test_passed_count++;                                                                   \
+        } else {                                                                                   \
+            test_failed_count++;                                                                   \
+            fprintf(stderr, "%s:%d: CHECK_CONTAINS failed: %s = \"%s\" lacks \"%s\"\n", __FILE__,  \
+                    __LINE__, #haystack, h_ ? h_ : "(null)", n_);                                  \
+        }                                                                                          \
     } while (0)
 
 static inline int test_summary(const char *name)

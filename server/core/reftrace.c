@@ -29,9 +29,9 @@
 #include "reftrace_integrate.h"
 
 /* docs/tracing.md constants. */
-#define INDEX_EPS 1e-6      /* |n - ambient_n| at or below this: no interface */
+#define INDEX_EPS 1e-6       /* |n - ambient_n| at or below this: no interface */
 #define EXIT_EPS_VOXELS 1e-3 /* an object counts only if its exit is further than this */
-#define ABSORBED_EPS 1e-6   /* T_f * max(exp(-alpha)) below this: absorbed */
+#define ABSORBED_EPS 1e-6    /* T_f * max(exp(-alpha)) below this: absorbed */
 #define RAMP_SLOPE_RATIO 0.5 /* zone sides keep this much of the slope: a ramp, no event */
 /* Adaptive integrator: step-size factors per step and the smallest step relative to
  * the object's largest extent. */
@@ -153,8 +153,8 @@ struct entry {
 };
 
 /* Step 1: the object with the smallest entry distance among those whose exit is
- * further than EXIT_EPS_VOXELS of its smallest voxel edge; ties go to the lower index ("the first one entered
- * wins"). Returns false when there is none. */
+ * further than EXIT_EPS_VOXELS of its smallest voxel edge; ties go to the lower index ("the first
+ * one entered wins"). Returns false when there is none. */
 static bool next_object(const struct march *m, const struct reftrace_object *objects, int count,
                         struct entry *e)
 {
@@ -237,8 +237,8 @@ static bool zone_crossed(const struct zone *z, double n_before, double n_after)
 /* The crossing at p: unpolarised Fresnel from the side the ray comes from. n_i sin_i >=
  * n_t means the ray equation itself turns the ray around (tevs2007 sect. 5.2);
  * fresnel_unpolarized returns exactly 1 then and nothing is added. */
-static void zone_event(struct march *m, struct zone *z, const struct object_frame *fr,
-                       vec3 grad, double n_before, double n_after, vec3 q)
+static void zone_event(struct march *m, struct zone *z, const struct object_frame *fr, vec3 grad,
+                       double n_before, double n_after, vec3 q)
 {
     z->armed = false;
     if (vec3_length(grad) <= 0.0)

@@ -35,9 +35,9 @@ struct reftrace_grid {
 typedef double (*reftrace_ior_fn)(void *ctx, vec3 p_object, vec3 *grad_object);
 
 struct reftrace_object {
-    vec3 bmin, bmax;   /* object-space bounds */
-    int res[3];        /* voxels per axis (also sets the step size for analytic fields) */
-    struct xform xf;   /* world_from_object */
+    vec3 bmin, bmax; /* object-space bounds */
+    int res[3];      /* voxels per axis (also sets the step size for analytic fields) */
+    struct xform xf; /* world_from_object */
     double smoothing_sigma_voxels; /* used for the boundary probe distance k */
     double opaque_ior;
     const struct reftrace_grid *grid; /* voxel fields; when NULL, `ior` is used */
@@ -57,8 +57,8 @@ struct reftrace_settings {
     int max_steps;             /* over the whole ray */
     double boundary_threshold; /* docs/tracing.md "Sharp boundaries" */
     double ambient_ior;
-    double tolerance;          /* adaptive: absolute error per step in object units */
-    double env_intensity;      /* procedural environment multiplier for radiance */
+    double tolerance;     /* adaptive: absolute error per step in object units */
+    double env_intensity; /* procedural environment multiplier for radiance */
 };
 
 struct reftrace_result {

@@ -88,8 +88,8 @@ static bool device_is_software(const struct egl_fns *f, EGLDeviceEXT dev)
 
 /* Picks a device index by preference, or -1 with e filled. */
 static int choose_device(const struct egl_fns *f, const EGLDeviceEXT *devs, int count,
-                         enum gpu_device_pref pref, int forced_index,
-                         const char *devices_seen, struct err *e)
+                         enum gpu_device_pref pref, int forced_index, const char *devices_seen,
+                         struct err *e)
 {
     if (forced_index >= 0) {
         if (forced_index < count)
@@ -143,8 +143,8 @@ static void describe_devices(const struct egl_fns *f, const EGLDeviceEXT *devs, 
                               ? f->query_device_string(devs[i], EGL_DRM_DEVICE_FILE_EXT)
                               : NULL;
         int n = snprintf(out + used, size - used, "  device %d: %s%s%s [%s]\n", i,
-                         device_is_software(f, devs[i]) ? "software" : "hardware",
-                         drm ? " " : "", drm ? drm : "", ext ? ext : "");
+                         device_is_software(f, devs[i]) ? "software" : "hardware", drm ? " " : "",
+                         drm ? drm : "", ext ? ext : "");
         if (n < 0)
             break;
         used += (size_t)n;
@@ -152,8 +152,7 @@ static void describe_devices(const struct egl_fns *f, const EGLDeviceEXT *devs, 
 }
 
 static void GLAPIENTRY debug_callback(GLenum source, GLenum type, GLuint id, GLenum severity,
-                                      GLsizei length, const GLchar *message,
-                                      const void *user)
+                                      GLsizei length, const GLchar *message, const void *user)
 {
     (void)source;
     (void)id;
@@ -169,35 +168,38 @@ static bool create_gl_context(struct gpu_context *c, const struct gpu_context_de
 {
     EGLint major = 0, minor = 0;
     if (!eglInitialize(c->display, &major, &minor)) {
-        err_set(e, REFRACT_E_GPU_ERROR, "eglInitialize failed (0x%x) on device %d",
-                       eglGetError(), c->info.device_index);
+        err_set(e, REFRACT_E_GPU_ERROR, "eglInitialize failed (0x%x) on device %d", eglGetError(),
+                c->info.device_index);
         return false;
     }
     if (!eglBindAPI(EGL_OPENGL_API)) {
-        err_set(e, REFRACT_E_GPU_ERROR, "eglBindAPI(EGL_OPENGL_API) failed (0x%x)",
-                       eglGetError());
+        err_set(e, REFRACT_E_GPU_ERROR, "eglBindAPI(EGL_OPENGL_API) failed (0x%x)", eglGetError());
         return false;
     }
     const char *dpy_ext = eglQueryString(c->display, EGL_EXTENSIONS);
     if (!has_extension(dpy_ext, "EGL_KHR_surfaceless_context") ||
         !has_extension(dpy_ext, "EGL_KHR_no_config_context")) {
         err_set(e, REFRACT_E_GPU_ERROR,
-                       "EGL display lacks surfaceless/no-config contexts (extensions: %s)",
-                       dpy_ext ? dpy_ext : "none");
+                "EGL display lacks surfaceless/no-config contexts (extensions: %s)",
+                dpy_ext ? dpy_ext : "none");
         return false;
     }
-    EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4,
-                        EGL_CONTEXT_MINOR_VERSION, 5,
-                        EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                        EGL_CONTEXT_OPENGL_DEBUG, desc->debug ? EGL_TRUE : EGL_FALSE,
+    EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                        4,
+                        EGL_CONTEXT_MINOR_VERSION,
+                        5,
+                        EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                        EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                        EGL_CONTEXT_OPENGL_DEBUG,
+                        desc->debug ? EGL_TRUE : EGL_FALSE,
                         EGL_NONE};
     c->context = eglCreateContext(c->display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attribs);
     if (c->context == EGL_NO_CONTEXT) {
         err_set(e, REFRACT_E_GPU_ERROR,
-                       "eglCreateContext for OpenGL 4.5 core failed (0x%x) on device %d (EGL "
-                       "%d.%d). The driver may not support GL 4.5: Mesa >= 20 (llvmpipe) and "
-                       "NVIDIA drivers do",
-                       eglGetError(), c->info.device_index, major, minor);
+                "eglCreateContext for OpenGL 4.5 core failed (0x%x) on device %d (EGL "
+                "%d.%d). The driver may not support GL 4.5: Mesa >= 20 (llvmpipe) and "
+                "NVIDIA drivers do",
+                eglGetError(), c->info.device_index, major, minor);
         return false;
     }
     if (!eglMakeCurrent(c->display, EGL_NO_SURFACE, EGL_NO_SURFACE, c->context)) {
@@ -211,12 +213,10 @@ static void read_gl_info(struct gpu_context *c)
 {
     struct gpu_context_info *info = &c->info;
     snprintf(info->vendor, sizeof info->vendor, "%s", (const char *)glGetString(GL_VENDOR));
-    snprintf(info->renderer, sizeof info->renderer, "%s",
-             (const char *)glGetString(GL_RENDERER));
+    snprintf(info->renderer, sizeof info->renderer, "%s", (const char *)glGetString(GL_RENDERER));
     snprintf(info->version, sizeof info->version, "%s", (const char *)glGetString(GL_VERSION));
     glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &info->max_3d_texture_size);
-    glGetIntegerv(GL_MAX_COMPUTE_WORK_GROUP_INVOCATIONS,
-                  &info->max_compute_work_group_invocations);
+    glGetIntegerv(GL_MAX_COMPUTE_WORK_GROUP_INVOCATIONS, &info->max_compute_work_group_invocations);
 }
 
 static enum gpu_device_pref effective_pref(enum gpu_device_pref pref)

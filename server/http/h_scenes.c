@@ -213,17 +213,16 @@ void http_scene_summary(const struct http_app *app, const struct store_scene *v,
         return;
     add_volumes(v, obj);
     cJSON *env = cJSON_AddObjectToObject(obj, "environment");
-    cJSON_AddStringToObject(env, "type", v->scene->environment.kind == SCENE_ENV_IMAGE
-                                             ? "image"
-                                             : "procedural");
+    cJSON_AddStringToObject(env, "type",
+                            v->scene->environment.kind == SCENE_ENV_IMAGE ? "image" : "procedural");
     cJSON_AddBoolToObject(env, "image_uploaded", v->env != NULL);
     if (v->env) {
         cJSON_AddNumberToObject(env, "width", v->env->width);
         cJSON_AddNumberToObject(env, "height", v->env->height);
     }
     char missing[256];
-    int n = scene_missing_volumes(v->scene, store_volume_lookup, (void *)v, missing,
-                                  sizeof missing);
+    int n =
+        scene_missing_volumes(v->scene, store_volume_lookup, (void *)v, missing, sizeof missing);
     if (n > 0)
         cJSON_AddStringToObject(obj, "missing_volumes", missing);
     cJSON *doc = cJSON_ParseWithLength(v->json, v->json_len);
@@ -239,8 +238,7 @@ enum MHD_Result http_handle_scene_create(struct http_request *req)
         return http_respond_error(req, REFRACT_E_INVALID_JSON,
                                   "the request body is empty; send a scene document (see "
                                   "proto/scene.schema.json and proto/examples/)");
-    if (store_scene_create(req->app->store, NULL, req->body, req->body_len, &v, &e) !=
-        REFRACT_E_OK)
+    if (store_scene_create(req->app->store, NULL, req->body, req->body_len, &v, &e) != REFRACT_E_OK)
         return http_respond_err(req, &e);
     http_prepare_scene(req->app, v);
     cJSON *root = cJSON_CreateObject();

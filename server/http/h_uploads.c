@@ -62,8 +62,8 @@ static long long decode_floats(const char *body, float *out, size_t count)
  * and returns false. */
 static bool octet_stream_or_415(struct http_request *req)
 {
-    const char *ct = MHD_lookup_connection_value(req->conn, MHD_HEADER_KIND,
-                                                 MHD_HTTP_HEADER_CONTENT_TYPE);
+    const char *ct =
+        MHD_lookup_connection_value(req->conn, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_TYPE);
     if (ct == NULL || strncmp(ct, "application/octet-stream", 24) == 0)
         return true;
     http_respond_error(req, REFRACT_E_UNSUPPORTED_MEDIA_TYPE,
@@ -110,8 +110,7 @@ static bool parse_volume_query(struct http_request *req, struct volume_query *q)
         return false;
     }
     const char *dims = MHD_lookup_connection_value(req->conn, MHD_GET_ARGUMENT_KIND, "dims");
-    const char *comps =
-        MHD_lookup_connection_value(req->conn, MHD_GET_ARGUMENT_KIND, "components");
+    const char *comps = MHD_lookup_connection_value(req->conn, MHD_GET_ARGUMENT_KIND, "components");
     if (dims == NULL) {
         http_respond_error(req, REFRACT_E_MISSING_FIELD,
                            "query parameter dims is required, e.g. ?dims=64,64,64");
@@ -140,7 +139,7 @@ static bool parse_volume_query(struct http_request *req, struct volume_query *q)
             http_respond_error(req, REFRACT_E_LIMIT_EXCEEDED,
                                "query parameter dims: %d voxels along %c exceed the limit of %d "
                                "(refractd --max-resolution)",
-                               q->dims[a], "xyz"[a], lim->max_resolution);
+                               q->dims[a], "xyz"[a], lim -> max_resolution);
             return false;
         }
     }
@@ -195,8 +194,8 @@ enum MHD_Result http_handle_volume_put(struct http_request *req)
     }
     struct store_volume *vol = NULL;
     struct err e = {0};
-    if (store_volume_put(req->app->store, req->params[0], name, q.dims, q.components, data,
-                         count, &vol, &e) != REFRACT_E_OK)
+    if (store_volume_put(req->app->store, req->params[0], name, q.dims, q.components, data, count,
+                         &vol, &e) != REFRACT_E_OK)
         return http_respond_err(req, &e);
     cJSON *root = cJSON_CreateObject();
     cJSON_AddStringToObject(root, "name", vol->name);

@@ -27,14 +27,14 @@
 #include "../store/store.h"
 
 struct http_config {
-    const char *bind_address;  /* "127.0.0.1" */
-    int port;                  /* 0 = an ephemeral port (see http_server_port) */
-    int threads;               /* libmicrohttpd thread pool size; 0 = 4 */
-    size_t max_json_bytes;     /* JSON request bodies; 0 = 8 MiB */
-    size_t max_upload_bytes;   /* volume and image uploads; 0 = 1 GiB */
-    int max_rays;              /* per trace request; 0 = 65536 */
+    const char *bind_address;   /* "127.0.0.1" */
+    int port;                   /* 0 = an ephemeral port (see http_server_port) */
+    int threads;                /* libmicrohttpd thread pool size; 0 = 4 */
+    size_t max_json_bytes;      /* JSON request bodies; 0 = 8 MiB */
+    size_t max_upload_bytes;    /* volume and image uploads; 0 = 1 GiB */
+    int max_rays;               /* per trace request; 0 = 65536 */
     long long max_image_pixels; /* width * height of a render; 0 = 4096 * 4096 */
-    int request_timeout_ms;    /* deadline of queued GPU work; 0 = 120000 */
+    int request_timeout_ms;     /* deadline of queued GPU work; 0 = 120000 */
     struct scene_limits limits;
 };
 

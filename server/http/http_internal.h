@@ -59,9 +59,9 @@ struct http_request {
     double started_ms;
     /* Asynchronous GPU work (handler-specific). */
     struct gpu_work work;
-    void *job;                                  /* owned; freed by job_free */
+    void *job; /* owned; freed by job_free */
     void (*job_free)(void *job);
-    http_handler_fn on_resume;                  /* answers after the GPU finished */
+    http_handler_fn on_resume; /* answers after the GPU finished */
 };
 
 /* ---- responses (respond.c) ---- */
@@ -100,14 +100,12 @@ struct http_render_request {
 };
 
 /* Parses a render request against the scene's defaults. An empty body means "{}". */
-enum refract_code http_parse_render_request(const char *body, size_t len,
-                                            const struct scene *scene,
+enum refract_code http_parse_render_request(const char *body, size_t len, const struct scene *scene,
                                             const struct http_config *cfg,
                                             struct http_render_request *out, struct err *e);
 
 /* Parses a trace request; *rays is a new array (caller frees) of *count rays. */
-enum refract_code http_parse_trace_request(const char *body, size_t len,
-                                           const struct scene *scene,
+enum refract_code http_parse_trace_request(const char *body, size_t len, const struct scene *scene,
                                            const struct http_config *cfg,
                                            struct scene_render_settings *settings,
                                            struct render_trace_ray **rays, size_t *count,

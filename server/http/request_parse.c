@@ -86,8 +86,8 @@ static enum refract_code parse_camera(const cJSON *root, const struct scene *sce
     rc = limited_int(root, "width", cam->width, cfg->limits.max_image_dim, "--max-image-dim",
                      &cam->width, e);
     if (rc == REFRACT_E_OK)
-        rc = limited_int(root, "height", cam->height, cfg->limits.max_image_dim,
-                         "--max-image-dim", &cam->height, e);
+        rc = limited_int(root, "height", cam->height, cfg->limits.max_image_dim, "--max-image-dim",
+                         &cam->height, e);
     if (rc != REFRACT_E_OK)
         return rc;
     long long pixels = (long long)cam->width * cam->height;
@@ -108,14 +108,13 @@ static enum refract_code parse_camera(const cJSON *root, const struct scene *sce
     return REFRACT_E_OK;
 }
 
-enum refract_code http_parse_render_request(const char *body, size_t len,
-                                            const struct scene *scene,
+enum refract_code http_parse_render_request(const char *body, size_t len, const struct scene *scene,
                                             const struct http_config *cfg,
                                             struct http_render_request *out, struct err *e)
 {
-    static const char *const keys[] = {"camera",    "width",   "height",       "format",
-                                       "exposure",  "tonemap", "integrator",   "step",
-                                       "max_steps", "jpeg_quality", "boundary_threshold", NULL};
+    static const char *const keys[] = {
+        "camera",     "width", "height",    "format",       "exposure",           "tonemap",
+        "integrator", "step",  "max_steps", "jpeg_quality", "boundary_threshold", NULL};
     memset(out, 0, sizeof *out);
     cJSON *root = NULL;
     enum refract_code rc = parse_body(body, len, &root, e);
@@ -165,15 +164,14 @@ static enum refract_code parse_ray(const cJSON *item, int i, struct render_trace
     return REFRACT_E_OK;
 }
 
-enum refract_code http_parse_trace_request(const char *body, size_t len,
-                                           const struct scene *scene,
+enum refract_code http_parse_trace_request(const char *body, size_t len, const struct scene *scene,
                                            const struct http_config *cfg,
                                            struct scene_render_settings *settings,
                                            struct render_trace_ray **rays, size_t *count,
                                            struct err *e)
 {
-    static const char *const keys[] = {"rays", "step", "integrator", "max_steps",
-                                       "boundary_threshold", NULL};
+    static const char *const keys[] = {
+        "rays", "step", "integrator", "max_steps", "boundary_threshold", NULL};
     *rays = NULL;
     *count = 0;
     cJSON *root = NULL;

@@ -31,8 +31,7 @@ static enum MHD_Result queue(struct http_request *req, unsigned status, void *by
 }
 
 enum MHD_Result http_respond_bytes(struct http_request *req, unsigned status, void *bytes,
-                                   size_t len, const char *content_type,
-                                   const char *const *headers)
+                                   size_t len, const char *content_type, const char *const *headers)
 {
     return queue(req, status, bytes, len, content_type, headers);
 }

@@ -94,14 +94,16 @@ static void cache_make_room(struct render *r, size_t incoming, const struct scen
         for (size_t i = 0; i < r->cache_count; i++) {
             if (r->cache[i] == keep)
                 continue;
-            if (oldest == r->cache_count || r->cache[i]->last_used_ms < r->cache[oldest]->last_used_ms)
+            if (oldest == r->cache_count ||
+                r->cache[i]->last_used_ms < r->cache[oldest]->last_used_ms)
                 oldest = i;
         }
         if (oldest == r->cache_count)
             return;
-        log_info("render", "evicting scene %s from the GPU (%.1f MiB) to stay within the "
-                 "--gpu-scene-budget", r->cache[oldest]->id,
-                 (double)r->cache[oldest]->bytes / 1048576.0);
+        log_info("render",
+                 "evicting scene %s from the GPU (%.1f MiB) to stay within the "
+                 "--gpu-scene-budget",
+                 r->cache[oldest]->id, (double)r->cache[oldest]->bytes / 1048576.0);
         cache_remove_at(r, oldest);
     }
 }
@@ -131,8 +133,7 @@ static struct scene_gpu *cache_get(struct render *r, const struct render_scene_s
                     "scene %s needs %.1f MiB of GPU memory, more than the whole "
                     "--gpu-scene-budget of %.1f MiB; raise the budget or lower the scene's "
                     "resolution",
-                    src->id, (double)found->bytes / 1048576.0,
-                    (double)r->budget_bytes / 1048576.0);
+                    src->id, (double)found->bytes / 1048576.0, (double)r->budget_bytes / 1048576.0);
             scene_gpu_destroy(found);
             return NULL;
         }
@@ -161,24 +162,21 @@ static vec4 v4(vec3 v, double w)
     return (vec4){(float)v.x, (float)v.y, (float)v.z, (float)w};
 }
 
-static void fill_objects(struct march_params *mp, const struct scene *s,
-                         const struct scene_gpu *sg)
+static void fill_objects(struct march_params *mp, const struct scene *s, const struct scene_gpu *sg)
 {
     for (size_t i = 0; i < s->object_count; i++) {
         const struct scene_object *o = &s->objects[i];
         struct object_params *op = &mp->objects[i];
-        xform_to_gl_mat4(&o->world_from_object, op->world_from_object.m,
-                         op->object_from_world.m);
+        xform_to_gl_mat4(&o->world_from_object, op->world_from_object.m, op->object_from_world.m);
         vec3 vs = scene_object_voxel_size(o);
         op->bounds_min = v4(o->bounds_min, o->world_from_object.scale);
         op->bounds_max = v4(o->bounds_max, scene_object_min_voxel(o));
-        op->inv_voxel_size =
-            (vec4){(float)(1.0 / vs.x), (float)(1.0 / vs.y), (float)(1.0 / vs.z),
-                   (float)o->smoothing_sigma_voxels};
+        op->inv_voxel_size = (vec4){(float)(1.0 / vs.x), (float)(1.0 / vs.y), (float)(1.0 / vs.z),
+                                    (float)o->smoothing_sigma_voxels};
         op->atlas_offset = (vec4){0.0f, 0.0f, (float)sg->objects[i].atlas_z, (float)o->opaque_ior};
-        op->atlas_inv_size = (vec4){1.0f / (float)sg->atlas_size[0],
-                                    1.0f / (float)sg->atlas_size[1],
-                                    1.0f / (float)sg->atlas_size[2], 0.0f};
+        op->atlas_inv_size =
+            (vec4){1.0f / (float)sg->atlas_size[0], 1.0f / (float)sg->atlas_size[1],
+                   1.0f / (float)sg->atlas_size[2], 0.0f};
         op->resolution = (ivec4){o->resolution[0], o->resolution[1], o->resolution[2],
                                  (int)sg->objects[i].flags};
     }
@@ -187,10 +185,9 @@ static void fill_objects(struct march_params *mp, const struct scene *s,
 static void fill_settings(struct march_params *mp, const struct scene *s,
                           const struct scene_render_settings *st)
 {
-    mp->settings_i = (ivec4){st->integrator == SCENE_INTEGRATOR_EULER ? INTEGRATOR_EULER
-                                                                     : INTEGRATOR_RK4,
-                             st->max_steps, (int)s->object_count,
-                             s->environment.kind == SCENE_ENV_IMAGE ? 1 : 0};
+    mp->settings_i = (ivec4){
+        st->integrator == SCENE_INTEGRATOR_EULER ? INTEGRATOR_EULER : INTEGRATOR_RK4, st->max_steps,
+        (int)s->object_count, s->environment.kind == SCENE_ENV_IMAGE ? 1 : 0};
     mp->settings_f = (vec4){(float)st->step_voxels, (float)st->boundary_threshold,
                             (float)s->ambient_ior, (float)s->environment.intensity};
     mp->env = (vec4){(float)s->environment.rotation_deg, 0.0f, 0.0f, 0.0f};
@@ -237,8 +234,8 @@ static void bind_scene(struct render *r, const struct scene_gpu *sg, const struc
 }
 
 enum refract_code render_view(struct render *r, const struct render_scene_source *src,
-                              const struct render_view_request *req,
-                              struct render_view_result *out, struct err *e)
+                              const struct render_view_request *req, struct render_view_result *out,
+                              struct err *e)
 {
     memset(out, 0, sizeof *out);
     double t0 = gpu_time_ms();

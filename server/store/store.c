@@ -241,8 +241,8 @@ static enum refract_code persist_document(struct store *s, const char *id, const
     return rc;
 }
 
-enum refract_code store_scene_create(struct store *s, const char *id, const char *json,
-                                     size_t len, struct store_scene **out, struct err *e)
+enum refract_code store_scene_create(struct store *s, const char *id, const char *json, size_t len,
+                                     struct store_scene **out, struct err *e)
 {
     if (out)
         *out = NULL;
@@ -305,8 +305,10 @@ enum refract_code store_scene_delete(struct store *s, const char *id, struct err
     struct slot *slot = find_slot(s, id);
     if (slot == NULL) {
         pthread_mutex_unlock(&s->lock);
-        return err_set(e, REFRACT_E_SCENE_NOT_FOUND, "no scene with id \"%s\"; GET /v1/scenes "
-                       "lists the scenes", id);
+        return err_set(e, REFRACT_E_SCENE_NOT_FOUND,
+                       "no scene with id \"%s\"; GET /v1/scenes "
+                       "lists the scenes",
+                       id);
     }
     struct store_scene *v = slot->current;
     *slot = s->slots[--s->slot_count];
@@ -459,9 +461,8 @@ static enum refract_code install_volume_locked(struct store *s, const char *id,
 }
 
 static enum refract_code volume_put(struct store *s, const char *id, const char *name,
-                                    const int dims[3], int components, float *data,
-                                    size_t count, bool persist, struct store_volume **out,
-                                    struct err *e)
+                                    const int dims[3], int components, float *data, size_t count,
+                                    bool persist, struct store_volume **out, struct err *e)
 {
     if (out)
         *out = NULL;
@@ -487,8 +488,8 @@ static enum refract_code volume_put(struct store *s, const char *id, const char 
 }
 
 enum refract_code store_volume_put(struct store *s, const char *id, const char *name,
-                                   const int dims[3], int components, float *data,
-                                   size_t count, struct store_volume **out, struct err *e)
+                                   const int dims[3], int components, float *data, size_t count,
+                                   struct store_volume **out, struct err *e)
 {
     return volume_put(s, id, name, dims, components, data, count, true, out, e);
 }
@@ -515,9 +516,8 @@ static enum refract_code decode_env(struct store *s, const void *bytes, size_t l
     return REFRACT_E_OK;
 }
 
-static enum refract_code env_put(struct store *s, const char *id, const void *bytes,
-                                 size_t len, bool persist, int *width, int *height,
-                                 struct err *e)
+static enum refract_code env_put(struct store *s, const char *id, const void *bytes, size_t len,
+                                 bool persist, int *width, int *height, struct err *e)
 {
     struct store_env *env = NULL;
     enum refract_code rc = decode_env(s, bytes, len, &env, e);
@@ -604,9 +604,8 @@ static void load_volumes(struct store *s, const char *id, const char *dir)
         if (data)
             memcpy(data, raw, raw_len);
         free(raw);
-        if (data == NULL ||
-            volume_put(s, id, name, dims, comps, data, raw_len / sizeof(float), false, NULL,
-                       &e) != REFRACT_E_OK)
+        if (data == NULL || volume_put(s, id, name, dims, comps, data, raw_len / sizeof(float),
+                                       false, NULL, &e) != REFRACT_E_OK)
             log_warn("store", "could not restore volume %s of scene %s", name, id);
     }
     closedir(d);

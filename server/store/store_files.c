@@ -28,7 +28,8 @@ enum refract_code store_mkdirs(const char *path, struct err *e)
         *p = '/';
     }
     if (mkdir(buf, 0750) != 0 && errno != EEXIST)
-        return err_set(e, REFRACT_E_STORAGE, "cannot create directory %s: %s", buf, strerror(errno));
+        return err_set(e, REFRACT_E_STORAGE, "cannot create directory %s: %s", buf,
+                       strerror(errno));
     return REFRACT_E_OK;
 }
 
@@ -47,8 +48,7 @@ static void fsync_parent(const char *path)
     }
 }
 
-enum refract_code store_write_atomic(const char *path, const void *data, size_t len,
-                                     struct err *e)
+enum refract_code store_write_atomic(const char *path, const void *data, size_t len, struct err *e)
 {
     char tmp[1100];
     snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());

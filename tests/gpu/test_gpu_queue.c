@@ -114,7 +114,9 @@ static void expired_item_is_not_run_and_reports_timeout(struct gpu *g)
                                  .deadline_ms = gpu_now_ms() - 1,
                                  .label = "test item",
                                  .run = order_run},
-                           .tag = 9, .log = log, .count = &count};
+                           .tag = 9,
+                           .log = log,
+                           .count = &count};
     CHECK_INT(gpu_run_sync(g, &o.w), REFRACT_E_TIMEOUT);
     CHECK_INT(atomic_load(&count), 0);
     CHECK_CONTAINS(o.w.err.msg, "deadline");
@@ -136,12 +138,16 @@ static void shutdown_completes_pending_items(void)
     struct err e;
     gpu_submit(g, &blocker, &e);
     usleep(20 * 1000);
-    struct order_work pending = {.w = {.priority = GPU_PRIORITY_INTERACTIVE, .run = order_run,
-                                       .done = record_done},
-                                 .tag = 0, .log = log, .count = &count};
-    struct order_work maint = {.w = {.priority = GPU_PRIORITY_MAINTENANCE, .run = order_run,
-                                     .done = record_done},
-                               .tag = 1, .log = log, .count = &count};
+    struct order_work pending = {
+        .w = {.priority = GPU_PRIORITY_INTERACTIVE, .run = order_run, .done = record_done},
+        .tag = 0,
+        .log = log,
+        .count = &count};
+    struct order_work maint = {
+        .w = {.priority = GPU_PRIORITY_MAINTENANCE, .run = order_run, .done = record_done},
+        .tag = 1,
+        .log = log,
+        .count = &count};
     atomic_store(&shutdown_codes[0], -1);
     atomic_store(&shutdown_codes[1], -1);
     CHECK_INT(gpu_submit(g, &pending.w, &e), REFRACT_E_OK);

@@ -25,11 +25,11 @@ struct test_daemon {
     pid_t pid;
     int port;
     char url[64];
-    char dir[256];      /* temporary directory: data/, refractd.log, port */
+    char dir[256]; /* temporary directory: data/, refractd.log, port */
     char data_dir[300];
     char log_path[300];
     refract_client *client;
-    char why[512];      /* why start failed */
+    char why[512]; /* why start failed */
 };
 
 /* Starts refractd with `extra_args` (NULL-terminated, may be NULL) and waits until

@@ -38,7 +38,7 @@ static inline size_t text_len(const char *s)
 /* Writes into why (empty when it matches) how the answer differs from the expected error:
  * the status, application/json, {"error": {"code", "message"}}, the code, each needle. */
 static inline void error_mismatch(const struct refract_response *r, long status, const char *code,
-                           const char *const *needles, char *why, size_t size)
+                                  const char *const *needles, char *why, size_t size)
 {
     why[0] = '\0';
     cJSON *root = cJSON_ParseWithLength(r->body, r->body_len);
@@ -61,10 +61,10 @@ static inline void error_mismatch(const struct refract_response *r, long status,
 }
 
 /* Sends one request and checks that the answer is the error (status, code, needles). */
-static inline void expect_error_at(const char *file, int line, struct test_daemon *d, const char *method,
-                            const char *path, const void *body, size_t len,
-                            const char *content_type, long status, const char *code,
-                            const char *const *needles)
+static inline void expect_error_at(const char *file, int line, struct test_daemon *d,
+                                   const char *method, const char *path, const void *body,
+                                   size_t len, const char *content_type, long status,
+                                   const char *code, const char *const *needles)
 {
     struct refract_response r;
     char why[300];
@@ -102,8 +102,9 @@ static inline void expect_error_at(const char *file, int line, struct test_daemo
 
 /* Sends a JSON request and checks its status; returns the body (new string, caller frees)
  * or NULL. */
-static inline char *expect_status_at(const char *file, int line, struct test_daemon *d, const char *method,
-                              const char *path, const char *json, long status)
+static inline char *expect_status_at(const char *file, int line, struct test_daemon *d,
+                                     const char *method, const char *path, const char *json,
+                                     long status)
 {
     char *body = NULL;
     long got = test_request(d, method, path, json, &body);

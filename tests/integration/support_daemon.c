@@ -223,8 +223,7 @@ long test_request(struct test_daemon *d, const char *method, const char *path,
     struct refract_response r;
     if (body)
         *body = NULL;
-    int rc = refract_request(d->client, method, path, json_body,
-                             json_body ? strlen(json_body) : 0,
+    int rc = refract_request(d->client, method, path, json_body, json_body ? strlen(json_body) : 0,
                              json_body ? "application/json" : NULL, &r);
     if (rc != REFRACT_E_OK)
         return -1;

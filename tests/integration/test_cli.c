@@ -19,9 +19,9 @@
 #include "test.h"
 
 struct cli_run {
-    int status;   /* exit status, or -1 when it did not exit normally */
-    char *out;    /* stdout, NUL-terminated */
-    char *err;    /* stderr */
+    int status; /* exit status, or -1 when it did not exit normally */
+    char *out;  /* stdout, NUL-terminated */
+    char *err;  /* stderr */
 };
 
 static char *slurp(const char *path)
@@ -203,8 +203,7 @@ int main(void)
 
     /* trace: a ray along the axis of the glass sphere exits straight on */
     r = run_cli(&d, NULL, NULL,
-                (const char *[]){"trace", id, "--origin", "0,0,-3", "--direction", "0,0,1",
-                                 NULL});
+                (const char *[]){"trace", id, "--origin", "0,0,-3", "--direction", "0,0,1", NULL});
     CHECK_INT(r.status, 0);
     CHECK_CONTAINS(r.out, "\"status\":\"exited\"");
     CHECK_CONTAINS(r.out, "\"optical_path_length\"");
@@ -218,16 +217,16 @@ int main(void)
     f = fopen(vol, "wb");
     fwrite(values, sizeof values[0], 8, f);
     fclose(f);
-    r = run_cli(&d, NULL, NULL,
-                (const char *[]){"volume", "upload", small_id, "density", vol, "--dims",
-                                 "2,2,2", NULL});
+    r = run_cli(
+        &d, NULL, NULL,
+        (const char *[]){"volume", "upload", small_id, "density", vol, "--dims", "2,2,2", NULL});
     CHECK_INT(r.status, 0);
     CHECK_CONTAINS(r.out, "\"name\":\"density\"");
     CHECK_CONTAINS(r.out, "\"min\":1.1");
     cli_run_free(&r);
-    r = run_cli(&d, NULL, NULL,
-                (const char *[]){"volume", "upload", small_id, "density", vol, "--dims",
-                                 "2,2,3", NULL});
+    r = run_cli(
+        &d, NULL, NULL,
+        (const char *[]){"volume", "upload", small_id, "density", vol, "--dims", "2,2,3", NULL});
     CHECK_INT(r.status, REFRACT_E_INVALID_VOLUME);
     CHECK_CONTAINS(r.err, "refract: ");
     CHECK_CONTAINS(r.err, "48");

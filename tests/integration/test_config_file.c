@@ -56,7 +56,8 @@ static int run_refractd(const char *const *args, char **output)
 static bool conf_has_key(const char *conf, const char *name)
 {
     size_t n = strlen(name);
-    for (const char *line = conf; line && *line; line = strchr(line, '\n') ? strchr(line, '\n') + 1 : NULL) {
+    for (const char *line = conf; line && *line;
+         line = strchr(line, '\n') ? strchr(line, '\n') + 1 : NULL) {
         if (strncmp(line, name, n) == 0 && (line[n] == ' ' || line[n] == '\t'))
             return true;
     }

@@ -17,8 +17,10 @@
 #include "test.h"
 
 #define SCENE_AT(res)                                                                              \
-    "{\"camera\": {\"eye\": [0, 0, 4], \"width\": 24, \"height\": 16}, \"objects\": [{\"bounds\": " \
-    "{\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": " #res ", \"smoothing_sigma\": 0, " \
+    "{\"camera\": {\"eye\": [0, 0, 4], \"width\": 24, \"height\": 16}, \"objects\": "              \
+    "[{\"bounds\": "                                                                               \
+    "{\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": " #res                           \
+    ", \"smoothing_sigma\": 0, "                                                                   \
     "\"ior\": {\"shape\": \"sphere\", \"radius\": 0.7, \"inside\": 1.4}}]}"
 
 static long render(struct test_daemon *d, const char *id, char **body)

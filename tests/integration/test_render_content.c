@@ -27,7 +27,8 @@ static const char *const sphere_scene =
 
 /* A slab of n = 1 (no refraction) that absorbs blue: only Beer-Lambert acts. */
 static const char *const blue_absorber_scene =
-    "{\"name\": \"blue absorber\", \"camera\": {\"eye\": [0, 0, 4], \"width\": 96, \"height\": 72}, "
+    "{\"name\": \"blue absorber\", \"camera\": {\"eye\": [0, 0, 4], \"width\": 96, \"height\": "
+    "72}, "
     "\"objects\": [{\"bounds\": {\"min\": [-1, -1, -0.25], \"max\": [1, 1, 0.25]}, "
     "\"resolution\": [32, 32, 8], \"attenuation\": [0.0, 0.0, 6.0]}]}";
 
@@ -96,8 +97,8 @@ static void background_equals_environment(struct test_daemon *d, const char *id)
             compared++;
         }
     }
-    printf("background: %d pixels compared, %d within 1e-4, worst |L - L_env| = %.2e\n",
-           compared, close, worst);
+    printf("background: %d pixels compared, %d within 1e-4, worst |L - L_env| = %.2e\n", compared,
+           close, worst);
     CHECK(compared > W * H / 4);
     /* Most pixels agree to float precision. The worst ones sit on the sky grid's soft line
      * edges, where the line mask changes by ~0.6 per degree and GLSL's asin/atan (llvmpipe
@@ -141,7 +142,6 @@ static void sphere_silhouette_is_where_the_camera_puts_it(struct test_daemon *d,
             } else {
                 outside_total++;
                 outside_same += diff < 1e-2; /* see the asin/atan note above */
-
             }
         }
     }
@@ -172,8 +172,8 @@ static void blue_absorbing_block_looks_yellow(struct test_daemon *d, const char 
     vec3 env = env_procedural(dir);
     const float *p = &px.rgba[((size_t)j * W + i) * 4];
     double path = 0.5 / fabs(dir.z);
-    printf("through the absorber: L = (%.4f %.4f %.4f), env = (%.4f %.4f %.4f)\n", p[0], p[1],
-           p[2], env.x, env.y, env.z);
+    printf("through the absorber: L = (%.4f %.4f %.4f), env = (%.4f %.4f %.4f)\n", p[0], p[1], p[2],
+           env.x, env.y, env.z);
     CHECK_NEAR(p[0], env.x, 2e-3 * env.x + 1e-4); /* red and green pass unchanged */
     CHECK_NEAR(p[1], env.y, 2e-3 * env.y + 1e-4);
     CHECK_NEAR(p[2], env.z * exp(-6.0 * path), 0.01 * env.z * exp(-6.0 * path) + 1e-4);

@@ -17,7 +17,8 @@
 #define CLIENTS 8
 
 static const char *const scene =
-    "{\"camera\": {\"eye\": [0, 0, 4], \"width\": 320, \"height\": 240}, \"objects\": [{\"bounds\": "
+    "{\"camera\": {\"eye\": [0, 0, 4], \"width\": 320, \"height\": 240}, \"objects\": "
+    "[{\"bounds\": "
     "{\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 64, "
     "\"ior\": {\"shape\": \"sphere\", \"radius\": 0.8, \"inside\": 1.5}}]}";
 
@@ -49,8 +50,9 @@ int main(void)
     char id[REFRACT_ID_SIZE];
     CHECK(test_create_scene(&d, scene, id));
     struct refract_image warm; /* builds the scene and compiles the variant first */
-    CHECK_INT(refract_render(d.client, id, "{\"integrator\": \"rk4\", \"width\": 8, "
-                                           "\"height\": 8}",
+    CHECK_INT(refract_render(d.client, id,
+                             "{\"integrator\": \"rk4\", \"width\": 8, "
+                             "\"height\": 8}",
                              &warm),
               REFRACT_E_OK);
     refract_image_free(&warm);
@@ -74,8 +76,8 @@ int main(void)
         else
             fprintf(stderr, "client %d: code %d: %s\n", i, jobs[i].rc, jobs[i].msg);
     }
-    printf("SIGTERM with %d renders in flight: %d rendered, %d answered shutting_down\n",
-           CLIENTS, ok, refused);
+    printf("SIGTERM with %d renders in flight: %d rendered, %d answered shutting_down\n", CLIENTS,
+           ok, refused);
     CHECK_INT(ok + refused, CLIENTS);
     CHECK_INT(test_daemon_stop(&d), 0); /* already stopping: waits for the exit status */
 

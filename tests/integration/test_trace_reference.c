@@ -54,10 +54,11 @@ static int gpu_trace(struct test_daemon *d, const char *id, const struct ray *ra
     char *req = malloc(256 + (size_t)n * 160);
     size_t len = (size_t)sprintf(req, "{%s\"rays\": [", extra);
     for (int i = 0; i < n; i++)
-        len += (size_t)sprintf(req + len, "%s{\"origin\": [%.17g, %.17g, %.17g], "
+        len += (size_t)sprintf(req + len,
+                               "%s{\"origin\": [%.17g, %.17g, %.17g], "
                                "\"direction\": [%.17g, %.17g, %.17g]}",
-                               i ? ", " : "", rays[i].o.x, rays[i].o.y, rays[i].o.z,
-                               rays[i].d.x, rays[i].d.y, rays[i].d.z);
+                               i ? ", " : "", rays[i].o.x, rays[i].o.y, rays[i].o.z, rays[i].d.x,
+                               rays[i].d.y, rays[i].d.z);
     sprintf(req + len, "]}");
     char *json = NULL;
     int rc = refract_trace(d->client, id, req, &json);
@@ -144,8 +145,8 @@ static double miss_distance(vec3 x, vec3 d, vec3 c)
 
 static void report(const char *what, struct deviation d)
 {
-    printf("%-44s pos %.2e  dir %.2e rad  opl %.2e  T %.2e  status mismatches %d\n", what,
-           d.pos, d.dir, d.opl, d.trans, d.status_mismatch);
+    printf("%-44s pos %.2e  dir %.2e rad  opl %.2e  T %.2e  status mismatches %d\n", what, d.pos,
+           d.dir, d.opl, d.trans, d.status_mismatch);
 }
 
 /* ---- one GRIN check: the same rays on the GPU and on the CPU --------------------------- */
@@ -237,13 +238,12 @@ static void luneburg_focuses_parallel_rays_on_far_side(struct test_daemon *d)
          * approach to the focus (0, 0, 1) measures the focusing error. */
         double worst_exact = 0.0, worst_gpu = 0.0;
         for (int i = 0; i < n; i++) {
-            worst_exact = fmax(worst_exact, miss_distance(t.exact_hits[i].exit_origin,
-                                                          t.exact_hits[i].exit_direction,
-                                                          (vec3){0, 0, 1}));
+            worst_exact =
+                fmax(worst_exact, miss_distance(t.exact_hits[i].exit_origin,
+                                                t.exact_hits[i].exit_direction, (vec3){0, 0, 1}));
             worst_gpu = fmax(worst_gpu, miss_distance(t.hits[i].x, t.hits[i].d, (vec3){0, 0, 1}));
         }
-        printf("luneburg focus: exact reference %.2e R, GPU 64^3 %.2e R\n", worst_exact,
-               worst_gpu);
+        printf("luneburg focus: exact reference %.2e R, GPU 64^3 %.2e R\n", worst_exact, worst_gpu);
         CHECK_MSG(worst_exact < 1e-5, "exact focus error %g", worst_exact);
         CHECK_MSG(worst_gpu < 0.03, "GPU focus error %g R", worst_gpu);
         /* GPU float32 vs CPU double on the same voxels and integrator. */
@@ -283,17 +283,17 @@ static void fisheye_images_surface_point_to_antipode(struct test_daemon *d)
         double worst = 0.0, worst_exact = 0.0;
         for (int i = 0; i < n; i++) {
             worst = fmax(worst, miss_distance(t.hits[i].x, t.hits[i].d, (vec3){0, 0, 1}));
-            worst_exact = fmax(worst_exact, miss_distance(t.exact_hits[i].exit_origin,
-                                                          t.exact_hits[i].exit_direction,
-                                                          (vec3){0, 0, 1}));
+            worst_exact =
+                fmax(worst_exact, miss_distance(t.exact_hits[i].exit_origin,
+                                                t.exact_hits[i].exit_direction, (vec3){0, 0, 1}));
         }
         printf("fisheye: rays pass the antipode within %.2e (GPU 64^3), %.2e (exact)\n", worst,
                worst_exact);
         CHECK_MSG(worst_exact < 1e-4, "exact antipode miss %g", worst_exact);
         CHECK_MSG(worst < 0.03, "antipode miss %g", worst);
         CHECK_INT(t.same_voxels.status_mismatch, 0);
-        CHECK_MSG(t.same_voxels.pos < gpu_tol && t.same_voxels.dir < gpu_tol,
-                  "GPU vs CPU %g %g", t.same_voxels.pos, t.same_voxels.dir);
+        CHECK_MSG(t.same_voxels.pos < gpu_tol && t.same_voxels.dir < gpu_tol, "GPU vs CPU %g %g",
+                  t.same_voxels.pos, t.same_voxels.dir);
         /* All rays cross at the antipode, where grad n jumps from 1 to 0 across the
          * sphere (a kink the voxels smooth over one voxel): exit directions there are
          * sensitive, measured ~0.06 rad at 64^3, while the imaging itself (the antipode
@@ -326,17 +326,17 @@ static void linear_gradient_bends_rays_and_turns_grazing_ones(struct test_daemon
     if (trace_both_ways(d, linear_json, "linear", true, rays, n, &t)) {
         for (int i = 0; i < 4; i++) {
             const struct gpu_hit *h = &t.hits[i];
-            printf("  mirage ray %d: %s at (%.3f %.3f %.3f) dir (%.3f %.3f %.3f)\n", i,
-                   h->status, h->x.x, h->x.y, h->x.z, h->d.x, h->d.y, h->d.z);
+            printf("  mirage ray %d: %s at (%.3f %.3f %.3f) dir (%.3f %.3f %.3f)\n", i, h->status,
+                   h->x.x, h->x.y, h->x.z, h->d.x, h->d.y, h->d.z);
             CHECK_MSG(h->d.y > 0.0, "mirage ray %d did not turn upwards (d.y %g)", i, h->d.y);
         }
         CHECK_INT(t.same_voxels.status_mismatch, 0);
-        CHECK_MSG(t.same_voxels.pos < gpu_tol && t.same_voxels.dir < gpu_tol,
-                  "GPU vs CPU %g %g", t.same_voxels.pos, t.same_voxels.dir);
+        CHECK_MSG(t.same_voxels.pos < gpu_tol && t.same_voxels.dir < gpu_tol, "GPU vs CPU %g %g",
+                  t.same_voxels.pos, t.same_voxels.dir);
         /* A linear field is exactly representable by trilinear voxels: only float error. */
         CHECK_INT(t.vs_exact.status_mismatch, 0);
-        CHECK_MSG(t.vs_exact.pos < 1e-3 && t.vs_exact.dir < 1e-3, "vs exact %g %g",
-                  t.vs_exact.pos, t.vs_exact.dir);
+        CHECK_MSG(t.vs_exact.pos < 1e-3 && t.vs_exact.dir < 1e-3, "vs exact %g %g", t.vs_exact.pos,
+                  t.vs_exact.dir);
         CHECK_MSG(t.same_voxels.trans < 1e-4, "face Fresnel transmittance deviation %g",
                   t.same_voxels.trans);
     }
@@ -360,11 +360,11 @@ static void gaussian_lens_matches_reference(struct test_daemon *d)
     struct traced t;
     if (trace_both_ways(d, gaussian_json, "gaussian 64^3", true, rays, n, &t)) {
         CHECK_INT(t.same_voxels.status_mismatch, 0);
-        CHECK_MSG(t.same_voxels.pos < gpu_tol && t.same_voxels.dir < gpu_tol,
-                  "GPU vs CPU %g %g", t.same_voxels.pos, t.same_voxels.dir);
+        CHECK_MSG(t.same_voxels.pos < gpu_tol && t.same_voxels.dir < gpu_tol, "GPU vs CPU %g %g",
+                  t.same_voxels.pos, t.same_voxels.dir);
         CHECK_INT(t.vs_exact.status_mismatch, 0);
-        CHECK_MSG(t.vs_exact.pos < 0.02 && t.vs_exact.dir < 0.02, "vs exact %g %g",
-                  t.vs_exact.pos, t.vs_exact.dir);
+        CHECK_MSG(t.vs_exact.pos < 0.02 && t.vs_exact.dir < 0.02, "vs exact %g %g", t.vs_exact.pos,
+                  t.vs_exact.dir);
     }
     traced_free(&t);
 }
@@ -387,10 +387,9 @@ static void glass_sphere_fresnel_and_absorption_match_reference(struct test_daem
     struct traced t;
     if (trace_both_ways(d, glass_json, "glass sphere 64^3", false, rays, n, &t)) {
         CHECK_INT(t.same_voxels.status_mismatch, 0);
-        CHECK_MSG(t.same_voxels.pos < gpu_tol && t.same_voxels.dir < gpu_tol,
-                  "GPU vs CPU %g %g", t.same_voxels.pos, t.same_voxels.dir);
-        CHECK_MSG(t.same_voxels.trans < gpu_tol, "transmittance deviation %g",
-                  t.same_voxels.trans);
+        CHECK_MSG(t.same_voxels.pos < gpu_tol && t.same_voxels.dir < gpu_tol, "GPU vs CPU %g %g",
+                  t.same_voxels.pos, t.same_voxels.dir);
+        CHECK_MSG(t.same_voxels.trans < gpu_tol, "transmittance deviation %g", t.same_voxels.trans);
         /* The axial ray: two Fresnel events at normal incidence (0.96^2) and Beer-Lambert
          * over the diameter, blue absorbed most. */
         double axial_expected = 0.96 * 0.96 * exp(-0.9 * 1.6);

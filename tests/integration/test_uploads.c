@@ -116,10 +116,10 @@ static void uploaded_ior_traces_like_the_profile(struct test_daemon *d, char *vo
         const cJSON *x = cJSON_GetArrayItem(ra, i), *y = cJSON_GetArrayItem(rb, i);
         CHECK_STR(cJSON_GetObjectItemCaseSensitive(x, "status")->valuestring, "exited");
         for (int k = 0; k < 3; k++) {
-            worst = fmax(worst, fabs(number_at(x, "exit_direction", k) -
-                                     number_at(y, "exit_direction", k)));
-            worst = fmax(worst, fabs(number_at(x, "exit_origin", k) -
-                                     number_at(y, "exit_origin", k)));
+            worst = fmax(
+                worst, fabs(number_at(x, "exit_direction", k) - number_at(y, "exit_direction", k)));
+            worst =
+                fmax(worst, fabs(number_at(x, "exit_origin", k) - number_at(y, "exit_origin", k)));
         }
         worst = fmax(worst, fabs(number_at(x, "optical_path_length", -1) -
                                  number_at(y, "optical_path_length", -1)) /
@@ -151,11 +151,11 @@ static void uploaded_attenuation_follows_beer_lambert(struct test_daemon *d, cha
         sigma[3 * i + 1] = 0.2f;
         sigma[3 * i + 2] = 0.4f;
     }
-    CHECK_INT(refract_volume_upload(d->client, abs_id, "sigma", (const int[]){4, 4, 4}, 3, sigma,
-                                    NULL),
-              REFRACT_E_OK);
-    cJSON *root = trace(d, abs_id,
-                        "{\"rays\": [{\"origin\": [0.1, 0.2, -3], \"direction\": [0, 0, 1]}]}");
+    CHECK_INT(
+        refract_volume_upload(d->client, abs_id, "sigma", (const int[]){4, 4, 4}, 3, sigma, NULL),
+        REFRACT_E_OK);
+    cJSON *root =
+        trace(d, abs_id, "{\"rays\": [{\"origin\": [0.1, 0.2, -3], \"direction\": [0, 0, 1]}]}");
     const cJSON *ray = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(root, "rays"), 0);
     const double s[3] = {0.1, 0.2, 0.4};
     for (int k = 0; k < 3; k++) {
@@ -219,8 +219,8 @@ static void uploaded_environment_is_the_background(struct test_daemon *d, char *
     for (int row = 0; row < pic.height; row++)
         for (int col = 0; col < pic.width; col++) {
             vec3 o, dir;
-            camera_ray((vec3){0, 0, 4}, (vec3){0, 0, 0}, (vec3){0, 1, 0}, 60, pic.width,
-                       pic.height, col, row, &o, &dir);
+            camera_ray((vec3){0, 0, 4}, (vec3){0, 0, 0}, (vec3){0, 1, 0}, 60, pic.width, pic.height,
+                       col, row, &o, &dir);
             double elevation = asin(dir.y) * 180.0 / M_PI;
             if (fabs(elevation) < 8.0) /* texels are 5.6 degrees tall: the seam filters */
                 continue;
@@ -230,8 +230,9 @@ static void uploaded_environment_is_the_background(struct test_daemon *d, char *
             for (int k = 0; k < 3; k++)
                 ok = ok && fabs(got[k] - 2.0 * want[k]) < 1e-3 * 2.0 * want[k] + 1e-6;
             if (!ok && wrong++ < 3)
-                fprintf(stderr, "  pixel (%d, %d), elevation %.1f: got (%g %g %g), want 2 x "
-                                "(%g %g %g)\n",
+                fprintf(stderr,
+                        "  pixel (%d, %d), elevation %.1f: got (%g %g %g), want 2 x "
+                        "(%g %g %g)\n",
                         col, row, elevation, got[0], got[1], got[2], want[0], want[1], want[2]);
             *(elevation > 0 ? &up : &down) += 1;
         }

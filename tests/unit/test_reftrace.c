@@ -771,9 +771,9 @@ static void sharp_ball_reflects_fresnel_share_once_per_crossing(void)
  * The same test keeps true interfaces: an unsmoothed ball still loses 4% per crossing. */
 static void steep_ramp_has_no_interface_but_a_sharp_ball_does(void)
 {
-    double *ig = voxelise(&(struct grin_profile){.kind = GRIN_LINEAR, .n0 = 1.3,
-                                                  .gradient = {0, 0.2, 0}},
-                          16, 0.0, 0, 0);
+    double *ig =
+        voxelise(&(struct grin_profile){.kind = GRIN_LINEAR, .n0 = 1.3, .gradient = {0, 0.2, 0}},
+                 16, 0.0, 0, 0);
     struct reftrace_grid grid = {.ior_grad = ig};
     struct reftrace_object ramp = {.bmin = {-1, -1, -1},
                                    .bmax = {1, 1, 1},
@@ -790,7 +790,8 @@ static void steep_ramp_has_no_interface_but_a_sharp_ball_does(void)
             reftrace_ray(&ramp, 1, &off, o, (vec3){0, 0, 1}, &without);
             CHECK_INT(with_zones.status, RAY_EXITED);
             CHECK_NEAR(with_zones.transmittance.x, without.transmittance.x, 1e-12);
-            CHECK_MSG(with_zones.transmittance.x > 0.9, "ray %d T %g", k, with_zones.transmittance.x);
+            CHECK_MSG(with_zones.transmittance.x > 0.9, "ray %d T %g", k,
+                      with_zones.transmittance.x);
         }
     }
     free(ig);
