@@ -11,56 +11,13 @@
  * the worst and mean exit-direction angle (radians) and exit-position distance (world
  * units) against the adaptive Dormand-Prince trace of the exact field (tolerance 1e-10).
  */
-#include <cjson/cJSON.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "example_scene.h"
 #include "scene/scene_reference.h"
-
-static char *read_file(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (f == NULL)
-        return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *buf = malloc((size_t)n + 1);
-    if (buf && fread(buf, 1, (size_t)n, f) == (size_t)n)
-        buf[n] = '\0';
-    else {
-        free(buf);
-        buf = NULL;
-    }
-    fclose(f);
-    return buf;
-}
-
-static struct scene *load(const char *path, int res)
-{
-    char *text = read_file(path);
-    if (text == NULL)
-        return NULL;
-    cJSON *root = cJSON_Parse(text);
-    free(text);
-    cJSON *obj;
-    cJSON_ArrayForEach(obj, cJSON_GetObjectItemCaseSensitive(root, "objects"))
-    {
-        cJSON_DeleteItemFromObjectCaseSensitive(obj, "resolution");
-        cJSON_AddNumberToObject(obj, "resolution", res);
-    }
-    char *json = cJSON_PrintUnformatted(root);
-    cJSON_Delete(root);
-    struct scene *s = NULL;
-    struct scene_limits lim = scene_limits_default();
-    struct err e = {0};
-    if (json == NULL || scene_parse(json, strlen(json), &lim, &s, &e) != REFRACT_E_OK)
-        fprintf(stderr, "refract-accuracy: %s: %s\n", path, e.msg);
-    free(json);
-    return s;
-}
 
 int main(int argc, char **argv)
 {
@@ -72,7 +29,7 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--resolution"))
             res = atoi(argv[i + 1]);
     }
-    struct scene *s = load(path, res);
+    struct scene *s = bench_load_example("refract-accuracy", path, res);
     if (s == NULL)
         return 1;
     struct scene_reference vox, exact;

@@ -16,7 +16,6 @@
  * scene and resolution. Scenes are read from proto/examples/<name>.json with every
  * object's resolution replaced.
  */
-#include <cjson/cJSON.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -24,6 +23,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "example_scene.h"
 #include "gpu/queue.h"
 #include "render/render.h"
 #include "scene/scene.h"
@@ -54,53 +54,12 @@ static void split(const char *text, struct list *l)
     }
 }
 
-static char *read_file(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (f == NULL)
-        return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *buf = malloc((size_t)n + 1);
-    if (buf && fread(buf, 1, (size_t)n, f) == (size_t)n)
-        buf[n] = '\0';
-    else {
-        free(buf);
-        buf = NULL;
-    }
-    fclose(f);
-    return buf;
-}
-
 /* The example scene with every object's resolution set to res. */
 static struct scene *load_scene(const struct options *o, const char *name, int res)
 {
     char path[512];
     snprintf(path, sizeof path, "%s/%s.json", o->examples_dir, name);
-    char *text = read_file(path);
-    if (text == NULL) {
-        fprintf(stderr, "refract-bench: cannot read %s\n", path);
-        return NULL;
-    }
-    cJSON *root = cJSON_Parse(text);
-    free(text);
-    cJSON *obj;
-    cJSON_ArrayForEach(obj, cJSON_GetObjectItemCaseSensitive(root, "objects"))
-    {
-        cJSON_DeleteItemFromObjectCaseSensitive(obj, "resolution");
-        cJSON_AddNumberToObject(obj, "resolution", res);
-    }
-    char *json = cJSON_PrintUnformatted(root);
-    cJSON_Delete(root);
-    struct scene *s = NULL;
-    struct scene_limits lim = scene_limits_default();
-    lim.max_voxels = (int64_t)1 << 30;
-    struct err e = {0};
-    if (json == NULL || scene_parse(json, strlen(json), &lim, &s, &e) != REFRACT_E_OK)
-        fprintf(stderr, "refract-bench: %s: %s\n", path, e.msg);
-    free(json);
-    return s;
+    return bench_load_example("refract-bench", path, res);
 }
 
 struct bench_ctx {
