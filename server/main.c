@@ -8,11 +8,12 @@
  *
  * Shutdown order:
  *   1. stop accepting connections (quiesce);
- *   2. drain the GPU queue: pending requests complete with "shutting_down", which resumes
- *      every suspended connection; the renderer frees its GL objects on the GPU thread,
- *      then the context is destroyed;
+ *   2. stop the GPU thread (gpu_stop): pending requests complete with "shutting_down",
+ *      which resumes every suspended connection; the renderer frees its GL objects on the
+ *      GPU thread, then the context is destroyed. The gpu struct stays valid: resumed
+ *      handlers still read its renderer string, late submits get "shutting_down";
  *   3. wait (briefly) until the resumed requests have been answered, stop the HTTP daemon;
- *   4. close the store.
+ *   4. free the gpu struct, close the store.
  */
 #include <dirent.h>
 #include <pthread.h>
@@ -168,10 +169,11 @@ static int run(const struct config *cfg)
     sigwait(&stop_signals, &sig);
     log_info("main", "signal %d: shutting down", sig);
     http_server_quiesce(http);
-    gpu_destroy(gpu, &final);
+    gpu_stop(gpu, &final); /* resumed requests still read gpu_info: free it after HTTP */
     if (!http_server_wait_idle(http, 3000))
         log_warn("main", "requests still in progress after 3 s; closing them");
     http_server_stop(http);
+    gpu_destroy(gpu, NULL);
     store_close(store);
     log_info("main", "stopped");
     return 0;

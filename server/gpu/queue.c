@@ -205,16 +205,27 @@ struct gpu *gpu_create(const struct gpu_desc *desc, struct err *e)
     return g;
 }
 
-void gpu_destroy(struct gpu *g, struct gpu_work *final)
+void gpu_stop(struct gpu *g, struct gpu_work *final)
 {
     if (g == NULL)
         return;
     pthread_mutex_lock(&g->lock);
+    if (g->stopping) { /* stopped (or stopping) already: the first call's final runs */
+        pthread_mutex_unlock(&g->lock);
+        return;
+    }
     g->stopping = true;
     g->final_work = final;
     pthread_cond_broadcast(&g->wake);
     pthread_mutex_unlock(&g->lock);
     pthread_join(g->thread, NULL);
+}
+
+void gpu_destroy(struct gpu *g, struct gpu_work *final)
+{
+    if (g == NULL)
+        return;
+    gpu_stop(g, final);
     pthread_mutex_destroy(&g->lock);
     pthread_cond_destroy(&g->wake);
     free(g);

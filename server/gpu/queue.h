@@ -66,8 +66,14 @@ struct gpu *gpu_create(const struct gpu_desc *desc, struct err *e);
 
 /* Stops the thread: pending items are completed (maintenance runs, others get
  * SHUTTING_DOWN), then `final` (may be NULL) runs on the GPU thread so its owner can
- * release GL objects, then the context is destroyed and the thread joined. NULL is a
- * no-op. */
+ * release GL objects, then the context is destroyed and the thread joined. The struct
+ * stays valid: gpu_info still answers and gpu_submit answers SHUTTING_DOWN, so HTTP
+ * threads that were resumed by the drain can finish their answers. A second call is a
+ * no-op, as is NULL. */
+void gpu_stop(struct gpu *g, struct gpu_work *final);
+
+/* gpu_stop (if not yet done), then frees g. Call it only when no other thread can use
+ * g any more (after http_server_stop). NULL is a no-op. */
 void gpu_destroy(struct gpu *g, struct gpu_work *final);
 
 /* Queues w. Returns OK, or BUSY when the queue is full, or SHUTTING_DOWN; then w is not
