@@ -316,5 +316,10 @@ enum refract_code config_parse_args(struct config *c, int argc, char **argv, str
         if (rc != REFRACT_E_OK)
             return rc;
     }
+    /* A misspelt REFRACT_GPU must not silently mean auto. */
+    const char *env = getenv("REFRACT_GPU");
+    if (env != NULL && env[0] != '\0' && gpu_device_pref_parse(env) < 0)
+        return err_set(e, REFRACT_E_USAGE,
+                       "REFRACT_GPU=%s: expected auto, hardware or software (or unset it)", env);
     return REFRACT_E_OK;
 }
