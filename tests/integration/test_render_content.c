@@ -5,7 +5,8 @@
  *   - a blue-attenuating block looks yellow-ish in transmission (Beer-Lambert);
  *   - a glass sphere's silhouette is where the camera model puts it;
  *   - two renders of the same request are byte-identical;
- *   - PNG, JPEG and EXR come back with the right Content-Type and size.
+ *   - PNG, JPEG and EXR come back with the right Content-Type and size;
+ *   - exposure scales PNG radiance by 2^EV before the sRGB clamp; EXR stays linear.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -208,6 +209,53 @@ static void formats_and_sizes_are_honoured(struct test_daemon *d, const char *id
     refract_image_free(&img);
 }
 
+/* Exposure (proto/openapi.yaml): PNG = tonemap(2^EV L) with the clamp tone map, EXR is
+ * linear and ignores exposure. Decoding the PNG back to linear must give min(2^EV L, 1)
+ * up to 8-bit sRGB quantisation: half a step is at most 0.7% of the value above 0.1
+ * (about 2e-3 at 0.33) and below 8e-4 under it, so 1% + 1e-3. */
+static void exposure_scales_png_and_leaves_exr_linear(struct test_daemon *d, const char *id)
+{
+    struct refract_image exr = {0}, exr_bright = {0}, png0 = {0}, png_dark = {0};
+    struct io_image lin = {0}, p0 = {0}, pd = {0};
+    bool ok = render(d, id, "{\"format\": \"exr\"}", &exr) &&
+              render(d, id, "{\"format\": \"exr\", \"exposure\": 2}", &exr_bright) &&
+              render(d, id, "{\"format\": \"png\", \"tonemap\": \"clamp\"}", &png0) &&
+              render(d, id, "{\"format\": \"png\", \"tonemap\": \"clamp\", \"exposure\": -1.5}",
+                     &png_dark) &&
+              decode(&exr, &lin) && decode(&png0, &p0) && decode(&png_dark, &pd);
+    CHECK(ok);
+    if (ok) {
+        CHECK(exr.len == exr_bright.len && memcmp(exr.bytes, exr_bright.bytes, exr.len) == 0);
+        int checked = 0, bad = 0;
+        const double scale = pow(2.0, -1.5);
+        for (int i = 0; i < W * H; i++) {
+            for (int k = 0; k < 3; k++) {
+                double l = lin.rgba[i * 4 + k];
+                double want0 = fmin(l, 1.0), want_dark = fmin(l * scale, 1.0);
+                double got0 = p0.rgba[i * 4 + k], got_dark = pd.rgba[i * 4 + k];
+                checked++;
+                if (fabs(got0 - want0) > 1e-2 * want0 + 1e-3 ||
+                    fabs(got_dark - want_dark) > 1e-2 * want_dark + 1e-3) {
+                    if (bad++ < 3)
+                        fprintf(stderr,
+                                "  pixel %d channel %d: L %g, png %g (want %g), "
+                                "png -1.5 EV %g (want %g)\n",
+                                i, k, l, got0, want0, got_dark, want_dark);
+                }
+            }
+        }
+        printf("exposure: %d channel values checked, %d off\n", checked, bad);
+        CHECK_INT(bad, 0);
+    }
+    io_image_free(&lin);
+    io_image_free(&p0);
+    io_image_free(&pd);
+    refract_image_free(&exr);
+    refract_image_free(&exr_bright);
+    refract_image_free(&png0);
+    refract_image_free(&png_dark);
+}
+
 int main(void)
 {
     struct test_daemon d;
@@ -221,6 +269,7 @@ int main(void)
     blue_absorbing_block_looks_yellow(&d, absorber);
     same_request_renders_identical_bytes(&d, sphere);
     formats_and_sizes_are_honoured(&d, sphere);
+    exposure_scales_png_and_leaves_exr_linear(&d, sphere);
     CHECK_INT(test_daemon_stop(&d), 0);
     test_daemon_cleanup(&d);
     return test_summary("test_render_content");
