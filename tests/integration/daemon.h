@@ -45,6 +45,11 @@ int test_daemon_stop(struct test_daemon *d);
 /* Removes the temporary directory. */
 void test_daemon_cleanup(struct test_daemon *d);
 
+/* Runs $REFRACTD with args to completion (for start-up failures and --help; killed after
+ * 60 s) and returns its exit status (-1 if it did not exit normally); *output is a new
+ * string (caller frees) with its stdout and stderr. */
+int test_run_refractd(const char *const *args, char **output);
+
 /* Reads a file under $REFRACT_SOURCE_DIR (e.g. "proto/examples/glass_sphere.json"):
  * a new NUL-terminated buffer the caller frees, or NULL. */
 char *test_read_source_file(const char *relative, size_t *len);

@@ -252,3 +252,39 @@ bool test_error_is(const char *body, const char *code, const char *needle)
     cJSON_Delete(root);
     return ok;
 }
+
+int test_run_refractd(const char *const *args, char **output)
+{
+    *output = calloc(1, 65536);
+    char path[] = "/tmp/refract-run-XXXXXX";
+    int fd = mkstemp(path);
+    if (fd < 0 || *output == NULL)
+        return -1;
+    const char *argv[24];
+    int n = 0;
+    argv[n++] = getenv("REFRACTD");
+    for (int i = 0; args[i] && n < 23; i++)
+        argv[n++] = args[i];
+    argv[n] = NULL;
+    pid_t pid = fork();
+    if (pid == 0) {
+        dup2(fd, STDOUT_FILENO);
+        dup2(fd, STDERR_FILENO);
+        alarm(60);                           /* a start-up that does not fail runs forever */
+        setenv("XDG_STATE_HOME", "/tmp", 1); /* and must not write under $HOME */
+        execv(argv[0], (char *const *)argv);
+        _exit(127);
+    }
+    int st = 0, status = -1;
+    if (pid > 0 && waitpid(pid, &st, 0) == pid && WIFEXITED(st))
+        status = WEXITSTATUS(st);
+    close(fd);
+    FILE *f = fopen(path, "rb");
+    if (f) {
+        size_t got = fread(*output, 1, 65535, f);
+        (*output)[got] = '\0';
+        fclose(f);
+    }
+    unlink(path);
+    return status;
+}

@@ -17,41 +17,6 @@
 #include "daemon.h"
 #include "test.h"
 
-/* Runs refractd with args, stdout+stderr into *output; returns the exit status. */
-static int run_refractd(const char *const *args, char **output)
-{
-    char path[] = "/tmp/refract-config-XXXXXX";
-    int fd = mkstemp(path);
-    if (fd < 0)
-        return -1;
-    const char *argv[16];
-    int n = 0;
-    argv[n++] = getenv("REFRACTD");
-    for (int i = 0; args[i] && n < 15; i++)
-        argv[n++] = args[i];
-    argv[n] = NULL;
-    pid_t pid = fork();
-    if (pid == 0) {
-        dup2(fd, 1);
-        dup2(fd, 2);
-        execv(argv[0], (char *const *)argv);
-        _exit(127);
-    }
-    int st = 0, status = -1;
-    if (pid > 0 && waitpid(pid, &st, 0) == pid && WIFEXITED(st))
-        status = WEXITSTATUS(st);
-    close(fd);
-    FILE *f = fopen(path, "rb");
-    *output = calloc(1, 65536);
-    if (f) {
-        size_t got = fread(*output, 1, 65535, f);
-        (*output)[got] = '\0';
-        fclose(f);
-    }
-    unlink(path);
-    return status;
-}
-
 /* True when conf has an uncommented line "name value". */
 static bool conf_has_key(const char *conf, const char *name)
 {
@@ -67,7 +32,7 @@ static bool conf_has_key(const char *conf, const char *name)
 static void every_option_is_in_the_shipped_config(void)
 {
     char *help = NULL;
-    CHECK_INT(run_refractd((const char *[]){"--help", NULL}, &help), 0);
+    CHECK_INT(test_run_refractd((const char *[]){"--help", NULL}, &help), 0);
     char *conf = test_read_source_file("deploy/refractd.conf", NULL);
     CHECK(conf != NULL);
     int options = 0;
@@ -160,7 +125,7 @@ static void a_bad_config_file_names_file_and_line(void)
     CHECK(write(fd, text, sizeof text - 1) == (ssize_t)(sizeof text - 1));
     close(fd);
     char *out = NULL;
-    CHECK_INT(run_refractd((const char *[]){"--config", path, NULL}, &out), REFRACT_E_USAGE);
+    CHECK_INT(test_run_refractd((const char *[]){"--config", path, NULL}, &out), REFRACT_E_USAGE);
     char where[64];
     snprintf(where, sizeof where, "%s:2:", path);
     CHECK_CONTAINS(out, where);
@@ -171,7 +136,7 @@ static void a_bad_config_file_names_file_and_line(void)
     const char typo[] = "\nmax-image-dimm 7\n";
     CHECK(write(fd, typo, sizeof typo - 1) == (ssize_t)(sizeof typo - 1));
     close(fd);
-    CHECK_INT(run_refractd((const char *[]){"--config", path, NULL}, &out), REFRACT_E_USAGE);
+    CHECK_INT(test_run_refractd((const char *[]){"--config", path, NULL}, &out), REFRACT_E_USAGE);
     CHECK_CONTAINS(out, "unknown key \"max-image-dimm\"");
     free(out);
     unlink(path);

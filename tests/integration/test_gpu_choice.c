@@ -17,41 +17,6 @@
 #include "daemon.h"
 #include "test.h"
 
-/* Runs refractd (to completion: for start-up failures) with args; its output in *out. */
-static int run_refractd(const char *const *args, char **out)
-{
-    char path[] = "/tmp/refract-gpu-choice-XXXXXX";
-    int fd = mkstemp(path);
-    const char *argv[16];
-    int n = 0;
-    argv[n++] = getenv("REFRACTD");
-    for (int i = 0; args[i] && n < 15; i++)
-        argv[n++] = args[i];
-    argv[n] = NULL;
-    pid_t pid = fork();
-    if (pid == 0) {
-        dup2(fd, 1);
-        dup2(fd, 2);
-        alarm(60); /* a start-up that does not fail would otherwise run forever */
-        setenv("XDG_STATE_HOME", "/tmp", 1); /* and must not write under $HOME */
-        execv(argv[0], (char *const *)argv);
-        _exit(127);
-    }
-    int st = 0, status = -1;
-    if (pid > 0 && waitpid(pid, &st, 0) == pid && WIFEXITED(st))
-        status = WEXITSTATUS(st);
-    close(fd);
-    *out = calloc(1, 65536);
-    FILE *f = fopen(path, "rb");
-    if (f) {
-        size_t got = fread(*out, 1, 65535, f);
-        (*out)[got] = '\0';
-        fclose(f);
-    }
-    unlink(path);
-    return status;
-}
-
 /* Starts a daemon with args, returns its health JSON (caller frees) or NULL. */
 static char *health_of(const char *const *args)
 {
@@ -91,7 +56,7 @@ static void device_choice(void)
 
     setenv("REFRACT_GPU", "sofware", 1);
     char *out = NULL;
-    CHECK_INT(run_refractd((const char *[]){"--port", "0", NULL}, &out), REFRACT_E_USAGE);
+    CHECK_INT(test_run_refractd((const char *[]){"--port", "0", NULL}, &out), REFRACT_E_USAGE);
     CHECK_CONTAINS(out, "REFRACT_GPU=sofware");
     free(out);
     unsetenv("REFRACT_GPU");
@@ -101,8 +66,8 @@ static void device_choice(void)
         CHECK_CONTAINS(hw ? hw : "", "\"device\":\"hardware\"");
         free(hw);
     } else {
-        CHECK_INT(run_refractd((const char *[]){"--gpu", "hardware", "--port", "0", NULL}, &out),
-                  1);
+        CHECK_INT(
+            test_run_refractd((const char *[]){"--gpu", "hardware", "--port", "0", NULL}, &out), 1);
         CHECK_CONTAINS(out, "a hardware GPU was required");
         CHECK_CONTAINS(out, "device 0: software");
         CHECK_CONTAINS(out, "--gpu software");
@@ -125,7 +90,8 @@ static void shader_dir(void)
     snprintf(cmd, sizeof cmd, "sed -i '20s/.*/this is not GLSL;/' '%s/ray_march.glsl'", dir);
     CHECK_INT(system(cmd), 0);
     char *out = NULL;
-    CHECK_INT(run_refractd((const char *[]){"--shader-dir", dir, "--port", "0", NULL}, &out), 1);
+    CHECK_INT(test_run_refractd((const char *[]){"--shader-dir", dir, "--port", "0", NULL}, &out),
+              1);
     CHECK_CONTAINS(out, "ray_march.glsl:20");
     CHECK_CONTAINS(out, "compiling");
     free(out);
