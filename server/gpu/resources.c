@@ -47,6 +47,13 @@ static GLenum internal_format(enum gpu_texel_format f, size_t *texel_bytes)
     return GL_RGBA32F;
 }
 
+size_t gpu_texel_bytes(enum gpu_texel_format format)
+{
+    size_t bytes = 0;
+    internal_format(format, &bytes);
+    return bytes;
+}
+
 enum refract_code gpu_volume_create(const struct gpu_volume_desc *desc, struct gpu_volume *out,
                                     struct err *e)
 {
@@ -98,8 +105,8 @@ void gpu_volume_destroy(struct gpu_volume *v)
     memset(v, 0, sizeof *v);
 }
 
-enum refract_code gpu_volume_upload(struct gpu_volume *v, int x, int y, int z, int w, int h,
-                                    int d, int components, const float *data, struct err *e)
+enum refract_code gpu_volume_upload(struct gpu_volume *v, int x, int y, int z, int w, int h, int d,
+                                    int components, const float *data, struct err *e)
 {
     GLenum fmt = components == 1 ? GL_RED : GL_RGBA;
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
@@ -121,8 +128,7 @@ enum refract_code gpu_buffer_create(const char *label, size_t bytes, const void 
     if (label)
         glObjectLabel(GL_BUFFER, out->buf, -1, label);
     char what[160];
-    snprintf(what, sizeof what, "allocating buffer \"%s\" (%zu bytes)", label ? label : "?",
-             bytes);
+    snprintf(what, sizeof what, "allocating buffer \"%s\" (%zu bytes)", label ? label : "?", bytes);
     enum refract_code rc = gpu_check(what, e);
     if (rc != REFRACT_E_OK) {
         glDeleteBuffers(1, &out->buf);

@@ -23,6 +23,9 @@ enum gpu_texel_format {
     GPU_TEXEL_R32F = 3,
 };
 
+/* Bytes per texel of a format (GPU_TEXEL_DEFAULT is RGBA32F). */
+size_t gpu_texel_bytes(enum gpu_texel_format format);
+
 struct gpu_volume_desc {
     const char *label;
     int width, height, depth;     /* depth 0 = a 2D texture */
@@ -51,8 +54,8 @@ enum refract_code gpu_volume_create(const struct gpu_volume_desc *desc, struct g
                                     struct err *e);
 void gpu_volume_destroy(struct gpu_volume *v);
 /* Uploads floats (1 or 4 per texel as `components`) into the box at (x, y, z). */
-enum refract_code gpu_volume_upload(struct gpu_volume *v, int x, int y, int z, int w, int h,
-                                    int d, int components, const float *data, struct err *e);
+enum refract_code gpu_volume_upload(struct gpu_volume *v, int x, int y, int z, int w, int h, int d,
+                                    int components, const float *data, struct err *e);
 
 /* A storage buffer of `bytes`, optionally initialised from `data`. */
 enum refract_code gpu_buffer_create(const char *label, size_t bytes, const void *data,

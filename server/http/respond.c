@@ -79,26 +79,33 @@ static enum MHD_Result respond_error_text(struct http_request *req, enum refract
     return queue(req, (unsigned)status, text, strlen(text), "application/json", headers);
 }
 
+__attribute__((format(printf, 4, 0))) static enum MHD_Result
+respond_error_v(struct http_request *req, const char *const *headers, enum refract_code code,
+                const char *fmt, va_list ap)
+{
+    char message[ERR_MSG_MAX];
+    vsnprintf(message, sizeof message, fmt, ap);
+    return respond_error_text(req, code, message, headers);
+}
+
 enum MHD_Result http_respond_error(struct http_request *req, enum refract_code code,
                                    const char *fmt, ...)
 {
-    char message[ERR_MSG_MAX];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(message, sizeof message, fmt, ap);
+    enum MHD_Result r = respond_error_v(req, NULL, code, fmt, ap);
     va_end(ap);
-    return respond_error_text(req, code, message, NULL);
+    return r;
 }
 
 enum MHD_Result http_respond_error_with(struct http_request *req, const char *const *headers,
                                         enum refract_code code, const char *fmt, ...)
 {
-    char message[ERR_MSG_MAX];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(message, sizeof message, fmt, ap);
+    enum MHD_Result r = respond_error_v(req, headers, code, fmt, ap);
     va_end(ap);
-    return respond_error_text(req, code, message, headers);
+    return r;
 }
 
 enum MHD_Result http_respond_err(struct http_request *req, const struct err *e)

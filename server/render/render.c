@@ -123,20 +123,9 @@ static struct scene_gpu *cache_get(struct render *r, const struct render_scene_s
     }
     bool built = false;
     if (found == NULL) {
-        found = scene_gpu_build(r->gpu, src, e);
+        found = scene_gpu_build(r->gpu, src, r->budget_bytes, e);
         if (found == NULL)
             return NULL;
-        if (found->bytes > r->budget_bytes) {
-            /* Evicting everything else would not make it fit: refuse it by name rather
-             * than hold more GPU memory than the operator allowed. */
-            err_set(e, REFRACT_E_GPU_OUT_OF_MEMORY,
-                    "scene %s needs %.1f MiB of GPU memory, more than the whole "
-                    "--gpu-scene-budget of %.1f MiB; raise the budget or lower the scene's "
-                    "resolution",
-                    src->id, (double)found->bytes / 1048576.0, (double)r->budget_bytes / 1048576.0);
-            scene_gpu_destroy(found);
-            return NULL;
-        }
         cache_make_room(r, found->bytes, NULL);
         r->cache[r->cache_count++] = found;
         r->cache_bytes += found->bytes;

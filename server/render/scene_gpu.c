@@ -26,7 +26,8 @@ struct build_ctx {
     const struct render_scene_source *src;
     struct scene_gpu *sg;
     struct gpu_buffer field_a, field_b, ubo;
-    float *host; /* scratch: the largest object's voxels * 4 floats */
+    float *host;      /* scratch: the largest object's voxels * 4 floats */
+    size_t max_bytes; /* refuse beyond this (the --gpu-scene-budget); 0 = no cap */
 };
 
 static enum refract_code make_standin(struct gpu_volume *v, const char *label, bool is_3d,
@@ -49,13 +50,40 @@ static bool channel_used_anywhere(const struct scene *s, enum scene_channel ch)
     return false;
 }
 
+/* Bytes the atlases and the environment will take (stand-ins of a texel not counted). */
+static size_t planned_bytes(const struct build_ctx *b)
+{
+    const struct scene *s = b->src->scene;
+    size_t voxels = (size_t)b->sg->atlas_size[0] * b->sg->atlas_size[1] * b->sg->atlas_size[2];
+    size_t bytes = voxels * gpu_texel_bytes(GPU_TEXEL_RGBA32F);
+    const enum scene_channel others[] = {SCENE_CH_ATTENUATION, SCENE_CH_EMISSION, SCENE_CH_OPAQUE};
+    for (size_t c = 0; c < sizeof others / sizeof others[0]; c++)
+        if (channel_used_anywhere(s, others[c]))
+            bytes += voxels * gpu_texel_bytes(GPU_TEXEL_RGBA16F);
+    if (s->environment.kind == SCENE_ENV_IMAGE && b->src->env_rgba != NULL)
+        bytes +=
+            (size_t)b->src->env_width * b->src->env_height * gpu_texel_bytes(GPU_TEXEL_DEFAULT);
+    return bytes;
+}
+
 static enum refract_code check_limits(const struct build_ctx *b, struct err *e)
 {
     const struct scene *s = b->src->scene;
+    size_t bytes = planned_bytes(b);
+    if (b->max_bytes > 0 && bytes > b->max_bytes)
+        /* Evicting every other scene would not make it fit: refuse it by name rather
+         * than hold more GPU memory than the operator allowed. */
+        return err_set(e, REFRACT_E_GPU_OUT_OF_MEMORY,
+                       "scene %s needs %.1f MiB of GPU memory, more than the whole "
+                       "--gpu-scene-budget of %.1f MiB; raise the budget or lower the scene's "
+                       "resolution",
+                       b->src->id, (double)bytes / 1048576.0, (double)b->max_bytes / 1048576.0);
     int max3d = gpu_info(b->gpu)->max_3d_texture_size;
     if (s->object_count > MAX_OBJECTS)
-        return err_set(e, REFRACT_E_LIMIT_EXCEEDED, "objects: %zu objects, the renderer "
-                       "handles at most %d per scene", s->object_count, MAX_OBJECTS);
+        return err_set(e, REFRACT_E_LIMIT_EXCEEDED,
+                       "objects: %zu objects, the renderer "
+                       "handles at most %d per scene",
+                       s->object_count, MAX_OBJECTS);
     for (int a = 0; a < 3; a++) {
         if (b->sg->atlas_size[a] > max3d)
             return err_set(e, REFRACT_E_LIMIT_EXCEEDED,
@@ -148,8 +176,8 @@ static enum refract_code build_ior(struct build_ctx *b, size_t i, struct err *e)
     const struct scene_object *obj = &s->objects[i];
     const struct gpu_programs *progs = gpu_programs_get(b->gpu);
     size_t voxels = (size_t)obj->resolution[0] * obj->resolution[1] * obj->resolution[2];
-    enum refract_code rc = scene_field_eval(s, obj, SCENE_CH_IOR, b->src->lookup,
-                                            b->src->lookup_ctx, b->host, e);
+    enum refract_code rc =
+        scene_field_eval(s, obj, SCENE_CH_IOR, b->src->lookup, b->src->lookup_ctx, b->host, e);
     if (rc != REFRACT_E_OK)
         return err_prefix(e, "objects[%zu].ior: ", i);
     glNamedBufferSubData(b->field_a.buf, 0, (GLsizeiptr)(voxels * sizeof(float)), b->host);
@@ -164,8 +192,8 @@ static enum refract_code build_ior(struct build_ctx *b, size_t i, struct err *e)
         GLuint bufs[2] = {b->field_a.buf, b->field_b.buf};
         for (int axis = 0; axis < 3; axis++) {
             vp.resolution.w = axis;
-            dispatch_volume(b, gpu_program_get(progs, GPU_KERNEL_SMOOTH_IOR, 0), &vp, bufs[axis % 2],
-                            bufs[(axis + 1) % 2]);
+            dispatch_volume(b, gpu_program_get(progs, GPU_KERNEL_SMOOTH_IOR, 0), &vp,
+                            bufs[axis % 2], bufs[(axis + 1) % 2]);
         }
         src_buf = b->field_b.buf; /* x: a->b, y: b->a, z: a->b */
     }
@@ -183,8 +211,8 @@ static enum refract_code build_channel(struct build_ctx *b, size_t i, enum scene
     const struct scene_object *obj = &s->objects[i];
     if (!scene_channel_used(obj, ch))
         return REFRACT_E_OK;
-    enum refract_code rc = scene_field_eval(s, obj, ch, b->src->lookup, b->src->lookup_ctx,
-                                            b->host, e);
+    enum refract_code rc =
+        scene_field_eval(s, obj, ch, b->src->lookup, b->src->lookup_ctx, b->host, e);
     if (rc != REFRACT_E_OK)
         return err_prefix(e, "objects[%zu].%s: ", i, scene_channel_name(ch));
     return gpu_volume_upload(atlas, 0, 0, b->sg->objects[i].atlas_z, obj->resolution[0],
@@ -203,15 +231,13 @@ static enum refract_code build_environment(struct build_ctx *b, struct err *e)
                        "environment.type is \"image\" but no environment image was uploaded; "
                        "upload one with PUT /v1/scenes/%s/environment",
                        src->id);
-    struct gpu_volume_desc d = {.label = label,
-                                .width = src->env_width,
-                                .height = src->env_height,
-                                .wrap_repeat_s = 1};
+    struct gpu_volume_desc d = {
+        .label = label, .width = src->env_width, .height = src->env_height, .wrap_repeat_s = 1};
     enum refract_code rc = gpu_volume_create(&d, &b->sg->environment, e);
     if (rc != REFRACT_E_OK)
         return rc;
-    return gpu_volume_upload(&b->sg->environment, 0, 0, 0, src->env_width, src->env_height, 1,
-                             4, src->env_rgba, e);
+    return gpu_volume_upload(&b->sg->environment, 0, 0, 0, src->env_width, src->env_height, 1, 4,
+                             src->env_rgba, e);
 }
 
 static enum refract_code alloc_scratch(struct build_ctx *b, struct err *e)
@@ -227,11 +253,10 @@ static enum refract_code alloc_scratch(struct build_ctx *b, struct err *e)
     b->host = malloc(max_voxels * 4 * sizeof(float));
     if (b->host == NULL)
         return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of host memory evaluating fields");
-    enum refract_code rc = gpu_buffer_create("field scratch a", max_voxels * sizeof(float), NULL,
-                                             &b->field_a, e);
+    enum refract_code rc =
+        gpu_buffer_create("field scratch a", max_voxels * sizeof(float), NULL, &b->field_a, e);
     if (rc == REFRACT_E_OK)
-        rc = gpu_buffer_create("field scratch b", max_voxels * sizeof(float), NULL, &b->field_b,
-                               e);
+        rc = gpu_buffer_create("field scratch b", max_voxels * sizeof(float), NULL, &b->field_b, e);
     if (rc == REFRACT_E_OK)
         rc = gpu_buffer_create("volume params", sizeof(struct volume_params), NULL, &b->ubo, e);
     return rc;
@@ -277,7 +302,7 @@ static enum refract_code build_all(struct build_ctx *b, struct err *e)
 }
 
 struct scene_gpu *scene_gpu_build(struct gpu *gpu, const struct render_scene_source *src,
-                                  struct err *e)
+                                  size_t max_bytes, struct err *e)
 {
     double t0 = gpu_time_ms();
     struct scene_gpu *sg = calloc(1, sizeof *sg);
@@ -287,7 +312,7 @@ struct scene_gpu *scene_gpu_build(struct gpu *gpu, const struct render_scene_sou
     }
     snprintf(sg->id, sizeof sg->id, "%s", src->id);
     sg->generation = src->generation;
-    struct build_ctx b = {.gpu = gpu, .src = src, .sg = sg};
+    struct build_ctx b = {.gpu = gpu, .src = src, .sg = sg, .max_bytes = max_bytes};
     enum refract_code rc = build_all(&b, e);
     gpu_buffer_destroy(&b.field_a);
     gpu_buffer_destroy(&b.field_b);
@@ -297,10 +322,11 @@ struct scene_gpu *scene_gpu_build(struct gpu *gpu, const struct render_scene_sou
         scene_gpu_destroy(sg);
         return NULL;
     }
-    sg->bytes = sg->ior_grad.bytes + sg->attenuation.bytes + sg->emission.bytes +
-                sg->opaque.bytes + sg->environment.bytes;
+    sg->bytes = sg->ior_grad.bytes + sg->attenuation.bytes + sg->emission.bytes + sg->opaque.bytes +
+                sg->environment.bytes;
     sg->build_ms = gpu_time_ms() - t0;
-    log_info("render", "built scene %s (generation %llu): %zu objects, atlas %dx%dx%d, %.1f MiB, "
+    log_info("render",
+             "built scene %s (generation %llu): %zu objects, atlas %dx%dx%d, %.1f MiB, "
              "%.0f ms",
              sg->id, (unsigned long long)sg->generation, sg->object_count, sg->atlas_size[0],
              sg->atlas_size[1], sg->atlas_size[2], (double)sg->bytes / 1048576.0, sg->build_ms);

@@ -42,9 +42,10 @@ struct scene_gpu {
 
 /* Builds a new scene_gpu from src. Returns it (destroy with scene_gpu_destroy) or NULL with
  * e filled (CONFLICT for a missing volume or environment, LIMIT_EXCEEDED for atlases
- * beyond GL_MAX_3D_TEXTURE_SIZE, GPU_OUT_OF_MEMORY). */
+ * beyond GL_MAX_3D_TEXTURE_SIZE, GPU_OUT_OF_MEMORY from the driver, or before anything
+ * is allocated when the textures would need more than max_bytes; 0 = no cap). */
 struct scene_gpu *scene_gpu_build(struct gpu *gpu, const struct render_scene_source *src,
-                                  struct err *e);
+                                  size_t max_bytes, struct err *e);
 void scene_gpu_destroy(struct scene_gpu *sg);
 
 #endif

@@ -457,11 +457,12 @@ static enum refract_code syntax_error(const char *text, size_t len, size_t off, 
  *  - a raw control character inside a string is not JSON (RFC 8259 sect. 7) and a raw
  *    NUL would end the C string early: returns its offset as an error;
  *  - the escape \u0000 is valid JSON but cJSON decodes it into a C string that silently
- *    ends there ("a\u0000b" would become "a"). *nul_escapes counts them; the caller
- *    rewrites them to \u001f so the value keeps its length and jr_string rejects it as a
- *    control character by name.
+ *    ends there ("a\u0000b" would become "a"). *nul_escapes counts them, and when
+ *    `rewrite` (a same-length copy of text, or NULL) is given they become \u001f there,
+ *    so the value keeps its length and jr_string rejects it as a control character by
+ *    name.
  * Returns len when the strings are clean. */
-static size_t scan_strings(const char *text, size_t len, size_t *nul_escapes)
+static size_t scan_strings(const char *text, size_t len, size_t *nul_escapes, char *rewrite)
 {
     bool in_string = false;
     *nul_escapes = 0;
@@ -474,28 +475,15 @@ static size_t scan_strings(const char *text, size_t len, size_t *nul_escapes)
         } else if (c == '"') {
             in_string = false;
         } else if (c == '\\' && i + 1 < len) {
-            if (text[i + 1] == 'u' && i + 5 < len && memcmp(text + i + 2, "0000", 4) == 0)
+            if (text[i + 1] == 'u' && i + 5 < len && memcmp(text + i + 2, "0000", 4) == 0) {
                 (*nul_escapes)++;
+                if (rewrite != NULL)
+                    memcpy(rewrite + i + 2, "001f", 4);
+            }
             i++;
         }
     }
     return len;
-}
-
-static void rewrite_nul_escapes(char *text, size_t len)
-{
-    bool in_string = false;
-    for (size_t i = 0; i < len; i++) {
-        if (!in_string) {
-            in_string = text[i] == '"';
-        } else if (text[i] == '"') {
-            in_string = false;
-        } else if (text[i] == '\\' && i + 1 < len) {
-            if (text[i + 1] == 'u' && i + 5 < len && memcmp(text + i + 2, "0000", 4) == 0)
-                memcpy(text + i + 2, "001f", 4);
-            i++;
-        }
-    }
 }
 
 static enum refract_code parse_clean(const char *text, size_t len, cJSON **out, struct err *e);
@@ -505,7 +493,7 @@ enum refract_code jr_parse(const char *text, size_t len, cJSON **out, struct err
     *out = NULL;
     if (text == NULL)
         return parse_clean(text, len, out, e);
-    size_t nul_escapes = 0, bad = scan_strings(text, len, &nul_escapes);
+    size_t nul_escapes = 0, bad = scan_strings(text, len, &nul_escapes, NULL);
     if (bad < len) {
         char what[96];
         snprintf(what, sizeof what,
@@ -519,7 +507,7 @@ enum refract_code jr_parse(const char *text, size_t len, cJSON **out, struct err
     if (copy == NULL)
         return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory parsing JSON");
     memcpy(copy, text, len);
-    rewrite_nul_escapes(copy, len);
+    scan_strings(text, len, &nul_escapes, copy);
     enum refract_code rc = parse_clean(copy, len, out, e);
     free(copy);
     return rc;

@@ -306,9 +306,7 @@ enum refract_code store_scene_delete(struct store *s, const char *id, struct err
     if (slot == NULL) {
         pthread_mutex_unlock(&s->lock);
         return err_set(e, REFRACT_E_SCENE_NOT_FOUND,
-                       "no scene with id \"%s\"; GET /v1/scenes "
-                       "lists the scenes",
-                       id);
+                       "no scene with id \"%s\"; GET /v1/scenes lists the scenes", id);
     }
     struct store_scene *v = slot->current;
     *slot = s->slots[--s->slot_count];

@@ -38,7 +38,7 @@ static void build_run(struct gpu_work *w, struct gpu *gpu)
 {
     struct build_work *b = w->user;
     struct render_scene_source src = {.id = "kernels", .generation = 1, .scene = b->scene};
-    b->sg = scene_gpu_build(gpu, &src, &w->err);
+    b->sg = scene_gpu_build(gpu, &src, 0, &w->err);
     if (b->sg == NULL)
         return;
     memcpy(b->atlas_size, b->sg->atlas_size, sizeof b->atlas_size);

@@ -45,6 +45,10 @@ int test_daemon_stop(struct test_daemon *d);
 /* Removes the temporary directory. */
 void test_daemon_cleanup(struct test_daemon *d);
 
+/* Writes "$TMPDIR/<stem>-XXXXXX" (TMPDIR defaults to /tmp): a template for mkstemp or
+ * mkdtemp, so every temporary file of the tests lands where TMPDIR says. */
+void test_temp_template(char *buf, size_t size, const char *stem);
+
 /* Runs $REFRACTD with args to completion (for start-up failures and --help; killed after
  * 60 s) and returns its exit status (-1 if it did not exit normally); *output is a new
  * string (caller frees) with its stdout and stderr. */

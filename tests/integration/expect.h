@@ -121,4 +121,31 @@ static inline char *expect_status_at(const char *file, int line, struct test_dae
 #define EXPECT_STATUS(d, method, path, json, status)                                               \
     expect_status_at(__FILE__, __LINE__, (d), (method), (path), (json), (status))
 
+/* A table row: a JSON body sent to one route and the error it must get. `line` is the
+ * row's __LINE__, so a failure points at the row. */
+struct json_error_case {
+    int line;
+    const char *json;
+    long status;
+    const char *code;
+    const char *needles[3];
+};
+
+/* Sends every case's body to method path (Content-Type application/json); failures name
+ * file:line of the row. */
+static inline void expect_json_error_cases_at(const char *file, struct test_daemon *d,
+                                              const char *method, const char *path,
+                                              const struct json_error_case *cases, size_t count)
+{
+    for (size_t i = 0; i < count; i++) {
+        const struct json_error_case *c = &cases[i];
+        const char *needles[4] = {c->needles[0], c->needles[1], c->needles[2], NULL};
+        expect_error_at(file, c->line, d, method, path, c->json, strlen(c->json),
+                        "application/json", c->status, c->code, needles);
+    }
+}
+#define EXPECT_JSON_ERROR_CASES(d, method, path, cases)                                            \
+    expect_json_error_cases_at(__FILE__, (d), (method), (path), (cases),                           \
+                               sizeof(cases) / sizeof((cases)[0]))
+
 #endif

@@ -15,6 +15,17 @@
 #include <time.h>
 #include <unistd.h>
 
+static const char *temp_dir(void)
+{
+    const char *t = getenv("TMPDIR");
+    return t && t[0] ? t : "/tmp";
+}
+
+void test_temp_template(char *buf, size_t size, const char *stem)
+{
+    snprintf(buf, size, "%s/%s-XXXXXX", temp_dir(), stem);
+}
+
 static void sleep_ms(int ms)
 {
     struct timespec ts = {.tv_sec = ms / 1000, .tv_nsec = (long)(ms % 1000) * 1000000L};
@@ -84,8 +95,7 @@ bool test_daemon_start_in(struct test_daemon *d, const char *data_dir,
                  bin ? bin : "unset");
         return false;
     }
-    snprintf(d->dir, sizeof d->dir, "%s/refract-test-XXXXXX",
-             getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
+    test_temp_template(d->dir, sizeof d->dir, "refract-test");
     if (mkdtemp(d->dir) == NULL) {
         snprintf(d->why, sizeof d->why, "mkdtemp failed: %s", strerror(errno));
         return false;
@@ -171,7 +181,7 @@ int test_daemon_stop(struct test_daemon *d)
 static void remove_tree(const char *path)
 {
     char cmd[600];
-    if (strncmp(path, "/tmp/refract-test-", 18) != 0 && strstr(path, "/refract-test-") == NULL)
+    if (strstr(path, "/refract-test-") == NULL)
         return; /* only ever our own temporary directories */
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", path);
     if (system(cmd) != 0)
@@ -256,7 +266,8 @@ bool test_error_is(const char *body, const char *code, const char *needle)
 int test_run_refractd(const char *const *args, char **output)
 {
     *output = calloc(1, 65536);
-    char path[] = "/tmp/refract-run-XXXXXX";
+    char path[512];
+    test_temp_template(path, sizeof path, "refract-run");
     int fd = mkstemp(path);
     if (fd < 0 || *output == NULL)
         return -1;
@@ -270,8 +281,8 @@ int test_run_refractd(const char *const *args, char **output)
     if (pid == 0) {
         dup2(fd, STDOUT_FILENO);
         dup2(fd, STDERR_FILENO);
-        alarm(60);                           /* a start-up that does not fail runs forever */
-        setenv("XDG_STATE_HOME", "/tmp", 1); /* and must not write under $HOME */
+        alarm(60);                               /* a start-up that does not fail runs forever */
+        setenv("XDG_STATE_HOME", temp_dir(), 1); /* and must not write under $HOME */
         execv(argv[0], (char *const *)argv);
         _exit(127);
     }

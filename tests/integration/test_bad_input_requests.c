@@ -314,17 +314,9 @@ static void undecodable_environments_get_invalid_image(struct test_daemon *d, co
 
 /* ---- POST /v1/scenes/{id}/render ----------------------------------------------------------- */
 
-struct request_case {
-    int line;
-    const char *json;
-    long status;
-    const char *code;
-    const char *needles[3];
-};
-
 /* Render requests against VALID_SCENE and the error each must get. */
 /* clang-format off */
-static const struct request_case render_cases[] = {
+static const struct json_error_case render_cases[] = {
     {__LINE__, "{\"format\": ", 400, "invalid_json", {"invalid JSON at byte 10", "truncated"}},
     {__LINE__, "{\"format\": \"png\"} {}", 400, "invalid_json",
      {"unexpected text after the JSON document"}},
@@ -391,12 +383,7 @@ static void bad_render_requests_get_their_errors(struct test_daemon *d, const ch
     EXPECT_ERROR(d, "POST", render, big, 413, "body_too_large", "exceeds the limit of 65536 bytes",
                  "--max-json-bytes");
     free(big);
-    for (size_t i = 0; i < sizeof render_cases / sizeof render_cases[0]; i++) {
-        const struct request_case *c = &render_cases[i];
-        const char *needles[4] = {c->needles[0], c->needles[1], c->needles[2], NULL};
-        expect_error_at(__FILE__, c->line, d, "POST", render, c->json, strlen(c->json),
-                        "application/json", c->status, c->code, needles);
-    }
+    EXPECT_JSON_ERROR_CASES(d, "POST", render, render_cases);
 }
 
 /* A scene that needs an upload it does not have renders as 409 conflict, saying what to
@@ -445,7 +432,7 @@ static void missing_uploads_are_conflicts_until_uploaded(struct test_daemon *d)
 /* ---- POST /v1/scenes/{id}/trace ------------------------------------------------------------- */
 
 /* clang-format off */
-static const struct request_case trace_cases[] = {
+static const struct json_error_case trace_cases[] = {
     {__LINE__, "", 400, "invalid_json", {"empty"}},
     {__LINE__, "{\"rays\": [", 400, "invalid_json", {"invalid JSON at byte 9", "truncated"}},
     {__LINE__, "{}", 400, "missing_field", {"rays: missing required field"}},
@@ -488,12 +475,7 @@ static void bad_trace_requests_get_their_errors(struct test_daemon *d, const cha
     EXPECT_ERROR(d, "POST", "/v1/scenes/nope/trace", "{\"rays\": [" ONE_RAY "]}", 404,
                  "scene_not_found", "\"nope\"");
     const char *trace = path_of(p, sizeof p, id, "/trace");
-    for (size_t i = 0; i < sizeof trace_cases / sizeof trace_cases[0]; i++) {
-        const struct request_case *c = &trace_cases[i];
-        const char *needles[4] = {c->needles[0], c->needles[1], c->needles[2], NULL};
-        expect_error_at(__FILE__, c->line, d, "POST", trace, c->json, strlen(c->json),
-                        "application/json", c->status, c->code, needles);
-    }
+    EXPECT_JSON_ERROR_CASES(d, "POST", trace, trace_cases);
     /* --max-rays rays are fine. */
     char *body = EXPECT_STATUS(
         d, "POST", trace, "{\"rays\": [" ONE_RAY ", " ONE_RAY ", " ONE_RAY ", " ONE_RAY "]}", 200);

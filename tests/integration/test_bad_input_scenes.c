@@ -128,17 +128,9 @@ static void unknown_paths_are_404_and_wrong_methods_are_405(struct test_daemon *
 
 /* ---- POST /v1/scenes ---------------------------------------------------------------------- */
 
-struct scene_case {
-    int line;
-    const char *json;
-    long status;
-    const char *code;
-    const char *needles[3];
-};
-
 /* Scene documents and the error each must get; the limits are daemon_args'. */
 /* clang-format off */
-static const struct scene_case scene_cases[] = {
+static const struct json_error_case scene_cases[] = {
     /* syntax */
     {__LINE__, "", 400, "invalid_json", {"empty"}},
     {__LINE__, "  \n\t ", 400, "invalid_json", {"empty"}},
@@ -262,12 +254,7 @@ static const struct scene_case scene_cases[] = {
 static void each_bad_scene_document_gets_its_error(struct test_daemon *d)
 {
     section("POST /v1/scenes");
-    for (size_t i = 0; i < sizeof scene_cases / sizeof scene_cases[0]; i++) {
-        const struct scene_case *c = &scene_cases[i];
-        const char *needles[4] = {c->needles[0], c->needles[1], c->needles[2], NULL};
-        expect_error_at(__FILE__, c->line, d, "POST", "/v1/scenes", c->json, strlen(c->json),
-                        "application/json", c->status, c->code, needles);
-    }
+    EXPECT_JSON_ERROR_CASES(d, "POST", "/v1/scenes", scene_cases);
 }
 
 /* Cases whose bodies a string literal cannot hold: deep nesting, a raw NUL byte, a body

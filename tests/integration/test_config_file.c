@@ -83,7 +83,8 @@ static void the_shipped_config_starts_the_daemon(void)
 
 static void config_values_take_effect_and_flags_override_them(void)
 {
-    char path[] = "/tmp/refract-conf-XXXXXX";
+    char path[512];
+    test_temp_template(path, sizeof path, "refract-conf");
     int fd = mkstemp(path);
     CHECK(fd >= 0);
     const char text[] = "# test\nmax-image-dim 100\nmax-rays 7\n  max-steps 3000  \n"
@@ -119,14 +120,15 @@ static void config_values_take_effect_and_flags_override_them(void)
 
 static void a_bad_config_file_names_file_and_line(void)
 {
-    char path[] = "/tmp/refract-conf-XXXXXX";
+    char path[512];
+    test_temp_template(path, sizeof path, "refract-conf");
     int fd = mkstemp(path);
     const char text[] = "max-rays 7\nmax-steps lots\n";
     CHECK(write(fd, text, sizeof text - 1) == (ssize_t)(sizeof text - 1));
     close(fd);
     char *out = NULL;
     CHECK_INT(test_run_refractd((const char *[]){"--config", path, NULL}, &out), REFRACT_E_USAGE);
-    char where[64];
+    char where[600];
     snprintf(where, sizeof where, "%s:2:", path);
     CHECK_CONTAINS(out, where);
     CHECK_CONTAINS(out, "max-steps lots");

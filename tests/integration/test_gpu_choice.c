@@ -77,7 +77,8 @@ static void device_choice(void)
 
 static void shader_dir(void)
 {
-    char dir[] = "/tmp/refract-shaders-XXXXXX";
+    char dir[512];
+    test_temp_template(dir, sizeof dir, "refract-shaders");
     CHECK(mkdtemp(dir) != NULL);
     char cmd[1024];
     snprintf(cmd, sizeof cmd, "cp '%s'/shaders/* '%s'/", getenv("REFRACT_SOURCE_DIR"), dir);

@@ -21,6 +21,7 @@
 
 #include "core/env.h"
 #include "daemon.h"
+#include "parse_scene.h"
 #include "io/io_image.h"
 #include "scene/scene_reference.h"
 #include "test.h"
@@ -63,19 +64,9 @@ struct bounds {
 };
 static struct bounds bounds = {0.96, 0.995, 1e-3};
 
-static struct scene *parse(const char *json)
-{
-    struct scene *s = NULL;
-    struct scene_limits lim = scene_limits_default();
-    struct err e = {0};
-    if (scene_parse(json, strlen(json), &lim, &s, &e) != REFRACT_E_OK)
-        fprintf(stderr, "scene: %s\n", e.msg);
-    return s;
-}
-
 static void render_matches_reference(struct test_daemon *d, const char *name, const char *json)
 {
-    struct scene *s = parse(json);
+    struct scene *s = test_parse_scene(json);
     char id[REFRACT_ID_SIZE];
     CHECK(s != NULL);
     CHECK(test_create_scene(d, json, id));

@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "daemon.h"
+#include "parse_scene.h"
 #include "scene/scene_reference.h"
 #include "test.h"
 
@@ -87,16 +88,6 @@ static int gpu_trace(struct test_daemon *d, const char *id, const struct ray *ra
     cJSON_Delete(root);
     refract_free(json);
     return count;
-}
-
-static struct scene *parse(const char *json)
-{
-    struct scene *s = NULL;
-    struct scene_limits lim = scene_limits_default();
-    struct err e = {0};
-    if (scene_parse(json, strlen(json), &lim, &s, &e) != REFRACT_E_OK)
-        fprintf(stderr, "scene: %s\n", e.msg);
-    return s;
 }
 
 static double angle_between(vec3 a, vec3 b)
@@ -173,7 +164,7 @@ static bool trace_both_ways(struct test_daemon *d, const char *json, const char 
 {
     memset(t, 0, sizeof *t);
     char id[REFRACT_ID_SIZE];
-    t->scene = parse(json);
+    t->scene = test_parse_scene(json);
     if (t->scene == NULL || n > MAX_CHECK_RAYS || !test_create_scene(d, json, id)) {
         CHECK(false);
         return false;
