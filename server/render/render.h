@@ -25,6 +25,8 @@
 #include "../gpu/queue.h"
 #include "../scene/scene.h"
 
+struct irradiance_gpu; /* server/lightsim/lightsim_gpu.h */
+
 struct render;
 
 struct render_desc {
@@ -48,9 +50,25 @@ struct render_scene_status {
     bool built_now;     /* this call built it */
 };
 
+/* One light as the view renderer sees it (tevs2007 eqs. 5.4-5.8). The irradiance volume
+ * is borrowed from the irradiance cache for the call (GPU thread). */
+struct render_light {
+    enum scene_light_kind kind;
+    vec3 position, direction; /* world; direction unit, the way light travels */
+    double cos_spot;          /* spot: cos of the cone half angle */
+    double scale[3];          /* colour * intensity: multiplies the unit-light volume */
+    const struct irradiance_gpu *volume; /* NULL: no irradiance for this light (yet) */
+};
+
 struct render_view_request {
     struct scene_camera camera;
     struct scene_render_settings settings; /* exposure and tonemap are not used here */
+    /* Lights with their irradiance volumes (may be 0). A light whose volume is NULL
+     * contributes nothing: the renderer never invents light it has not simulated, except
+     * in scenes that need no light simulation (scene_needs_light_simulation false), where
+     * boundary reflections L_r use the unshadowed direct light (docs/rendering.md). */
+    const struct render_light *lights;
+    int light_count;
 };
 
 struct render_view_result {

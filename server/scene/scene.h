@@ -34,7 +34,10 @@ enum scene_channel {
     SCENE_CH_ATTENUATION = 1, /* RGB sigma_a per world unit (tevs2007 eq. 3.4, 5.9) */
     SCENE_CH_EMISSION = 2,    /* RGB emitted radiance per world unit (L_e, eq. 5.4) */
     SCENE_CH_OPAQUE = 3,      /* RGB opaque colour; coverage is the 4th component */
-    SCENE_CH_COUNT = 4,
+    SCENE_CH_SCATTERING = 4,  /* RGB scattering coefficient sigma_s per world unit (eq. 5.4's
+                                 scattering strength: albedo = sigma_s / (sigma_a + sigma_s)) */
+    SCENE_CH_ANISOTROPY = 5,  /* 1 component: Henyey-Greenstein g in [-0.99, 0.99] (eq. 5.5) */
+    SCENE_CH_COUNT = 6,
 };
 
 enum scene_layer_kind {
@@ -51,6 +54,7 @@ enum scene_shape_kind {
     SCENE_SHAPE_CYLINDER = 3,
     SCENE_SHAPE_LATHE = 4,
     SCENE_SHAPE_TEXT = 5,
+    SCENE_SHAPE_BUMPY_SPHERE = 6, /* sphere whose radius is modulated: caustic cusps (hard case) */
 };
 
 /* All lengths in object-space units of the owning object. */
@@ -66,6 +70,8 @@ struct scene_shape {
     size_t profile_count;
     char *text;           /* text: printable ASCII; owned */
     double depth;         /* text: extrusion length along z, centred on center.z */
+    double bump_amplitude; /* bumpy_sphere: r(theta, phi) = radius + a sin(f theta) sin(f phi) */
+    int bump_frequency;    /* bumpy_sphere: f, 1..32 */
 };
 
 struct scene_layer {
@@ -84,6 +90,24 @@ struct scene_field {
     size_t count;
 };
 
+/* BRDF f_r of eq. 5.6/5.8 for light reflected at boundaries inside an object (the
+ * delta(x) R L_r term of eq. 5.4). Only lights contribute; the environment's reflection is
+ * the mirror term of docs/tracing.md. */
+enum scene_brdf_kind {
+    SCENE_BRDF_NONE = 0,    /* no reflection of lights */
+    SCENE_BRDF_LAMBERT = 1, /* color / pi */
+    SCENE_BRDF_PHONG = 2,   /* normalised Phong: color (e + 2) / (2 pi) cos^e(alpha_r) */
+    SCENE_BRDF_GGX = 3,     /* Trowbridge-Reitz microfacet D G / (4 cos_i cos_o), F applied
+                               by the event's Fresnel R; color multiplies */
+};
+
+struct scene_brdf {
+    enum scene_brdf_kind kind; /* default GGX */
+    double color[3];           /* default (1, 1, 1) */
+    double roughness;          /* GGX alpha = roughness^2; 0.01..1, default 0.1 */
+    double exponent;           /* Phong exponent, 1..10000, default 200 */
+};
+
 struct scene_object {
     char name[SCENE_NAME_MAX];
     vec3 bounds_min, bounds_max; /* object space, max > min on each axis */
@@ -92,6 +116,7 @@ struct scene_object {
     double smoothing_sigma_voxels; /* Gaussian std dev for the ior field (tevs2007 3.1); 0 = none */
     double opaque_ior;             /* n of opaque embeddings' surfaces, for their Fresnel reflection */
     struct scene_field fields[SCENE_CH_COUNT];
+    struct scene_brdf brdf;        /* reflection of lights at the object's boundaries (eq. 5.6) */
 };
 
 struct scene_camera {
@@ -121,6 +146,57 @@ struct scene_render_settings {
     enum scene_tonemap tonemap;
 };
 
+/* ---- lights, receiver and light simulation (tevs2007 ch. 4.2, 6.2) ---- */
+
+#define SCENE_MAX_LIGHTS 4
+
+enum scene_light_kind {
+    SCENE_LIGHT_DIRECTIONAL = 0, /* plane wavefront */
+    SCENE_LIGHT_POINT = 1,       /* spherical wavefront from `position` */
+    SCENE_LIGHT_SPOT = 2,        /* point light restricted to a cone about `direction` */
+};
+
+struct scene_light {
+    char name[SCENE_NAME_MAX]; /* [a-z0-9_-], unique in the scene; default "light<index>" */
+    enum scene_light_kind kind;
+    vec3 direction;        /* directional, spot: unit, the way the light travels (world) */
+    vec3 position;         /* point, spot: world */
+    double spot_angle_deg; /* spot: half angle of the cone, 1..89 */
+    double color[3];       /* linear RGB, each 0..1e3; default (1, 1, 1) */
+    double intensity;      /* directional: irradiance normal to the beam; point/spot:
+                              radiant intensity per steradian. 0..1e6, default 1 */
+};
+
+/* A diffuse plane y = height that receives caustics and shadows (thesis fig. 7.4). */
+struct scene_receiver {
+    bool enabled;
+    double height;    /* world y of the plane */
+    double half_size; /* the plane is the square |x|, |z| <= half_size about x = z = 0 */
+    double albedo[3]; /* Lambertian reflectance, 0..1; default 0.8 */
+};
+
+enum scene_lightsim_deposit {
+    SCENE_DEPOSIT_FLUX = 0, /* default: power x path length / voxel volume, summed */
+    SCENE_DEPOSIT_MAX = 1,  /* thesis sect. 6.2.3: highest patch irradiance per voxel */
+};
+
+/* Settings of the light simulator (docs/lightsim.md); all part of the transport hash. */
+struct scene_lightsim {
+    int resolution;           /* voxels along the longest axis of the light domain, 8..512; 64 */
+    double step_voxels;       /* wavefront time step in vacuum voxel lengths, 0.05..4; 0.5 */
+    int initial_patches;      /* patches per side of the initial wavefront, 2..1024; 64 */
+    int max_level;            /* subdivision levels, 0..12; 6 */
+    double split_voxels;      /* a patch whose longest edge exceeds this many voxels splits,
+                                 0.1..8; 1 */
+    double energy_threshold;  /* cull a patch below this fraction of the initial mean patch
+                                 power, 0..1; 1e-4 */
+    double point_radius;      /* point/spot: initial wavefront radius (thesis note 5),
+                                 world units, > 0; default 0.01 */
+    enum scene_lightsim_deposit deposit;
+    bool cull_flipped;        /* cull patches whose orientation flips (thesis 6.2.4); false */
+    int max_patches;          /* capacity of the patch list, 1024..1048576; 262144 */
+};
+
 struct scene {
     char name[SCENE_NAME_MAX];
     double ambient_ior; /* n outside every object's bounds */
@@ -129,7 +205,16 @@ struct scene {
     struct scene_render_settings render;
     struct scene_object *objects; /* owned */
     size_t object_count;
+    struct scene_light lights[SCENE_MAX_LIGHTS];
+    size_t light_count;
+    struct scene_receiver receiver;
+    struct scene_lightsim lightsim;
 };
+
+/* True when some object scatters (a SCENE_CH_SCATTERING field) or a receiver is enabled:
+ * only then does the scene need irradiance volumes (tevs2007 sect. 1.2: model only what a
+ * scene needs). */
+bool scene_needs_light_simulation(const struct scene *s);
 
 /* Limits enforced by scene_parse (configurable with refractd flags). */
 struct scene_limits {

@@ -292,6 +292,10 @@ static enum refract_code parse_geometry(const cJSON *o, const char *path,
         if (rc == REFRACT_E_OK)
             rc = jr_number_gt(o, path, "radius", true, 0.0, 0.0, m, &s->radius, e);
         break;
+    case SCENE_SHAPE_BUMPY_SPHERE: /* parsed by the scene-model work (issue 3) */
+        if (rc == REFRACT_E_OK)
+            rc = jr_number_gt(o, path, "radius", true, 0.0, 0.0, m, &s->radius, e);
+        break;
     case SCENE_SHAPE_BOX:
         if (rc == REFRACT_E_OK)
             rc = positive_vec3(o, path, "size", &s->size, e);
