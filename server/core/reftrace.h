@@ -28,6 +28,8 @@ struct reftrace_grid {
     const double *attenuation; /* 4 per voxel: sigma_a r, g, b per world unit, unused */
     const double *emission;    /* 4 per voxel: L_e r, g, b per world unit, unused */
     const double *opaque;      /* 4 per voxel: colour r, g, b, coverage */
+    const double *scattering;  /* 4 per voxel: sigma_s r, g, b per world unit, unused */
+    const double *anisotropy;  /* 1 per voxel: Henyey-Greenstein g */
 };
 
 /* The exact continuous index field of an object, in object space: returns n at p and

@@ -25,7 +25,7 @@
 #include "../gpu/queue.h"
 #include "../scene/scene.h"
 
-struct irradiance_gpu; /* server/lightsim/lightsim_gpu.h */
+struct irradiance_gpu; /* server/lightsim/gpu/lightsim_gpu.h */
 
 struct render;
 

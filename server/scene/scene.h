@@ -216,6 +216,15 @@ struct scene {
  * scene needs). */
 bool scene_needs_light_simulation(const struct scene *s);
 
+/* FNV-1a 64 over everything that affects light transport (docs/lightsim.md, the irradiance
+ * cache key): ambient_ior, each object's bounds, resolution, transform, smoothing, opaque_ior
+ * and its ior, attenuation, scattering and opaque layers (uploaded volumes by name, scale and
+ * offset: the caller mixes in their content checksums), the receiver's geometry, the
+ * lightsim settings and render.boundary_threshold. Not: lights, camera, environment,
+ * emission, anisotropy, BRDFs, names, other render settings. Equal scenes give equal hashes
+ * whatever the document's spelling (defaults written out or left away). */
+uint64_t scene_transport_hash(const struct scene *s);
+
 /* Limits enforced by scene_parse (configurable with refractd flags). */
 struct scene_limits {
     int max_resolution;       /* per axis */

@@ -14,9 +14,9 @@
 #ifndef REFRACT_LIGHTSIM_GPU_H
 #define REFRACT_LIGHTSIM_GPU_H
 
-#include "../gpu/queue.h"
-#include "../gpu/resources.h"
-#include "lightsim.h"
+#include "../../gpu/queue.h"
+#include "../../gpu/resources.h"
+#include "../lightsim.h"
 
 /* An irradiance volume on the GPU, as the view renderer samples it. */
 struct irradiance_gpu {
