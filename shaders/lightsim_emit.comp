@@ -19,7 +19,7 @@ vec3 mean_ray2(vec3 a, vec3 b)
     return normalize(a + b) * (0.5 * (length(a) + length(b)));
 }
 
-void put(uint o, ls_patch q, inout vec3 live, inout vec3 capacity)
+void put(uint o, ls_gpu_patch q, inout vec3 live, inout vec3 capacity)
 {
     if (o < uint(ls.limits.y)) {
         patches_out[o] = q;
@@ -40,7 +40,7 @@ void main()
     vec3 live = vec3(0.0), capacity = vec3(0.0);
     if (i < uint(control.counts.x)) {
         uint n = out_count[i], o = out_offset[i];
-        ls_patch p = patches_in[i];
+        ls_gpu_patch p = patches_in[i];
         if (n == 1u) {
             put(o, p, live, capacity);
         } else if (n == 4u) {
@@ -71,7 +71,7 @@ void main()
                 sum += area[j];
             }
             for (int j = 0; j < 4; j++) {
-                ls_patch q = p;
+                ls_gpu_patch q = p;
                 for (int k = 0; k < 4; k++) {
                     q.x[k] = vec4(nx[cx[4 * j + k]], 0.0);
                     q.w[k] = vec4(nw[cx[4 * j + k]], 0.0);

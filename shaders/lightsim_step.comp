@@ -46,7 +46,7 @@ uint voxel_index(ivec3 v)
 
 // Trilinear splat of q (rgb) and q_lum * d into the 8 voxels around m; voxels outside the
 // grid are skipped (docs/lightsim.md step 5, "flux").
-void splat(vec3 m, vec3 q, vec3 d, bool with_irradiance)
+void splat(vec3 m, vec3 q, vec3 d)
 {
     vec3 v = (m - ls.grid_min.xyz) / ls.grid_min.w - 0.5;
     ivec3 i0 = ivec3(floor(v));
@@ -62,19 +62,18 @@ void splat(vec3 m, vec3 q, vec3 d, bool with_irradiance)
         if (wt == 0.0)
             continue;
         uint base = voxel_index(c) * LS_DEPOSIT_STRIDE;
-        if (with_irradiance) {
-            deposit_add(base + 0u, wt * q.r);
-            deposit_add(base + 1u, wt * q.g);
-            deposit_add(base + 2u, wt * q.b);
-        }
+        deposit_add(base + 0u, wt * q.r);
+        deposit_add(base + 1u, wt * q.g);
+        deposit_add(base + 2u, wt * q.b);
         deposit_add(base + 3u, wt * q_lum * d.x);
         deposit_add(base + 4u, wt * q_lum * d.y);
         deposit_add(base + 5u, wt * q_lum * d.z);
     }
 }
 
-// Max mode (thesis sect. 6.2.3): the voxel containing m keeps the largest E_p.
-void deposit_max(vec3 m, vec3 e_p)
+// Max mode (thesis sect. 6.2.3): the voxel containing m keeps the largest E_p; the
+// direction q_lum d is added in that voxel only.
+void deposit_max(vec3 m, vec3 e_p, vec3 q, vec3 d)
 {
     ivec3 c = ivec3(floor((m - ls.grid_min.xyz) / ls.grid_min.w));
     if (any(lessThan(c, ivec3(0))) || any(greaterThanEqual(c, ls.dims.xyz)))
@@ -82,6 +81,10 @@ void deposit_max(vec3 m, vec3 e_p)
     uint base = voxel_index(c) * LS_DEPOSIT_STRIDE;
     for (int ch = 0; ch < 3; ch++)
         atomicMax(deposit_bits[base + uint(ch)], floatBitsToUint(max(e_p[ch], 0.0)));
+    float q_lum = (q.r + q.g + q.b) / 3.0;
+    deposit_add(base + 3u, q_lum * d.x);
+    deposit_add(base + 4u, q_lum * d.y);
+    deposit_add(base + 5u, q_lum * d.z);
 }
 
 // dx/dt = w / n^2, dw/dt = grad n / n (tevs2007 eqs. 4.12/4.13).
@@ -106,7 +109,7 @@ void main()
     vec3 acc_out = vec3(0.0), acc_refl = vec3(0.0), acc_abs = vec3(0.0), acc_cull = vec3(0.0);
     uint count = 0u;
     if (i < uint(control.counts.x)) {
-        ls_patch p = patches_in[i];
+        ls_gpu_patch p = patches_in[i];
         float dt = ls.grid_max.w, voxel = ls.grid_min.w;
         vec3 c = 0.25 * (p.x[0].xyz + p.x[1].xyz + p.x[2].xyz + p.x[3].xyz);
         vec3 d = normalize(p.w[0].xyz + p.w[1].xyz + p.w[2].xyz + p.w[3].xyz);
@@ -143,8 +146,8 @@ void main()
         if (p.state.y != 0 && p.state.z == 0) {
             float n_mid = 0.5 * (p.zone.x + p.zone.y);
             if ((s0.a >= n_mid) != (s1.a >= n_mid)) {
-                vec3 N = glen > 0.0 ? s1.rgb / glen : vec3(0.0);
-                float cos_i = abs(dot(d, N));
+                vec3 N = glen > 0.0 ? s1.rgb / glen : d;
+                float cos_i = min(1.0, abs(dot(d, N)));
                 float n_i = s1.a > s0.a ? p.zone.x : p.zone.y;
                 float n_t = s1.a > s0.a ? p.zone.y : p.zone.x;
                 if (n_i * n_i * (1.0 - cos_i * cos_i) < n_t * n_t) {
@@ -166,17 +169,12 @@ void main()
             vec3 m = 0.5 * (c + c1);
             vec3 q = P * ds / (voxel * voxel * voxel);
             vec3 D1 = ls_diagonal_cross(p.x[0].xyz, p.x[1].xyz, p.x[2].xyz, p.x[3].xyz);
-            if (ls.dims.w == LS_DEPOSIT_MAX) {
-                float A1 = 0.5 * length(D1);
-                deposit_max(m, P / max(A1, 1e-4 * voxel * voxel));
-                splat(m, q, d1, false);
-            } else {
-                splat(m, q, d1, true);
-            }
+            if (ls.dims.w == LS_DEPOSIT_MAX)
+                deposit_max(m, P / max(0.5 * length(D1), 1e-4 * voxel * voxel), q, d1);
+            else
+                splat(m, q, d1);
             // 6. fate, in the order of docs/lightsim.md.
             bool inside = ls_inside_box(c1);
-            if (inside)
-                p.state.w = 1;
             float e_max = max(max(length(p.x[1].xyz - p.x[0].xyz), length(p.x[2].xyz - p.x[1].xyz)),
                               max(length(p.x[3].xyz - p.x[2].xyz), length(p.x[0].xyz - p.x[3].xyz)));
             if (!inside && !ls_ray_meets_box(c1, d1, ls.grid_min.xyz, ls.grid_max.xyz)) {
@@ -184,7 +182,7 @@ void main()
             } else if (max(P.r, max(P.g, P.b)) < ls.cull.x) {
                 acc_cull += P;
                 atomicAdd(ev[1], 1);
-            } else if (ls.cull.y != 0.0 && dot(D1, d1) < 0.0) {
+            } else if (ls.cull.y != 0.0 && !(dot(D1, d1) > 0.0)) {
                 acc_cull += P;
                 atomicAdd(ev[3], 1);
             } else if (e_max > ls.medium.w) {

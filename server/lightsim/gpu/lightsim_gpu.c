@@ -15,7 +15,7 @@
 #include "lightsim_gpu_programs.h"
 #include "lightsim_gpu_wavefront.h"
 
-_Static_assert(sizeof(ls_patch) == 176, "ls_patch must match std430");
+_Static_assert(sizeof(ls_gpu_patch) == 176, "ls_gpu_patch must match std430");
 _Static_assert(sizeof(ls_control) == 80, "ls_control must match std430");
 _Static_assert(sizeof(lightsim_params) == 96, "lightsim_params must match std140");
 
@@ -130,8 +130,7 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
         free(r);
         return rc;
     }
-    vec3 centre;
-    double rho = lightsim_grid_rho(&f->grid, &centre);
+    double rho = lightsim_grid_rho(&f->grid);
     double n_max = lightsim_fields_n_max(f);
     r->dt = set->step_voxels * f->grid.voxel;
     r->max_steps = (long long)ceil(4 * n_max * rho * 2 / r->dt) + 16;
@@ -151,8 +150,8 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
         size_t bytes;
         const void *data;
     } bufs[BUFFER_COUNT] = {
-        [LIST_A] = {"lightsim patches A", cap * sizeof(ls_patch), NULL},
-        [LIST_B] = {"lightsim patches B", cap * sizeof(ls_patch), NULL},
+        [LIST_A] = {"lightsim patches A", cap * sizeof(ls_gpu_patch), NULL},
+        [LIST_B] = {"lightsim patches B", cap * sizeof(ls_gpu_patch), NULL},
         [COUNTS] = {"lightsim counts", cap * sizeof(uint32_t), NULL},
         [OFFSETS] = {"lightsim offsets", cap * sizeof(uint32_t), NULL},
         [BLOCK_SUMS] = {"lightsim block sums", blocks * sizeof(uint32_t), NULL},
@@ -174,7 +173,7 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
                 glClearNamedBufferData(r->buf[i].buf, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT,
                                        &zero);
         if (w.count > 0)
-            glNamedBufferSubData(r->buf[LIST_A].buf, 0, (GLsizeiptr)(w.count * sizeof(ls_patch)),
+            glNamedBufferSubData(r->buf[LIST_A].buf, 0, (GLsizeiptr)(w.count * sizeof(ls_gpu_patch)),
                                  w.patches);
         rc = gpu_check("starting a light simulation", e);
     }
