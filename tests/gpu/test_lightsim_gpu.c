@@ -66,7 +66,7 @@ static void unit_irradiance_in_matched_medium(struct gpu *gpu)
                              .set = test_lightsim_settings(96)};
     CHECK_INT(test_gpu_simulate(gpu, &t), REFRACT_E_OK);
     const struct light_grid *g = &t.out.grid;
-    double max_dev = 0, sum_dev = 0, max_dir = 0;
+    double max_dev = 0, sum_dev = 0, sum_e = 0, max_dir = 0;
     int count = 0;
     vec3 l = t.light.direction;
     for (int k = 2; k < dims[2] - 2; k++)
@@ -74,6 +74,7 @@ static void unit_irradiance_in_matched_medium(struct gpu *gpu)
             for (int i = 2; i < dims[0] - 2; i++) {
                 size_t v = vindex(g, i, j, k);
                 for (int ch = 0; ch < 3; ch++) {
+                    sum_e += t.out.irradiance[4 * v + ch];
                     double dev = fabs(t.out.irradiance[4 * v + ch] - 1.0);
                     max_dev = fmax(max_dev, dev);
                     sum_dev += dev;
@@ -83,14 +84,18 @@ static void unit_irradiance_in_matched_medium(struct gpu *gpu)
                 CHECK(d[3] == 1.0f);
                 count++;
             }
-    printf("matched medium: E = 1 within max %.4f, mean %.5f over %d voxels; direction within "
-           "%.5f; %lld steps, %d patches, %.0f ms\n",
-           max_dev, sum_dev / (3 * count), count, max_dir, t.out.stats.steps,
+    double mean_e = sum_e / (3 * count);
+    printf("matched medium: mean E %.5f; |E - 1| max %.4f, mean %.5f over %d voxels; "
+           "direction within %.5f; %lld steps, %d patches, %.0f ms\n",
+           mean_e, max_dev, sum_dev / (3 * count), count, max_dir, t.out.stats.steps,
            t.out.stats.patches_peak, t.ms);
-    /* Bound: the lateral ripple of trilinear splats spaced 2 rho / N0 = 0.43 voxel apart
-     * (measured 0.6%) and float rounding; the direction is exact up to RGBA16F. */
-    CHECK(max_dev < 0.02);
-    CHECK(sum_dev / (3 * count) < 0.005);
+    /* The mean is exact up to float sums. Each voxel ripples: trilinear splats spaced s
+     * apart (patches 2 rho / N0 = 0.43 voxel laterally, dt / n = 0.38 voxel along the
+     * beam) sum to 1 + O(2 sinc^2(1 / s)) per axis, about 2% here (measured max 1.9%,
+     * mean 0.7%). The direction is exact up to RGBA16F. */
+    CHECK_NEAR(mean_e, 1.0, 2e-3);
+    CHECK(max_dev < 0.03);
+    CHECK(sum_dev / (3 * count) < 0.01);
     CHECK(max_dir < 2e-3);
     CHECK(t.out.stats.done);
     CHECK(test_bookkeeping_residual(&t.out.stats, 0) < 1e-5);
@@ -105,10 +110,11 @@ static void inverse_square_point_light(struct gpu *gpu)
     int dims[3] = {32, 32, 32};
     test_fields_make(&f, dims, 0.1, 1.0, empty, NULL);
     struct test_gpu_run t = {.fields = &f, .light = test_point(0.013, -0.021, 0.007),
-                             .set = test_lightsim_settings(8)};
+                             .set = test_lightsim_settings(16)};
+    t.set.split_voxels = 0.5;
     CHECK_INT(test_gpu_simulate(gpu, &t), REFRACT_E_OK);
     const struct light_grid *g = &t.out.grid;
-    double max_dev = 0, sum_dev = 0;
+    double max_dev = 0, sum_dev = 0, sum_er2 = 0;
     int count = 0;
     for (int k = 0; k < dims[2]; k++)
         for (int j = 0; j < dims[1]; j++)
@@ -117,29 +123,25 @@ static void inverse_square_point_light(struct gpu *gpu)
                 double r = vec3_length(vec3_sub(x, t.light.position));
                 if (r < 0.4 || r > 1.3)
                     continue;
-                double dev = fabs(t.out.irradiance[4 * vindex(g, i, j, k)] * r * r - 1.0);
-                if (dev > 0.06) printf("bad %d %d %d r %.3f dev %.4f\n", i, j, k, r, dev);
+                double er2 = t.out.irradiance[4 * vindex(g, i, j, k)] * r * r;
+                double dev = fabs(er2 - 1.0);
+                sum_er2 += er2;
                 max_dev = fmax(max_dev, dev);
                 sum_dev += dev;
                 count++;
             }
-    {
-        double shell[16] = {0}; int sc[16] = {0};
-        for (int k = 0; k < dims[2]; k++) for (int j = 0; j < dims[1]; j++) for (int i = 0; i < dims[0]; i++) {
-            vec3 x = vec3_madd(g->bmin, vec3_make(i + 0.5, j + 0.5, k + 0.5), g->voxel);
-            double r = vec3_length(vec3_sub(x, t.light.position));
-            int b = (int)(r / 0.1); if (b >= 16) continue;
-            shell[b] += t.out.irradiance[4 * vindex(g, i, j, k)] * r * r; sc[b]++;
-        }
-        for (int b = 0; b < 16; b++) printf("shell %d: %.4f (%d)\n", b, shell[b] / sc[b], sc[b]);
-    }
-    printf("point light: E r^2 = 1 within max %.4f, mean %.5f over %d voxels (4..13 voxels "
-           "away); %lld splits, peak %d patches, %.0f ms\n",
-           max_dev, sum_dev / count, count, t.out.stats.splits, t.out.stats.patches_peak, t.ms);
-    /* Bound: the trilinear splat of a curved sheet overestimates by ~(voxel / r)^2 / 4 and
-     * the split tessellation ripples laterally. */
-    CHECK(max_dev < 0.05);
-    CHECK(sum_dev / count < 0.01);
+    double mean = sum_er2 / count;
+    printf("point light: mean E r^2 %.5f; |E r^2 - 1| max %.4f, mean %.5f over %d voxels "
+           "(4..13 voxels away); %lld splits, peak %d patches, %.0f ms\n",
+           mean, max_dev, sum_dev / count, count, t.out.stats.splits, t.out.stats.patches_peak,
+           t.ms);
+    /* The mean: the cube sphere's flat quads carry P = A / eps^2, a little less than their
+     * solid angle (measured -0.05% at N0 = 16, -1% at N0 = 8). Per voxel: the splat
+     * ripple of patches 0.25..0.5 voxel wide (split_voxels 0.5; measured max 5.3%, mean
+     * 0.5%). With split_voxels 1, patches 0.5..1 voxel wide ripple up to 19%. */
+    CHECK_NEAR(mean, 1.0, 0.01);
+    CHECK(max_dev < 0.08);
+    CHECK(sum_dev / count < 0.015);
     CHECK(t.out.stats.splits > 0);
     CHECK(test_bookkeeping_residual(&t.out.stats, 0) < 1e-5);
     irradiance_volume_free(&t.out);
@@ -188,21 +190,28 @@ static void beer_lambert(struct gpu *gpu)
     const struct light_grid *g = &t.out.grid;
     const double sigma[3] = {0.2, 0.5, 1.0};
     double top = g->bmin.y + g->dims[1] * g->voxel;
-    double max_dev = 0;
-    for (int j = 2; j < dims[1] - 2; j++) {
-        double y = g->bmin.y + (j + 0.5) * g->voxel;
-        for (int ch = 0; ch < 3; ch++) {
-            double expected = exp(-sigma[ch] * (top - y));
-            double e = t.out.irradiance[4 * vindex(g, 8, j, 8) + ch];
-            max_dev = fmax(max_dev, fabs(e / expected - 1));
+    /* Two checks per channel: the decay between voxel layers is exp(-sigma voxel) (the
+     * law itself; measured within 2e-6), and the level is exp(-sigma depth) within
+     * 1.5 sigma ds, the first-order bias of the scheme: the step that enters the grid
+     * averages sigma_t over the face (0 outside), and a step deposits the power left at
+     * its end (docs/lightsim.md steps 2 and 5; measured 1.0 sigma ds). */
+    double ds = t.set.step_voxels * g->voxel;
+    double max_slope = 0, max_level = 0;
+    for (int ch = 0; ch < 3; ch++) {
+        for (int j = 2; j < dims[1] - 3; j++) {
+            double y = g->bmin.y + (j + 0.5) * g->voxel;
+            double e0 = t.out.irradiance[4 * vindex(g, 8, j, 8) + ch];
+            double e1 = t.out.irradiance[4 * vindex(g, 8, j + 1, 8) + ch];
+            max_slope = fmax(max_slope, fabs(e0 / e1 / exp(-sigma[ch] * g->voxel) - 1));
+            double level = fabs(e0 / exp(-sigma[ch] * (top - y)) - 1);
+            max_level = fmax(max_level, level / (sigma[ch] * ds));
         }
     }
-    for (int j = 0; j < dims[1]; j++) {
-        double y = g->bmin.y + (j + 0.5) * g->voxel;
-        printf("BL j %d: %.5f %.5f %.5f\n", j, t.out.irradiance[4 * vindex(g, 8, j, 8)] / exp(-0.2 * (top - y)), t.out.irradiance[4 * vindex(g, 8, j, 8) + 1] / exp(-0.5 * (top - y)), t.out.irradiance[4 * vindex(g, 8, j, 8) + 2] / exp(-1.0 * (top - y)));
-    }
-    printf("Beer-Lambert: E / exp(-sigma depth) = 1 within %.5f\n", max_dev);
-    CHECK(max_dev < 5e-3);
+    printf("Beer-Lambert: layer-to-layer decay within %.2e of exp(-sigma voxel); level "
+           "within %.2f sigma ds of exp(-sigma depth)\n",
+           max_slope, max_level);
+    CHECK(max_slope < 1e-4);
+    CHECK(max_level < 1.5);
     CHECK(test_bookkeeping_residual(&t.out.stats, 2) < 1e-5);
     irradiance_volume_free(&t.out);
     test_fields_free(&f);
