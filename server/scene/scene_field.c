@@ -19,16 +19,16 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *const channel_names[SCENE_CH_COUNT] = {"ior", "attenuation", "emission",
-                                                          "opaque"};
+static const char *const channel_names[SCENE_CH_COUNT] = {"ior",    "attenuation", "emission",
+                                                          "opaque", "scattering",  "anisotropy"};
 
 /* Valid range of every component a channel stores; volume layers are clamped to it. */
-static const double channel_min[SCENE_CH_COUNT] = {0.2, 0.0, 0.0, 0.0};
-static const double channel_max[SCENE_CH_COUNT] = {5.0, 1e5, 1e6, 1.0};
+static const double channel_min[SCENE_CH_COUNT] = {0.2, 0.0, 0.0, 0.0, 0.0, -0.99};
+static const double channel_max[SCENE_CH_COUNT] = {5.0, 1e5, 1e6, 1.0, 1e5, 0.99};
 
 int scene_channel_components(enum scene_channel ch)
 {
-    return ch == SCENE_CH_IOR ? 1 : 4;
+    return (ch == SCENE_CH_IOR || ch == SCENE_CH_ANISOTROPY) ? 1 : 4;
 }
 
 const char *scene_channel_name(enum scene_channel ch)
@@ -252,13 +252,14 @@ static enum refract_code check_volume(const struct scene_volume *v, const char *
                        "%s: volume \"%s\" has not been uploaded; upload it with PUT "
                        "/v1/scenes/{id}/volumes/%s before rendering",
                        path, name, name);
-    bool comps_ok = v->components == 1 || (v->components == 3 && ch != SCENE_CH_IOR);
+    bool scalar = scene_channel_components(ch) == 1;
+    bool comps_ok = v->components == 1 || (v->components == 3 && !scalar);
     if (!comps_ok)
         return err_set(e, REFRACT_E_CONFLICT,
                        "%s: volume \"%s\" has %d components but %s takes %s; upload it again "
                        "with PUT /v1/scenes/{id}/volumes/%s",
                        path, name, v->components, scene_channel_name(ch),
-                       ch == SCENE_CH_IOR ? "1" : "1 (grey) or 3 (RGB)", name);
+                       scalar ? "1" : "1 (grey) or 3 (RGB)", name);
     if (v->data == NULL || v->dims[0] < 1 || v->dims[1] < 1 || v->dims[2] < 1)
         return err_set(e, REFRACT_E_CONFLICT,
                        "%s: volume \"%s\" is empty (dims %d x %d x %d); upload it again with PUT "
