@@ -283,7 +283,8 @@ enum refract_code scene_field_eval(const struct scene *s, const struct scene_obj
                                    float *out, struct err *e);
 
 /* Signed distance from p (object space) to the shape's surface: negative inside.
- * Exact for sphere, box, rounded_box, cylinder, lathe and text. */
+ * Exact for sphere, box, rounded_box, cylinder, lathe and text; for bumpy_sphere a
+ * first-order estimate near the surface, with the exact sign (shapes.c). */
 double scene_shape_sdf(const struct scene_shape *shape, vec3 p);
 
 /* Axis-aligned box (object space) that contains the shape's solid. Returns false, and

@@ -8,7 +8,8 @@
  * voxels within one voxel of the shape's bounding box and, along each row, skip runs of
  * voxels whose coverage is already known to be 0 or 1: shape SDFs are exact, hence
  * 1-Lipschitz, so a voxel at distance t from one with sdf = d has sdf within d +- t
- * (shapes.c). That keeps a 128^3 lathe or text layer well under a second on one core.
+ * (shapes.c; the bumpy sphere, whose SDF is an estimate, is evaluated at every voxel of
+ * its box). That keeps a 128^3 lathe or text layer well under a second on one core.
  *
  * Not here: smoothing and gradients of the ior (the GPU module does those, tracing.md).
  */
@@ -170,6 +171,9 @@ static void eval_shape(const struct grid *g, const struct scene_layer *l, float 
         !index_range(lo.z - grow, hi.z + grow, g->bmin.z, g->vs.z, g->n[2], &k0, &k1))
         return;
     double half = 0.5 * g->h_min;
+    /* Only a true distance bounds its neighbours' values (the bumpy sphere's estimate does
+     * not, shapes.c). */
+    bool exact = l->shape.kind != SCENE_SHAPE_BUMPY_SPHERE;
     for (int k = k0; k <= k1; k++) {
         for (int j = j0; j <= j1; j++) {
             size_t row = ((size_t)k * (size_t)g->n[1] + (size_t)j) * (size_t)g->n[0];
@@ -178,7 +182,7 @@ static void eval_shape(const struct grid *g, const struct scene_layer *l, float 
                 double c = fmin(fmax(0.5 - d / g->h_min, 0.0), 1.0);
                 /* Voxels up to `skip` further along x are within |d| - h/2 of this one,
                  * so their coverage is the same 0 or 1. */
-                double skip = fabs(d) > half ? floor((fabs(d) - half) / g->vs.x) : 0.0;
+                double skip = exact && fabs(d) > half ? floor((fabs(d) - half) / g->vs.x) : 0.0;
                 int last = skip >= (double)(i1 - i) ? i1 : i + (int)skip;
                 for (int t = i; t <= last; t++)
                     blend(out + (row + (size_t)t) * (size_t)g->comps, g->comps, l->inside, c);
