@@ -95,6 +95,18 @@ void ray_rate(vec3 x, vec3 w, out vec3 dx, out vec3 dw)
     dw = s.rgb / s.a;
 }
 
+// Explicit midpoint rule, the same dt for every corner (equitemporal). Called once per
+// corner with constant indices: a loop over p.x[k] would index the patch dynamically,
+// which llvmpipe spills to scratch memory.
+void propagate(inout vec4 x, inout vec4 w, float dt)
+{
+    vec3 k1x, k1w, k2x, k2w;
+    ray_rate(x.xyz, w.xyz, k1x, k1w);
+    ray_rate(x.xyz + 0.5 * dt * k1x, w.xyz + 0.5 * dt * k1w, k2x, k2w);
+    x.xyz += dt * k2x;
+    w.xyz += dt * k2w;
+}
+
 // Per-work-group sums (one global atomic per group and counter).
 shared vec4 red[4][LS_LOCAL_X];
 shared int ev[5];
@@ -113,25 +125,33 @@ void main()
         float dt = ls.grid_max.w, voxel = ls.grid_min.w;
         vec3 c = 0.25 * (p.x[0].xyz + p.x[1].xyz + p.x[2].xyz + p.x[3].xyz);
         vec3 d = normalize(p.w[0].xyz + p.w[1].xyz + p.w[2].xyz + p.w[3].xyz);
-        // 1. explicit midpoint rule, the same dt for every corner (equitemporal).
-        for (int k = 0; k < 4; k++) {
-            vec3 x = p.x[k].xyz, w = p.w[k].xyz, k1x, k1w, k2x, k2w;
-            ray_rate(x, w, k1x, k1w);
-            ray_rate(x + 0.5 * dt * k1x, w + 0.5 * dt * k1w, k2x, k2w);
-            p.x[k].xyz = x + dt * k2x;
-            p.w[k].xyz = w + dt * k2w;
+        // The samples at the old centre: kept from the previous step when it ended
+        // there (state.w = 1; children have new centres), else taken now.
+        float n0;
+        vec3 sigma0;
+        if (p.state.w != 0) {
+            n0 = p.power.w;
+            sigma0 = vec3(p.x[0].w, p.x[1].w, p.x[2].w);
+        } else {
+            n0 = ls_ior_grad_at(c).a;
+            sigma0 = ls_extinction_at(c).rgb;
         }
+        // 1. propagate the four corners.
+        propagate(p.x[0], p.w[0], dt);
+        propagate(p.x[1], p.w[1], dt);
+        propagate(p.x[2], p.w[2], dt);
+        propagate(p.x[3], p.w[3], dt);
         vec3 c1 = 0.25 * (p.x[0].xyz + p.x[1].xyz + p.x[2].xyz + p.x[3].xyz);
         vec3 d1 = normalize(p.w[0].xyz + p.w[1].xyz + p.w[2].xyz + p.w[3].xyz);
         float ds = length(c1 - c);
         // 2. extinction (trapezoid of sigma_t along the centre's path).
-        vec4 ext0 = ls_extinction_at(c), ext1 = ls_extinction_at(c1);
-        vec3 T = exp(-0.5 * (ext0.rgb + ext1.rgb) * ds);
+        vec4 ext1 = ls_extinction_at(c1);
+        vec3 T = exp(-0.5 * (sigma0 + ext1.rgb) * ds);
         vec3 P = p.power.rgb;
         acc_abs += P * (1.0 - T);
         P *= T;
         // 3. interface zone and Fresnel transmission; the three tests in order.
-        vec4 s0 = ls_ior_grad_at(c), s1 = ls_ior_grad_at(c1);
+        vec4 s1 = ls_ior_grad_at(c1);
         float glen = length(s1.rgb);
         float g = glen * voxel;
         float thr = ls.medium.z;
@@ -145,11 +165,11 @@ void main()
         }
         if (p.state.y != 0 && p.state.z == 0) {
             float n_mid = 0.5 * (p.zone.x + p.zone.y);
-            if ((s0.a >= n_mid) != (s1.a >= n_mid)) {
+            if ((n0 >= n_mid) != (s1.a >= n_mid)) {
                 vec3 N = glen > 0.0 ? s1.rgb / glen : d;
                 float cos_i = min(1.0, abs(dot(d, N)));
-                float n_i = s1.a > s0.a ? p.zone.x : p.zone.y;
-                float n_t = s1.a > s0.a ? p.zone.y : p.zone.x;
+                float n_i = s1.a > n0 ? p.zone.x : p.zone.y;
+                float n_t = s1.a > n0 ? p.zone.y : p.zone.x;
                 if (n_i * n_i * (1.0 - cos_i * cos_i) < n_t * n_t) {
                     float R = fresnel_unpolarized(cos_i, n_i, n_t);
                     acc_refl += P * R;
@@ -197,7 +217,13 @@ void main()
                 count = 1u;
             }
         }
-        patches_in[i] = p;
+        p.power.w = s1.a;
+        p.x[0].w = ext1.r;
+        p.x[1].w = ext1.g;
+        p.x[2].w = ext1.b;
+        p.state.w = 1;
+        if (count != 0u)
+            patches_in[i] = p;
         out_count[i] = count;
     }
     red[0][lid] = vec4(acc_out, 0.0);
