@@ -13,6 +13,9 @@
  * light (0.2, -1, 0.1) when the document has none, e.g. glass_sphere) on the GPU in chunks
  * of --chunk steps, timed from the first upload to glFinish after the last chunk, and
  * reports the run's peak GPU memory (lightsim_gpu_run_peak_bytes) and its statistics.
+ * On a software renderer (llvmpipe) the process CPU time over the run is printed as well:
+ * on a shared machine it says more than the wall time. culled and reflected are
+ * fractions of flux_in (green).
  * Scenes are read from proto/examples/<name>.json with every object's voxel resolution
  * replaced by --object-resolution and "lightsim" settings by the options.
  */
@@ -54,10 +57,17 @@ struct run_work {
     struct scene_light light;
     struct scene_lightsim set;
     int chunk;
-    double ms;
+    double ms, cpu_s; /* wall; CPU time of the whole process (every llvmpipe thread) */
     size_t peak_bytes;
     struct lightsim_stats stats;
 };
+
+static double process_cpu_s(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
 
 static void run_on_gpu(struct gpu_work *w, struct gpu *gpu)
 {
@@ -65,7 +75,7 @@ static void run_on_gpu(struct gpu_work *w, struct gpu *gpu)
     if (lightsim_gpu_init(gpu, &w->err) != REFRACT_E_OK)
         return;
     glFinish();
-    double t0 = gpu_time_ms();
+    double t0 = gpu_time_ms(), c0 = process_cpu_s();
     struct lightsim_gpu_run *run = NULL;
     if (lightsim_gpu_begin(gpu, r->fields, &r->light, &r->set, &run, &w->err) != REFRACT_E_OK)
         return;
@@ -74,6 +84,7 @@ static void run_on_gpu(struct gpu_work *w, struct gpu *gpu)
         ;
     glFinish();
     r->ms = gpu_time_ms() - t0;
+    r->cpu_s = process_cpu_s() - c0;
     r->peak_bytes = lightsim_gpu_run_peak_bytes(run);
     lightsim_gpu_stats(run, &r->stats);
     lightsim_gpu_run_destroy(run);
@@ -137,7 +148,8 @@ static void bench_case(struct gpu *gpu, const char *dir, const char *name, int r
     for (int p = 0; p < patches->count; p++) {
         struct run_work r = {.fields = &f, .light = light, .set = s->lightsim, .chunk = chunk};
         r.set.initial_patches = atoi(patches->item[p]);
-        r.work = (struct gpu_work){.priority = GPU_PRIORITY_LIGHTSIM, .run = run_on_gpu, .user = &r};
+        r.work =
+            (struct gpu_work){.priority = GPU_PRIORITY_LIGHTSIM, .run = run_on_gpu, .user = &r};
         if (gpu_run_sync(gpu, &r.work) != REFRACT_E_OK) {
             fprintf(stderr, "refract-lightsim: %s %d^3 N0 %d: %s\n", name, res,
                     r.set.initial_patches, r.work.err.msg);
@@ -145,11 +157,11 @@ static void bench_case(struct gpu *gpu, const char *dir, const char *name, int r
         }
         const struct lightsim_stats *st = &r.stats;
         double in = st->flux_in[1] > 0 ? st->flux_in[1] : 1;
-        printf("| %s | %dx%dx%d | %d | %d | %.0f | %.0f | %.1f | %lld | %d | %.2f | %.2f | %.1f "
-               "| %.4f | %.4f |\n",
+        printf("| %s | %dx%dx%d | %d | %d | %.0f | %.0f | %.1f | %.1f | %lld | %d | %.2f | %.2f | "
+               "%.1f | %.4f | %.4f |\n",
                name, f.grid.dims[0], f.grid.dims[1], f.grid.dims[2], r.set.initial_patches,
-               st->patches_initial, fields_ms, r.ms, (double)r.peak_bytes / 1048576.0, st->steps,
-               st->patches_peak, st->patch_steps / 1e6,
+               st->patches_initial, fields_ms, r.ms, r.cpu_s, (double)r.peak_bytes / 1048576.0,
+               st->steps, st->patches_peak, st->patch_steps / 1e6,
                r.ms > 0 ? st->patch_steps / (r.ms * 1e3) : 0, r.ms / (st->steps ? st->steps : 1),
                st->flux_culled[1] / in, st->flux_reflected[1] / in);
         fflush(stdout);
@@ -185,10 +197,11 @@ int main(int argc, char **argv)
         else if (v && strcmp(a, "--examples") == 0)
             snprintf(dir, sizeof dir, "%s", v), i++;
         else {
-            fprintf(stderr,
-                    "usage: refract-lightsim [--scenes a,b] [--resolutions 64,128,256] "
-                    "[--patches 32,64,128] [--max-patches N] [--chunk steps] [--object-resolution N] "
-                    "[--examples DIR]\n");
+            fprintf(
+                stderr,
+                "usage: refract-lightsim [--scenes a,b] [--resolutions 64,128,256] "
+                "[--patches 32,64,128] [--max-patches N] [--chunk steps] [--object-resolution N] "
+                "[--examples DIR]\n");
             return 2;
         }
     }
@@ -200,10 +213,10 @@ int main(int argc, char **argv)
         return 1;
     }
     print_header(gpu, argc, argv);
-    printf("| scene | light grid | N0 | patches in | fields ms (CPU) | simulation ms | peak GPU "
-           "MiB | steps | peak patches | M patch-steps | M patch-steps/s | ms/step | culled "
-           "| reflected |\n");
-    printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    printf("| scene | light grid | N0 | patches in | fields ms (CPU) | simulation ms (wall) | "
+           "process CPU s | peak GPU MiB | steps | peak patches | M patch-steps | M "
+           "patch-steps/s | ms/step | culled | reflected |\n");
+    printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (int s = 0; s < scenes.count; s++)
         for (int r = 0; r < resolutions.count; r++)
             bench_case(gpu, dir, scenes.item[s], atoi(resolutions.item[r]), obj_res, &patches,

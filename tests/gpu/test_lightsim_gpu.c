@@ -62,8 +62,8 @@ static void unit_irradiance_in_matched_medium(struct gpu *gpu)
     struct lightsim_fields f;
     int dims[3] = {24, 24, 24};
     test_fields_make(&f, dims, 0.1, 1.33, uniform_133, NULL);
-    struct test_gpu_run t = {.fields = &f, .light = test_directional(0.3, -1, 0.2),
-                             .set = test_lightsim_settings(96)};
+    struct test_gpu_run t = {
+        .fields = &f, .light = test_directional(0.3, -1, 0.2), .set = test_lightsim_settings(96)};
     CHECK_INT(test_gpu_simulate(gpu, &t), REFRACT_E_OK);
     const struct light_grid *g = &t.out.grid;
     double max_dev = 0, sum_dev = 0, sum_e = 0, max_dir = 0;
@@ -109,8 +109,8 @@ static void inverse_square_point_light(struct gpu *gpu)
     struct lightsim_fields f;
     int dims[3] = {32, 32, 32};
     test_fields_make(&f, dims, 0.1, 1.0, empty, NULL);
-    struct test_gpu_run t = {.fields = &f, .light = test_point(0.013, -0.021, 0.007),
-                             .set = test_lightsim_settings(16)};
+    struct test_gpu_run t = {
+        .fields = &f, .light = test_point(0.013, -0.021, 0.007), .set = test_lightsim_settings(16)};
     t.set.split_voxels = 0.5;
     CHECK_INT(test_gpu_simulate(gpu, &t), REFRACT_E_OK);
     const struct light_grid *g = &t.out.grid;
@@ -153,8 +153,10 @@ static void bookkeeping_through_absorbing_ball(struct gpu *gpu)
     struct lightsim_fields f;
     int dims[3] = {24, 24, 24};
     test_fields_make(&f, dims, 0.1, 1.0, absorbing_ball, NULL);
-    struct test_gpu_run t = {.fields = &f, .light = test_directional(0, -1, 0.1),
-                             .set = test_lightsim_settings(48), .chunk = 7};
+    struct test_gpu_run t = {.fields = &f,
+                             .light = test_directional(0, -1, 0.1),
+                             .set = test_lightsim_settings(48),
+                             .chunk = 7};
     t.set.energy_threshold = 1e-4;
     CHECK_INT(test_gpu_simulate(gpu, &t), REFRACT_E_OK);
     const struct lightsim_stats *s = &t.out.stats;
@@ -184,8 +186,8 @@ static void beer_lambert(struct gpu *gpu)
     struct lightsim_fields f;
     int dims[3] = {16, 24, 16};
     test_fields_make(&f, dims, 0.1, 1.0, absorbing_medium, NULL);
-    struct test_gpu_run t = {.fields = &f, .light = test_directional(0, -1, 0),
-                             .set = test_lightsim_settings(64)};
+    struct test_gpu_run t = {
+        .fields = &f, .light = test_directional(0, -1, 0), .set = test_lightsim_settings(64)};
     CHECK_INT(test_gpu_simulate(gpu, &t), REFRACT_E_OK);
     const struct light_grid *g = &t.out.grid;
     const double sigma[3] = {0.2, 0.5, 1.0};

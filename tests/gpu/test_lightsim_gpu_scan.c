@@ -17,7 +17,7 @@ struct scan_work {
     struct gpu_work work;
     int n;
     const uint32_t *counts;
-    uint32_t *offsets; /* out */
+    uint32_t *offsets;  /* out */
     ls_control control; /* out */
 };
 
@@ -35,7 +35,8 @@ static void scan_run(struct gpu_work *w, struct gpu *gpu)
     struct gpu_buffer counts = {0}, offsets = {0}, sums = {0}, ctl = {0};
     if (gpu_buffer_create("scan test counts", n * 4, s->counts, &counts, &w->err) == REFRACT_E_OK &&
         gpu_buffer_create("scan test offsets", n * 4, NULL, &offsets, &w->err) == REFRACT_E_OK &&
-        gpu_buffer_create("scan test block sums", blocks * 4, NULL, &sums, &w->err) == REFRACT_E_OK &&
+        gpu_buffer_create("scan test block sums", blocks * 4, NULL, &sums, &w->err) ==
+            REFRACT_E_OK &&
         gpu_buffer_create("scan test control", sizeof control, &control, &ctl, &w->err) ==
             REFRACT_E_OK) {
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_LS_COUNTS, counts.buf);
@@ -101,8 +102,8 @@ static void scan_case(struct gpu *gpu, int n, bool patch_counts, uint32_t seed)
 int main(void)
 {
     struct gpu *gpu = test_start_gpu("test_lightsim_gpu_scan");
-    const int sizes[] = {1, 2, 255, 1023, 1024, 1025, 4097, 100003, LS_MAX_PATCHES - 1,
-                         LS_MAX_PATCHES};
+    const int sizes[] = {
+        1, 2, 255, 1023, 1024, 1025, 4097, 100003, LS_MAX_PATCHES - 1, LS_MAX_PATCHES};
     for (size_t i = 0; i < sizeof sizes / sizeof sizes[0]; i++) {
         scan_case(gpu, sizes[i], true, 0x9e3779b9u + (uint32_t)i);
         scan_case(gpu, sizes[i], false, 0x7f4a7c15u + (uint32_t)i);

@@ -20,14 +20,15 @@ typedef void (*test_field_fn)(vec3 x, const void *ctx, double *n, double ext[4])
 
 /* A cubic grid of `res` voxels per axis centred at the origin, `voxel` world units each. */
 static inline void test_fields_make(struct lightsim_fields *f, const int dims[3], double voxel,
-                             double ambient, test_field_fn fn, const void *ctx)
+                                    double ambient, test_field_fn fn, const void *ctx)
 {
     memset(f, 0, sizeof *f);
     f->grid.dims[0] = dims[0];
     f->grid.dims[1] = dims[1];
     f->grid.dims[2] = dims[2];
     f->grid.voxel = voxel;
-    f->grid.bmin = vec3_make(-0.5 * dims[0] * voxel, -0.5 * dims[1] * voxel, -0.5 * dims[2] * voxel);
+    f->grid.bmin =
+        vec3_make(-0.5 * dims[0] * voxel, -0.5 * dims[1] * voxel, -0.5 * dims[2] * voxel);
     f->ambient_ior = ambient;
     f->boundary_threshold = 0.02;
     f->probe_distance = 3 * voxel + 2 * voxel; /* sigma = 1 voxel of smoothing */
@@ -55,8 +56,9 @@ static inline void test_fields_make(struct lightsim_fields *f, const int dims[3]
                     size_t vl = ((size_t)lo[2] * dims[1] + lo[1]) * dims[0] + lo[0];
                     size_t vh = ((size_t)hi[2] * dims[1] + hi[1]) * dims[0] + hi[0];
                     f->ior_grad[4 * v + a] =
-                        span > 0 ? (f->ior_grad[4 * vh + 3] - f->ior_grad[4 * vl + 3]) / (span * voxel)
-                                 : 0;
+                        span > 0
+                            ? (f->ior_grad[4 * vh + 3] - f->ior_grad[4 * vl + 3]) / (span * voxel)
+                            : 0;
                 }
             }
 }
@@ -102,10 +104,10 @@ struct test_gpu_run {
     const struct lightsim_fields *fields;
     struct scene_light light;
     struct scene_lightsim set;
-    int chunk;                  /* steps per advance */
+    int chunk; /* steps per advance */
     struct irradiance_volume out;
     size_t peak_bytes;
-    double ms;                  /* wall time of the run, glFinish included */
+    double ms; /* wall time of the run, glFinish included */
     int chunks;
 };
 

@@ -27,7 +27,7 @@ struct lightsim_gpu_run {
     struct gpu_volume ior_grad, extinction;
     struct irradiance_gpu out; /* made when the run ends */
     bool have_out;
-    int current;               /* LIST_A or LIST_B: the live list */
+    int current; /* LIST_A or LIST_B: the live list */
     struct light_grid grid;
     long long max_steps, steps_issued;
     double dt, t_sweep;
@@ -69,8 +69,8 @@ static enum refract_code upload_fields(struct lightsim_gpu_run *r, const struct 
     return rc;
 }
 
-static lightsim_params make_params(const struct lightsim_fields *f, const struct scene_lightsim *set,
-                                   double dt, double energy_cut)
+static lightsim_params make_params(const struct lightsim_fields *f,
+                                   const struct scene_lightsim *set, double dt, double energy_cut)
 {
     const struct light_grid *g = &f->grid;
     lightsim_params p;
@@ -107,8 +107,7 @@ static void bind_all(const struct lightsim_gpu_run *r)
 }
 
 enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fields *f,
-                                     const struct scene_light *l,
-                                     const struct scene_lightsim *set,
+                                     const struct scene_light *l, const struct scene_lightsim *set,
                                      struct lightsim_gpu_run **out, struct err *e)
 {
     *out = NULL;
@@ -173,8 +172,8 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
                 glClearNamedBufferData(r->buf[i].buf, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT,
                                        &zero);
         if (w.count > 0)
-            glNamedBufferSubData(r->buf[LIST_A].buf, 0, (GLsizeiptr)(w.count * sizeof(ls_gpu_patch)),
-                                 w.patches);
+            glNamedBufferSubData(r->buf[LIST_A].buf, 0,
+                                 (GLsizeiptr)(w.count * sizeof(ls_gpu_patch)), w.patches);
         rc = gpu_check("starting a light simulation", e);
     }
     if (rc == REFRACT_E_OK) {

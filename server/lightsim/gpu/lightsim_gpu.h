@@ -44,8 +44,7 @@ struct lightsim_gpu_run;
  * INVALID_FIELD for max_patches outside 1..LS_MAX_PATCHES, GPU_OUT_OF_MEMORY,
  * OUT_OF_MEMORY. */
 enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fields *f,
-                                     const struct scene_light *l,
-                                     const struct scene_lightsim *set,
+                                     const struct scene_light *l, const struct scene_lightsim *set,
                                      struct lightsim_gpu_run **out, struct err *e);
 /* Advances at most max_steps time steps; *done is set when the run has ended. Reads back
  * only the live count and the flux counters at the end of the chunk. */

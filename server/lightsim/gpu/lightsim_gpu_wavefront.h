@@ -17,7 +17,7 @@
 #include "../lightsim.h"
 
 struct lightsim_wavefront {
-    ls_gpu_patch *patches;  /* the kept patches in list order, at most max_patches; owned */
+    ls_gpu_patch *patches; /* the kept patches in list order, at most max_patches; owned */
     int count;
     int kept;               /* aimed at the domain (patches_initial), before capacity */
     double flux_in[3];      /* summed P of the kept patches */
