@@ -6,8 +6,12 @@
  *   - a point light in empty space gives E = 1 / r^2;
  *   - through an absorbing glass ball, flux_in = out + reflected + absorbed + culled +
  *     live from the GPU's own counters, with reflection and absorption both present;
- *   - Beer-Lambert behind a uniformly absorbing medium.
+ *   - Beer-Lambert behind a uniformly absorbing medium;
+ * and the run's life cycle: GPU memory accounting (lightsim_gpu_run_bytes equals the
+ * buffers and textures it made, all released at the end), read and take before and after
+ * the end, a light that misses the domain, and bad settings.
  */
+#include "bindings.h"
 #include "test_lightsim_gpu_support.h"
 
 static void uniform_133(vec3 x, const void *ctx, double *n, double ext[4])
@@ -219,6 +223,105 @@ static void beer_lambert(struct gpu *gpu)
     test_fields_free(&f);
 }
 
+struct lifecycle_work {
+    struct gpu_work work;
+    const struct lightsim_fields *fields;
+    int failures;
+};
+
+#define LC_CHECK(cond)                                                                             \
+    do {                                                                                           \
+        if (!(cond)) {                                                                             \
+            fprintf(stderr, "%s:%d: life cycle check failed: %s\n", __FILE__, __LINE__, #cond);    \
+            l->failures++;                                                                         \
+        }                                                                                          \
+    } while (0)
+
+static void lifecycle_run(struct gpu_work *w, struct gpu *gpu)
+{
+    struct lifecycle_work *l = w->user;
+    const struct lightsim_fields *f = l->fields;
+    struct err e = {0};
+    size_t base = gpu_memory_in_use();
+    struct scene_lightsim set = test_lightsim_settings(16);
+    set.max_patches = 5000;
+    struct scene_light light = test_directional(0, -1, 0);
+    struct lightsim_gpu_run *run = NULL;
+    LC_CHECK(lightsim_gpu_begin(gpu, f, &light, &set, &run, &e) == REFRACT_E_OK);
+    if (run == NULL)
+        return;
+    size_t voxels = (size_t)f->grid.dims[0] * f->grid.dims[1] * f->grid.dims[2];
+    size_t cap = 5000, blocks = (cap + LS_SCAN_BLOCK - 1) / LS_SCAN_BLOCK;
+    size_t stepping = 2 * cap * 176 + 2 * cap * 4 + blocks * 4 + 80 + LS_ACC_COUNT * 4 +
+                      LS_TOT_COUNT * 8 + voxels * LS_DEPOSIT_STRIDE * 4 + 96 + 2 * voxels * 16;
+    printf("life cycle: %zu bytes while stepping (expected %zu)\n", lightsim_gpu_run_bytes(run),
+           stepping);
+    LC_CHECK(lightsim_gpu_run_bytes(run) == stepping);
+    LC_CHECK(gpu_memory_in_use() - base == stepping);
+    struct irradiance_volume v;
+    LC_CHECK(lightsim_gpu_read(run, &v, &e) == REFRACT_E_CONFLICT);
+    bool done = false;
+    int chunks = 0;
+    while (!done && chunks < 10000 && lightsim_gpu_advance(run, 5, &done, &e) == REFRACT_E_OK)
+        chunks++;
+    LC_CHECK(done);
+    size_t out = voxels * (16 + 8);
+    size_t after = 80 + LS_TOT_COUNT * 8 + 96 + out;
+    LC_CHECK(lightsim_gpu_run_bytes(run) == after);
+    LC_CHECK(lightsim_gpu_run_peak_bytes(run) == stepping + out);
+    struct lightsim_stats st;
+    lightsim_gpu_stats(run, &st);
+    LC_CHECK(st.done && st.progress == 1 && st.steps > 0);
+    LC_CHECK(lightsim_gpu_read(run, &v, &e) == REFRACT_E_OK);
+    irradiance_volume_free(&v);
+    struct irradiance_gpu tex;
+    LC_CHECK(lightsim_gpu_take_textures(run, &tex, &e) == REFRACT_E_OK);
+    LC_CHECK(tex.bytes == out && tex.irradiance.tex != 0 && tex.direction.tex != 0);
+    LC_CHECK(tex.grid.dims[0] == f->grid.dims[0] && tex.grid.voxel == f->grid.voxel);
+    LC_CHECK(lightsim_gpu_run_bytes(run) == after - out);
+    struct irradiance_gpu again;
+    LC_CHECK(lightsim_gpu_take_textures(run, &again, &e) == REFRACT_E_CONFLICT);
+    LC_CHECK(lightsim_gpu_read(run, &v, &e) == REFRACT_E_CONFLICT);
+    lightsim_gpu_run_destroy(run);
+    irradiance_gpu_free(&tex);
+    LC_CHECK(gpu_memory_in_use() == base);
+
+    /* A spot light outside the domain facing away: nothing enters, done at once, dark. */
+    struct scene_light spot = test_point(0, 5, 0);
+    spot.kind = SCENE_LIGHT_SPOT;
+    spot.direction = vec3_make(0, 1, 0);
+    spot.spot_angle_deg = 20;
+    LC_CHECK(lightsim_gpu_begin(gpu, f, &spot, &set, &run, &e) == REFRACT_E_OK);
+    if (run != NULL) {
+        lightsim_gpu_stats(run, &st);
+        LC_CHECK(st.done && st.patches_initial == 0 && st.flux_in[0] == 0);
+        LC_CHECK(lightsim_gpu_advance(run, 10, &done, &e) == REFRACT_E_OK && done);
+        LC_CHECK(lightsim_gpu_read(run, &v, &e) == REFRACT_E_OK);
+        double sum = 0;
+        for (size_t i = 0; v.irradiance && i < voxels * 4; i++)
+            sum += fabs(v.irradiance[i]) + fabs(v.direction[i]);
+        LC_CHECK(v.irradiance != NULL && sum == 0);
+        irradiance_volume_free(&v);
+        lightsim_gpu_run_destroy(run);
+    }
+    set.max_patches = 0;
+    LC_CHECK(lightsim_gpu_begin(gpu, f, &light, &set, &run, &e) == REFRACT_E_INVALID_FIELD);
+    LC_CHECK(run == NULL && strstr(e.msg, "max_patches") != NULL);
+    LC_CHECK(gpu_memory_in_use() == base);
+}
+
+static void run_life_cycle(struct gpu *gpu)
+{
+    struct lightsim_fields f;
+    int dims[3] = {12, 10, 14};
+    test_fields_make(&f, dims, 0.1, 1.0, absorbing_ball, NULL);
+    struct lifecycle_work l = {.fields = &f};
+    l.work = (struct gpu_work){.priority = GPU_PRIORITY_LIGHTSIM, .run = lifecycle_run, .user = &l};
+    CHECK_INT(gpu_run_sync(gpu, &l.work), REFRACT_E_OK);
+    CHECK_INT(l.failures, 0);
+    test_fields_free(&f);
+}
+
 int main(void)
 {
     struct gpu *gpu = test_start_gpu("test_lightsim_gpu");
@@ -227,6 +330,7 @@ int main(void)
     inverse_square_point_light(gpu);
     bookkeeping_through_absorbing_ball(gpu);
     beer_lambert(gpu);
+    run_life_cycle(gpu);
     gpu_destroy(gpu, NULL);
     return test_summary("test_lightsim_gpu");
 }

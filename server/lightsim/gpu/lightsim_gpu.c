@@ -88,6 +88,17 @@ static lightsim_params make_params(const struct lightsim_fields *f,
     return p;
 }
 
+static enum refract_code finish(struct lightsim_gpu_run *r, const struct lightsim_gpu_programs *p,
+                                struct err *e);
+
+static int longest_axis(const struct light_grid *g)
+{
+    int m = g->dims[0];
+    for (int a = 1; a < 3; a++)
+        m = g->dims[a] > m ? g->dims[a] : m;
+    return m;
+}
+
 static void bind_all(const struct lightsim_gpu_run *r)
 {
     int in = r->current, out = r->current == LIST_A ? LIST_B : LIST_A;
@@ -159,6 +170,16 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
         [TOTALS] = {"lightsim totals", LS_TOT_COUNT * sizeof(double), NULL},
         [DEPOSIT] = {"lightsim deposit", voxels * LS_DEPOSIT_STRIDE * sizeof(float), NULL},
     };
+    GLint64 max_block = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
+    for (int i = 0; i < BUFFER_COUNT; i++)
+        if (max_block > 0 && bufs[i].bytes > (size_t)max_block)
+            rc = err_set(e, REFRACT_E_LIMIT_EXCEEDED,
+                         "lightsim: the %s buffer would need %zu bytes, more than this GPU's "
+                         "largest storage block (%lld bytes); lower lightsim.resolution (now %d "
+                         "voxels on the longest axis) or lightsim.max_patches (now %d)",
+                         bufs[i].label, bufs[i].bytes, (long long)max_block, longest_axis(&f->grid),
+                         set->max_patches);
     for (int i = 0; i < BUFFER_COUNT && rc == REFRACT_E_OK; i++)
         rc = gpu_buffer_create(bufs[i].label, bufs[i].bytes, bufs[i].data, &r->buf[i], e);
     if (rc == REFRACT_E_OK)
@@ -193,11 +214,13 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
         s->progress = s->done ? 1 : 0;
     }
     lightsim_wavefront_free(&w);
+    r->peak_bytes = lightsim_gpu_run_bytes(r);
+    if (rc == REFRACT_E_OK && r->stats.done) /* nothing aimed at the domain: dark volumes */
+        rc = finish(r, lightsim_gpu_programs(), e);
     if (rc != REFRACT_E_OK) {
         lightsim_gpu_run_destroy(r);
         return rc;
     }
-    r->peak_bytes = lightsim_gpu_run_bytes(r);
     *out = r;
     return REFRACT_E_OK;
 }
