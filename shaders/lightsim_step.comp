@@ -17,7 +17,7 @@ layout(std430, binding = BIND_SSBO_LS_DEPOSIT) buffer ls_deposit_bits_block
 {
     uint deposit_bits[];
 };
-#ifdef GL_NV_shader_atomic_float
+#ifdef LS_NATIVE_FLOAT_ATOMICS
 layout(std430, binding = BIND_SSBO_LS_DEPOSIT) buffer ls_deposit_block
 {
     float deposit[];
