@@ -68,8 +68,11 @@ static void interface(const struct ls_step_ctx *c, struct ls_patch *p, const str
              * is the incident side's n_i sin(theta_i) wherever in the smoothed interface
              * the crossing is seen (Snell's invariant, tevs2007 sect. 5.2). */
             double w_t = vec3_length(vec3_cross(w1, N));
-            /* total internal reflection: the ray equation turns the wavefront round */
-            if (w_t < n_t) {
+            /* w_t >= n_t: total internal reflection, the ray equation turns the wavefront
+             * round. w_t >= n_i: the wavefront cannot have come from the n_i side (there
+             * |w| = n_i); it is one that turned round inside the smoothed zone and comes
+             * back (or creeps along it): no surface is crossed. */
+            if (w_t < n_t && w_t < n_i) {
                 double sin_i = fmin(1.0, w_t / n_i);
                 double cos_i = sqrt(1.0 - sin_i * sin_i);
                 double R = fresnel_unpolarized(cos_i, n_i, n_t);
