@@ -29,9 +29,8 @@ static double cone_mean_reflectance(vec3 a, double cone, vec3 nrm, double n)
         double th = cone * (i + 0.5) / N;
         for (int j = 0; j < N; j++) {
             double ph = 2.0 * M_PI * (j + 0.5) / N;
-            vec3 d = vec3_add(vec3_scale(a, cos(th)),
-                              vec3_add(vec3_scale(u, sin(th) * cos(ph)),
-                                       vec3_scale(v, sin(th) * sin(ph))));
+            vec3 d = vec3_add(vec3_scale(a, cos(th)), vec3_add(vec3_scale(u, sin(th) * cos(ph)),
+                                                               vec3_scale(v, sin(th) * sin(ph))));
             double w = sin(th);
             sum += w * plate_reflectance(fabs(vec3_dot(d, nrm)), n);
             wsum += w;
@@ -128,8 +127,8 @@ static void test_beer_lambert(void)
     const double sigma[3] = {2, 1, 0.5}, d = 0.5;
     for (int c = 0; c < 3; c++) {
         double ratio = back[c] / front[c], expected = exp(-sigma[c] * d);
-        printf("beer-lambert channel %d: front %.5f back %.5f ratio %.5f, exp(-sigma d) %.5f\n",
-               c, front[c], back[c], ratio, expected);
+        printf("beer-lambert channel %d: front %.5f back %.5f ratio %.5f, exp(-sigma d) %.5f\n", c,
+               front[c], back[c], ratio, expected);
         /* 1.5 %: the trapezoid rule on a sampled profile (the anti-aliased faces are
          * resampled onto the light grid), and the deposit's ripple (<= 0.5 %) */
         CHECK_NEAR(ratio, expected, 0.015 * expected);

@@ -66,8 +66,9 @@ static inline double fx_seconds(void)
 }
 
 /* Builds the fields of s with s->lightsim = *set and runs light l. */
-static inline void fx_run(struct scene *s, const struct scene_light *l, const struct scene_lightsim *set,
-                   struct lightsim_fields *f, struct irradiance_volume *v)
+static inline void fx_run(struct scene *s, const struct scene_light *l,
+                          const struct scene_lightsim *set, struct lightsim_fields *f,
+                          struct irradiance_volume *v)
 {
     struct err e = {0};
     s->lightsim = *set;

@@ -237,8 +237,8 @@ static void test_determinism(void)
     CHECK(same_volume(&a, &c));
     CHECK_INT(c.stats.steps, a.stats.steps);
     CHECK_INT(c.stats.splits, a.stats.splits);
-    printf("determinism: %lld steps in %d chunks, %lld splits, %lld patch steps\n",
-           c.stats.steps, chunks, c.stats.splits, c.stats.patch_steps);
+    printf("determinism: %lld steps in %d chunks, %lld splits, %lld patch steps\n", c.stats.steps,
+           chunks, c.stats.splits, c.stats.patch_steps);
     lightsim_ref_destroy(r);
     irradiance_volume_free(&a);
     irradiance_volume_free(&b);
