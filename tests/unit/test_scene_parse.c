@@ -61,8 +61,9 @@ static const struct bad_case bad_cases[] = {
     {"{\"objects\": [", REFRACT_E_INVALID_JSON, "invalid JSON", "line 1"},
     {OBJ("\"ior\": 1.5") " trailing", REFRACT_E_INVALID_JSON, "invalid JSON", "after the JSON"},
     {"[]", REFRACT_E_INVALID_FIELD, "(root): expected an object", NULL},
-    {TOP("\"lights\": []"), REFRACT_E_UNKNOWN_FIELD, "(root): unknown field \"lights\"",
-     "allowed: name, description, ambient_ior, environment, camera, render, objects"},
+    {TOP("\"light\": []"), REFRACT_E_UNKNOWN_FIELD, "(root): unknown field \"light\"",
+     "allowed: name, description, ambient_ior, environment, camera, render, objects, lights, "
+     "receiver, lightsim"},
     {"{}", REFRACT_E_MISSING_FIELD, "(root): missing required field \"objects\"", NULL},
     {"{\"objects\": []}", REFRACT_E_INVALID_FIELD, "objects: expected an array of 1..8", NULL},
     {"{\"objects\": {}}", REFRACT_E_INVALID_FIELD, "objects:", "got an object"},
@@ -130,9 +131,10 @@ static const struct bad_case bad_cases[] = {
      REFRACT_E_UNKNOWN_FIELD, "objects[0].bounds: unknown field \"mid\"", "allowed: min, max"},
     {OBJ("\"ior\": 1.5, \"iro\": 1"), REFRACT_E_UNKNOWN_FIELD, "objects[0]: unknown field \"iro\"",
      "allowed: name, bounds, resolution, transform, smoothing_sigma, ior, attenuation, emission, "
-     "opaque, opaque_ior"},
+     "opaque, opaque_ior, scattering, anisotropy, brdf"},
     {OBJ("\"name\": \"x\""), REFRACT_E_MISSING_FIELD,
-     "objects[0]: an object needs at least one of ior, attenuation, emission, opaque", NULL},
+     "objects[0]: an object needs at least one of ior, attenuation, emission, opaque, scattering",
+     NULL},
     {OBJ("\"ior\": 1.5, \"resolution\": 1"), REFRACT_E_INVALID_FIELD, "objects[0].resolution",
      "2..512"},
     {OBJ("\"ior\": 1.5, \"resolution\": 1024"), REFRACT_E_LIMIT_EXCEEDED, "objects[0].resolution",
@@ -524,11 +526,23 @@ static const char *fuzz_seed =
     "   {\"profile\": \"linear\", \"gradient\": [0.1, 0, 0]}, {\"volume\": \"v\"}],"
     "  \"attenuation\": {\"shape\": \"text\", \"text\": \"AB\", \"height\": 1, \"depth\": 1,"
     "   \"inside\": [1, 2, 3]}, \"opaque\": {\"shape\": \"sphere\", \"radius\": 1, \"inside\": "
-    "1}}]}";
+    "1},"
+    "  \"scattering\": [0.3, {\"shape\": \"bumpy_sphere\", \"radius\": 0.5, \"bump_amplitude\": "
+    "0.1, \"bump_frequency\": 4, \"inside\": [1, 2, 3]}], \"anisotropy\": 0.3,"
+    "  \"brdf\": {\"type\": \"phong\", \"color\": [1, 1, 1], \"roughness\": 0.2, \"exponent\": "
+    "50}}],"
+    " \"lights\": [{\"name\": \"sun\", \"type\": \"directional\", \"direction\": [0, -1, 0]},"
+    "  {\"type\": \"point\", \"position\": [0, 2, 0], \"color\": 2, \"intensity\": 3},"
+    "  {\"type\": \"spot\", \"position\": [0, 2, 0], \"direction\": [0, -1, 0], \"angle_deg\": "
+    "20}],"
+    " \"receiver\": {\"height\": -1, \"half_size\": 2, \"albedo\": [0.5, 0.5, 0.5]},"
+    " \"lightsim\": {\"resolution\": 16, \"deposit\": \"max\", \"cull_flipped\": true}}";
 
 static void survives_every_truncation_of_a_valid_document(void)
 {
     size_t n = strlen(fuzz_seed);
+    struct scene *seed = parse_ok(fuzz_seed); /* the seed itself is valid */
+    scene_destroy(seed);
     parse_anything(fuzz_seed, n);
     for (size_t len = 0; len < n; len++) {
         /* A private copy of exactly len bytes, so reading past it is caught by ASan. */
