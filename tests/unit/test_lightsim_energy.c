@@ -104,13 +104,17 @@ static void layer_mean(const struct irradiance_volume *v, int j, double half, do
         out[c] /= (double)n;
 }
 
-/* An index-matched slab 0.5 thick with sigma_a = (2, 1, 0.5) per unit, lit from above. */
-static void test_beer_lambert(void)
+/* An index-matched slab 0.5 thick with sigma_t = (2, 1, 0.5) per unit, lit from above:
+ * all absorption, or half of it scattering (sigma_t = sigma_a + sigma_s, docs/lightsim.md
+ * "Fields"; scattered light leaves the beam). */
+static void test_beer_lambert(const char *channels)
 {
-    struct scene *s = fx_scene(
-        "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": "
-        "32, \"attenuation\": {\"shape\": \"box\", \"size\": [4, 0.5, 4], \"inside\": [2, 1, "
-        "0.5]}}]}");
+    char json[1024];
+    snprintf(json, sizeof json,
+             "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+             "\"resolution\": 32, %s}]}",
+             channels);
+    struct scene *s = fx_scene(json);
     struct scene_lightsim set = fx_settings(32, 24);
     struct scene_light l = fx_directional((vec3){0, -1, 0});
     struct lightsim_fields f;
@@ -149,6 +153,10 @@ static void test_beer_lambert(void)
 int main(void)
 {
     test_fresnel_plate();
-    test_beer_lambert();
+    test_beer_lambert("\"attenuation\": {\"shape\": \"box\", \"size\": [4, 0.5, 4], "
+                      "\"inside\": [2, 1, 0.5]}");
+    test_beer_lambert("\"attenuation\": {\"shape\": \"box\", \"size\": [4, 0.5, 4], "
+                      "\"inside\": [1, 0.5, 0.25]}, \"scattering\": {\"shape\": \"box\", "
+                      "\"size\": [4, 0.5, 4], \"inside\": [1, 0.5, 0.25]}");
     return test_summary("test_lightsim_energy");
 }

@@ -208,15 +208,10 @@ static float largest(const float *a, size_t n, int stride)
  * into caustic cusps. */
 static void test_bumpy_sphere(bool cull_flipped)
 {
-    struct scene *s = fx_scene(
-        "{\"objects\": [{\"bounds\": {\"min\": [-1, -1.5, -1], \"max\": [1, 1, 1]}, "
-        "\"resolution\": 48, \"ior\": {\"shape\": \"sphere\", \"radius\": 0.6, \"inside\": "
-        "1.5}}]}");
-    /* bumpy_sphere's JSON is the scene module's to parse: set the shape here */
-    struct scene_shape *sh = &s->objects[0].fields[SCENE_CH_IOR].layers[0].shape;
-    sh->kind = SCENE_SHAPE_BUMPY_SPHERE;
-    sh->bump_amplitude = 0.1 * sh->radius;
-    sh->bump_frequency = 6;
+    struct scene *s =
+        fx_scene("{\"objects\": [{\"bounds\": {\"min\": [-1, -1.5, -1], \"max\": [1, 1, 1]}, "
+                 "\"resolution\": 48, \"ior\": {\"shape\": \"bumpy_sphere\", \"radius\": 0.6, "
+                 "\"bump_amplitude\": 0.06, \"bump_frequency\": 6, \"inside\": 1.5}}]}");
     struct scene_lightsim set = fx_settings(40, 32);
     set.cull_flipped = cull_flipped;
     struct scene_light l = fx_directional((vec3){0.2, -1, 0.1});
