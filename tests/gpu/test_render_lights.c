@@ -21,6 +21,7 @@
 
 #include "core/env.h"
 #include "gpu/queue.h"
+#include "io/io_image.h"
 #include "lightsim/gpu/lightsim_gpu.h"
 #include "render/render.h"
 #include "scene/scene.h"
@@ -143,6 +144,32 @@ static void render_run(struct gpu_work *w, struct gpu *gpu)
     render_destroy(r);
 }
 
+/* REFRACT_TEST_DUMP=dir writes each case's picture as dir/lights_<n>.png, to look at. */
+static void dump_png(const struct lit_case *c, const struct render_view_result *out)
+{
+    static int index;
+    const char *dir = getenv("REFRACT_TEST_DUMP");
+    if (dir == NULL)
+        return;
+    uint8_t *px = malloc((size_t)out->width * out->height * 4);
+    void *png = NULL;
+    size_t len = 0;
+    struct err e = {0};
+    io_tonemap_srgb8(out->rgba, out->width, out->height, 0.0, IO_TONEMAP_FILMIC, px);
+    if (io_encode_png(px, out->width, out->height, &png, &len, &e) == REFRACT_E_OK) {
+        char path[512];
+        snprintf(path, sizeof path, "%s/lights_%d.png", dir, index++);
+        FILE *f = fopen(path, "wb");
+        if (f) {
+            fwrite(png, 1, len, f);
+            fclose(f);
+            printf("%s: wrote %s\n", c->name, path);
+        }
+    }
+    free(png);
+    free(px);
+}
+
 static void compare(struct gpu *gpu, struct lit_case *c)
 {
     struct render_work rw = {.c = c};
@@ -164,6 +191,7 @@ static void compare(struct gpu *gpu, struct lit_case *c)
         CHECK(false);
         return;
     }
+    dump_png(c, &rw.out);
     const struct scene *s = c->scene;
     struct scene_reference ref;
     struct err e = {0};
