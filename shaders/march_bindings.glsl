@@ -39,8 +39,10 @@ layout(binding = UNIT_ENVIRONMENT) uniform sampler2D environment_map;
 // Lights (tevs2007 eqs. 5.4-5.8): the scattering atlas, the lights' irradiance and
 // direction volumes (one texture unit each, MAX_LIGHTS of each) and their parameters.
 layout(binding = UNIT_SCATTERING) uniform sampler3D scattering_atlas;
-// One sampler per light rather than an array: llvmpipe (Mesa 22.3) miscompiled a loop
-// indexing sampler3D arrays (wrong radiance in unrelated terms).
+// One sampler per light rather than a sampler3D array: with the array indexed by the light
+// loop, llvmpipe (Mesa 22.3.6) rendered wrong radiance even with every light's scale 0
+// (tests/gpu/test_render_lights.c found it; not isolated further, so treat it as a driver
+// problem to avoid).
 layout(binding = UNIT_IRRADIANCE0 + 0) uniform sampler3D irradiance_volume0;
 layout(binding = UNIT_IRRADIANCE0 + 1) uniform sampler3D irradiance_volume1;
 layout(binding = UNIT_IRRADIANCE0 + 2) uniform sampler3D irradiance_volume2;
