@@ -10,29 +10,35 @@
 
 layout(local_size_x = LS_LOCAL_X) in;
 
-// Deposits: LS_DEPOSIT_STRIDE floats per voxel, added atomically (native float add or a
-// compare-and-swap loop); max mode keeps the largest irradiance with atomicMax on the bits
-// (positive floats order as their bits do).
-layout(std430, binding = BIND_SSBO_LS_DEPOSIT) buffer ls_deposit_bits_block
-{
-    uint deposit_bits[];
-};
+// Deposits: one float buffer per channel (irradiance rgb, direction xyz), added
+// atomically (native float add or a compare-and-swap loop); max mode keeps the largest
+// irradiance with atomicMax on the bits (positive floats order as their bits do). The
+// channel index is a constant at every call (blocks of an array need a uniform index).
 #ifdef LS_NATIVE_FLOAT_ATOMICS
+#define LS_BITS_BLOCKS 3 /* only max mode's irradiance channels */
 layout(std430, binding = BIND_SSBO_LS_DEPOSIT) buffer ls_deposit_block
 {
-    float deposit[];
-};
-void deposit_add(uint i, float v)
-{
-    atomicAdd(deposit[i], v);
-}
+    float v[];
+} deposit[LS_DEPOSIT_CHANNELS];
 #else
-void deposit_add(uint i, float v)
+#define LS_BITS_BLOCKS LS_DEPOSIT_CHANNELS
+#endif
+layout(std430, binding = BIND_SSBO_LS_DEPOSIT) buffer ls_deposit_bits_block
 {
-    uint seen = deposit_bits[i];
+    uint v[];
+} deposit_bits[LS_BITS_BLOCKS];
+
+#ifdef LS_NATIVE_FLOAT_ATOMICS
+#define deposit_add(ch, i, value) atomicAdd(deposit[ch].v[i], value)
+#else
+#define deposit_add(ch, i, value) deposit_add_cas(ch, i, value)
+void deposit_add_cas(int ch, uint i, float value)
+{
+    uint seen = deposit_bits[ch].v[i];
     for (;;) {
         uint expected = seen;
-        seen = atomicCompSwap(deposit_bits[i], expected, floatBitsToUint(uintBitsToFloat(expected) + v));
+        seen = atomicCompSwap(deposit_bits[ch].v[i], expected,
+                              floatBitsToUint(uintBitsToFloat(expected) + value));
         if (seen == expected)
             break;
     }
@@ -78,13 +84,13 @@ void splat(vec3 m, vec3 q, vec3 d)
                 float wt = wx[kx] * wyz;
                 if (x < 0 || x >= ls.dims.x || wt == 0.0)
                     continue;
-                uint base = voxel_index(ivec3(x, y, z)) * LS_DEPOSIT_STRIDE;
-                deposit_add(base + 0u, wt * q.r);
-                deposit_add(base + 1u, wt * q.g);
-                deposit_add(base + 2u, wt * q.b);
-                deposit_add(base + 3u, wt * qd.x);
-                deposit_add(base + 4u, wt * qd.y);
-                deposit_add(base + 5u, wt * qd.z);
+                uint o = voxel_index(ivec3(x, y, z));
+                deposit_add(0, o, wt * q.r);
+                deposit_add(1, o, wt * q.g);
+                deposit_add(2, o, wt * q.b);
+                deposit_add(3, o, wt * qd.x);
+                deposit_add(4, o, wt * qd.y);
+                deposit_add(5, o, wt * qd.z);
             }
         }
     }
@@ -97,13 +103,14 @@ void deposit_max(vec3 m, vec3 e_p, vec3 q, vec3 d)
     ivec3 c = ivec3(floor((m - ls.grid_min.xyz) / ls.grid_min.w));
     if (any(lessThan(c, ivec3(0))) || any(greaterThanEqual(c, ls.dims.xyz)))
         return;
-    uint base = voxel_index(c) * LS_DEPOSIT_STRIDE;
-    for (int ch = 0; ch < 3; ch++)
-        atomicMax(deposit_bits[base + uint(ch)], floatBitsToUint(max(e_p[ch], 0.0)));
+    uint o = voxel_index(c);
+    atomicMax(deposit_bits[0].v[o], floatBitsToUint(max(e_p.r, 0.0)));
+    atomicMax(deposit_bits[1].v[o], floatBitsToUint(max(e_p.g, 0.0)));
+    atomicMax(deposit_bits[2].v[o], floatBitsToUint(max(e_p.b, 0.0)));
     float q_lum = (q.r + q.g + q.b) / 3.0;
-    deposit_add(base + 3u, q_lum * d.x);
-    deposit_add(base + 4u, q_lum * d.y);
-    deposit_add(base + 5u, q_lum * d.z);
+    deposit_add(3, o, q_lum * d.x);
+    deposit_add(4, o, q_lum * d.y);
+    deposit_add(5, o, q_lum * d.z);
 }
 
 // dx/dt = w / n^2, dw/dt = grad n / n (tevs2007 eqs. 4.12/4.13).

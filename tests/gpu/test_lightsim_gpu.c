@@ -257,7 +257,7 @@ static void lifecycle_run(struct gpu_work *w, struct gpu *gpu)
     size_t voxels = (size_t)f->grid.dims[0] * f->grid.dims[1] * f->grid.dims[2];
     size_t cap = 5000, blocks = (cap + LS_SCAN_BLOCK - 1) / LS_SCAN_BLOCK;
     size_t stepping = 2 * cap * 176 + 2 * cap * 4 + blocks * 4 + 80 + LS_ACC_COUNT * 4 +
-                      LS_TOT_COUNT * 8 + voxels * LS_DEPOSIT_STRIDE * 4 + 96 + 2 * voxels * 16;
+                      LS_TOT_COUNT * 8 + voxels * LS_DEPOSIT_CHANNELS * 4 + 96 + 2 * voxels * 16;
     printf("life cycle: %zu bytes while stepping (expected %zu)\n", lightsim_gpu_run_bytes(run),
            stepping);
     LC_CHECK(lightsim_gpu_run_bytes(run) == stepping);
