@@ -266,8 +266,17 @@ static void lifecycle_run(struct gpu_work *w, struct gpu *gpu)
     LC_CHECK(lightsim_gpu_read(run, &v, &e) == REFRACT_E_CONFLICT);
     bool done = false;
     int chunks = 0;
-    while (!done && chunks < 10000 && lightsim_gpu_advance(run, 5, &done, &e) == REFRACT_E_OK)
+    double last_progress = 0;
+    while (!done && chunks < 10000 && lightsim_gpu_advance(run, 5, &done, &e) == REFRACT_E_OK) {
         chunks++;
+        struct lightsim_stats mid;
+        lightsim_gpu_stats(run, &mid);
+        /* docs/lightsim.md: progress never falls, and is 1 only when done */
+        LC_CHECK(mid.progress >= last_progress &&
+                 (done ? mid.progress == 1 : mid.progress <= 0.99));
+        LC_CHECK(done || mid.steps == 5LL * chunks);
+        last_progress = mid.progress;
+    }
     LC_CHECK(done);
     size_t out = voxels * (16 + 8);
     size_t after = 80 + LS_TOT_COUNT * 8 + 96 + out;

@@ -363,7 +363,7 @@ enum refract_code lightsim_gpu_advance(struct lightsim_gpu_run *run, int max_ste
         return rc;
     struct lightsim_stats *s = &run->stats;
     s->done = s->patches_live == 0 || run->steps_issued >= run->max_steps;
-    s->progress = s->done ? 1 : fmin(1, s->steps * run->dt / run->t_sweep);
+    s->progress = s->done ? 1 : fmin(0.99, s->steps * run->dt / run->t_sweep); /* 1 = done */
     if (s->done)
         rc = finish(run, p, e);
     *done = s->done;
