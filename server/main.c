@@ -28,6 +28,7 @@
 #include "config.h"
 #include "core/log.h"
 #include "http/http.h"
+#include "lightsim/gpu/lightsim_gpu.h"
 #include "render/render.h"
 #include "store/store.h"
 
@@ -40,6 +41,9 @@ struct render_create_work {
 static void render_create_run(struct gpu_work *w, struct gpu *gpu)
 {
     struct render_create_work *rc = w->user;
+    /* The light simulator's programs too, so a shader error stops start-up. */
+    if (lightsim_gpu_init(gpu, &w->err) != REFRACT_E_OK)
+        return;
     rc->render = render_create(gpu, &rc->desc, &w->err);
 }
 
@@ -55,6 +59,7 @@ static void final_run(struct gpu_work *w, struct gpu *gpu)
     (void)gpu;
     struct final_work *f = w->user;
     irradiance_cache_release_gpu(f->irradiance);
+    lightsim_gpu_shutdown();
     render_destroy(f->render);
 }
 
