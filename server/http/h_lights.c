@@ -9,11 +9,13 @@
  * the new poses at once, and the answer says whether they were all cached (200) or some
  * recompute started (202), with the irradiance status as the body.
  */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "../cache/irradiance_cache.h"
+#include "../scene/json_read.h"
 #include "http_internal.h"
 
 static const char *kind_name(enum scene_light_kind k)
@@ -59,7 +61,27 @@ enum MHD_Result http_handle_lights_get(struct http_request *req)
     return http_respond_json(req, MHD_HTTP_OK, root);
 }
 
-/* Parses the request body as a JSON object, answering 400 when it is not one. */
+/* False when some number of the tree is not finite (1e400 parses as infinity, which the
+ * re-serialised document would turn into null); path gets its JSON path. */
+static bool all_finite(const cJSON *node, char *path, size_t size, size_t used)
+{
+    if (cJSON_IsNumber(node) && !isfinite(node->valuedouble))
+        return false;
+    int index = 0;
+    for (const cJSON *c = node->child; c; c = c->next, index++) {
+        int n = cJSON_IsArray(node) ? snprintf(path + used, size - used, "[%d]", index)
+                                    : snprintf(path + used, size - used, "%s%s", used ? "." : "",
+                                               c->string ? c->string : "");
+        size_t next = n > 0 && (size_t)n < size - used ? used + (size_t)n : used;
+        if (!all_finite(c, path, size, next))
+            return false;
+        path[used] = '\0';
+    }
+    return true;
+}
+
+/* Parses the request body as a JSON object (the scene reader's syntax errors: byte, line,
+ * column), answering 400 when it is not one. */
 static cJSON *body_object(struct http_request *req, const char *what, enum MHD_Result *answer)
 {
     if (req->body_len == 0) {
@@ -67,20 +89,25 @@ static cJSON *body_object(struct http_request *req, const char *what, enum MHD_R
                                      "the request body is empty; send %s", what);
         return NULL;
     }
-    const char *end = NULL;
-    cJSON *body = cJSON_ParseWithLengthOpts(req->body, req->body_len, &end, false);
-    if (body == NULL) {
-        size_t at = end ? (size_t)(end - req->body) : 0;
-        *answer = http_respond_error(req, REFRACT_E_INVALID_JSON,
-                                     "the request body is not valid JSON (near byte %zu); "
-                                     "send %s",
-                                     at, what);
+    cJSON *body = NULL;
+    struct err e = {0};
+    if (jr_parse(req->body, req->body_len, &body, &e) != REFRACT_E_OK) {
+        *answer = http_respond_err(req, &e);
         return NULL;
     }
     if (!cJSON_IsObject(body)) {
         cJSON_Delete(body);
+        *answer = http_respond_error(req, REFRACT_E_INVALID_FIELD, "(root): expected an object: %s",
+                                     what);
+        return NULL;
+    }
+    char path[256];
+    if (!all_finite(body, path, sizeof path, 0)) {
+        cJSON_Delete(body);
         *answer = http_respond_error(req, REFRACT_E_INVALID_FIELD,
-                                     "the request body must be a JSON object: %s", what);
+                                     "%s: the number is too large for a double; lights take "
+                                     "finite numbers",
+                                     path);
         return NULL;
     }
     return body;
@@ -138,16 +165,12 @@ enum MHD_Result http_handle_lights_put(struct http_request *req)
         cJSON_Delete(doc);
         return answer;
     }
-    const cJSON *item = NULL;
-    cJSON_ArrayForEach(item, body)
-    {
-        if (strcmp(item->string, "lights") != 0) {
-            answer = http_respond_error(req, REFRACT_E_UNKNOWN_FIELD,
-                                        "%s: unknown field; the body is %s", item->string, what);
-            cJSON_Delete(body);
-            cJSON_Delete(doc);
-            return answer;
-        }
+    static const char *const allowed[] = {"lights", NULL};
+    struct err e = {0};
+    if (jr_check_object(body, "", allowed, &e) != REFRACT_E_OK) {
+        cJSON_Delete(body);
+        cJSON_Delete(doc);
+        return http_respond_err(req, &e);
     }
     cJSON *lights = cJSON_DetachItemFromObjectCaseSensitive(body, "lights");
     cJSON_Delete(body);
