@@ -434,6 +434,11 @@ int irradiance_cache_status(struct irradiance_cache *c, const struct irradiance_
     return (int)s->light_count;
 }
 
+const struct irradiance_cache_desc *irradiance_cache_settings(const struct irradiance_cache *c)
+{
+    return &c->desc;
+}
+
 void irradiance_cache_counters(struct irradiance_cache *c, struct irradiance_cache_counters *out)
 {
     pthread_mutex_lock(&c->lock);

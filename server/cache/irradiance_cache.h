@@ -121,6 +121,9 @@ uint64_t irradiance_cache_key(const struct irradiance_cache *c, uint64_t transpo
 bool irradiance_cache_request(struct irradiance_cache *c, const struct irradiance_source *src,
                               bool retry_failed);
 
+/* Any thread: the settings in effect (defaults filled in). */
+const struct irradiance_cache_desc *irradiance_cache_settings(const struct irradiance_cache *c);
+
 /* Any thread: the status of each light of the source; out has SCENE_MAX_LIGHTS entries.
  * Returns the light count. */
 int irradiance_cache_status(struct irradiance_cache *c, const struct irradiance_source *src,

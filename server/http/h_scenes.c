@@ -52,6 +52,18 @@ enum MHD_Result http_handle_health(struct http_request *req)
     cJSON_AddNumberToObject(lim, "max_json_bytes", (double)c->max_json_bytes);
     cJSON_AddNumberToObject(lim, "max_upload_bytes", (double)c->max_upload_bytes);
     cJSON_AddNumberToObject(lim, "request_timeout_ms", c->request_timeout_ms);
+    const struct irradiance_cache_desc *ic = irradiance_cache_settings(req->app->irradiance);
+    struct irradiance_cache_counters k;
+    irradiance_cache_counters(req->app->irradiance, &k);
+    cJSON *irr = cJSON_AddObjectToObject(root, "irradiance");
+    cJSON_AddNumberToObject(irr, "gpu_budget_bytes", (double)ic->gpu_budget_bytes);
+    cJSON_AddNumberToObject(irr, "host_budget_bytes", (double)ic->host_budget_bytes);
+    cJSON_AddNumberToObject(irr, "position_tolerance", ic->position_tolerance);
+    cJSON_AddNumberToObject(irr, "direction_tolerance", ic->direction_tolerance);
+    cJSON_AddNumberToObject(irr, "chunk_steps", ic->chunk_steps);
+    cJSON_AddNumberToObject(irr, "entries", k.entries);
+    cJSON_AddNumberToObject(irr, "gpu_bytes", (double)k.gpu_bytes);
+    cJSON_AddNumberToObject(irr, "host_bytes", (double)k.host_bytes);
     return http_respond_json(req, MHD_HTTP_OK, root);
 }
 
