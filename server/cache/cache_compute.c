@@ -47,7 +47,16 @@ static void finish_run(struct irr_entry *en, struct err *e)
     en->finished = true;
     double ms = gpu_time_ms() - en->started_ms;
     pthread_mutex_lock(&c->lock);
-    if (rc != REFRACT_E_OK) {
+    /* Cancelled after this chunk began: the volume is still right for its key, so keep it
+     * unless the key was asked for again meanwhile (a new entry computes it). */
+    if (rc == REFRACT_E_OK && en->cancelled && irr_find_locked(c, en->key) == NULL) {
+        en->cancelled = false;
+        c->counters.superseded--;
+    }
+    if (rc == REFRACT_E_OK && en->cancelled) {
+        irradiance_volume_free(&host);
+        irradiance_gpu_free(&tex);
+    } else if (rc != REFRACT_E_OK) {
         irradiance_volume_free(&host);
         irradiance_gpu_free(&tex);
         fail_locked(en, e);
