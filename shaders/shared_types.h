@@ -80,7 +80,7 @@ struct trace_hit_out {
 /* ==== light simulator (docs/lightsim.md; server/lightsim/gpu) ==== */
 #ifdef REFRACT_HOST_C
 typedef struct lightsim_params lightsim_params;
-typedef struct ls_patch ls_patch;
+typedef struct ls_gpu_patch ls_gpu_patch;
 typedef struct ls_control ls_control;
 #endif
 
@@ -96,12 +96,13 @@ struct lightsim_params {
 };
 
 /* One wavefront patch (std430; docs/lightsim.md "Patches"): corners p00, p10, p11, p01. */
-struct ls_patch {
-    vec4 x[4];    /* xyz: corner positions (world) */
+struct ls_gpu_patch {
+    vec4 x[4];    /* xyz: corner positions (world); w of x[0..2]: cached sigma_t(c) rgb */
     vec4 w[4];    /* xyz: corner ray vectors n d (tevs2007 eq. 4.8) */
-    vec4 power;   /* rgb: P (unit light) */
+    vec4 power;   /* rgb: P (unit light); w: cached n(c) */
     vec4 zone;    /* x: n_lo, y: n_hi of the interface zone */
-    ivec4 state;  /* x: level; y: in_zone; z: crossed; w: entered */
+    ivec4 state;  /* x: level; y: in_zone; z: crossed; w: 1 = the cached samples are those
+                     at the current centre c (the previous step's c') */
 };
 
 /* Indirect dispatch arguments and counters written on the GPU (std430). */
