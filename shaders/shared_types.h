@@ -126,8 +126,8 @@ struct ls_control {
 struct light_params {
     vec4 position;  /* xyz: world (point, spot); w: LIGHT_KIND_* */
     vec4 direction; /* xyz: unit, the way light travels (directional, spot); w: cos_spot */
-    vec4 scale;     /* rgb: colour * intensity (multiplies the unit-light volume); w: LIGHT_MODE_* */
-    vec4 grid_min;  /* xyz: world bmin of the light grid; w: voxel edge (world units) */
+    vec4 scale;    /* rgb: colour * intensity (multiplies the unit-light volume); w: LIGHT_MODE_* */
+    vec4 grid_min; /* xyz: world bmin of the light grid; w: voxel edge (world units) */
     vec4 grid_size; /* xyz: grid extent dims * voxel (world units); w: unused */
 };
 
@@ -137,10 +137,10 @@ typedef struct light_params light_params;
 
 /* Uniform block BIND_UBO_LIGHTS of render_view.comp. */
 struct march_lights {
-    ivec4 count;             /* x: lights; y: 1 = receiver enabled */
-    vec4 receiver;           /* x: height (world y); y: half size */
-    vec4 receiver_albedo;    /* rgb: Lambertian reflectance */
-    vec4 brdf[MAX_OBJECTS];  /* x: BRDF_*; y: GGX alpha (roughness^2); z: Phong exponent */
+    ivec4 count;                  /* x: lights; y: 1 = receiver enabled */
+    vec4 receiver;                /* x: height (world y); y: half size */
+    vec4 receiver_albedo;         /* rgb: Lambertian reflectance */
+    vec4 brdf[MAX_OBJECTS];       /* x: BRDF_*; y: GGX alpha (roughness^2); z: Phong exponent */
     vec4 brdf_color[MAX_OBJECTS]; /* rgb: colour of the BRDF */
     light_params lights[MAX_LIGHTS];
 };
