@@ -148,7 +148,7 @@ static void sweep_locked(struct irradiance_cache *c)
     size_t j = 0;
     for (size_t i = 0; i < c->entry_count; i++) {
         struct irr_entry *en = c->entries[i];
-        if (en->cancelled && !en->busy && !en->persisting && !en->has_gpu) {
+        if (en->cancelled && !en->busy && !en->persisting && !en->has_gpu && en->loading == 0) {
             irradiance_volume_free(&en->host);
             irr_drop_source(en);
             free(en);
@@ -217,22 +217,24 @@ void irr_evict_gpu_locked(struct irradiance_cache *c, int64_t keep_tick)
     }
 }
 
-/* Reads a ready entry's volume back from disk into its host copy. */
-static bool load_locked(struct irradiance_cache *c, struct irr_entry *en)
+/* Installs a volume read back from disk (rc its outcome) as the entry's host copy, unless
+ * another thread did first. Returns whether the entry now has one. */
+static bool install_read_locked(struct irradiance_cache *c, struct irr_entry *en,
+                                enum refract_code rc, struct irradiance_volume *vol, double ms,
+                                const struct err *e)
 {
-    if (en->has_host)
+    if (en->has_host) {
+        irradiance_volume_free(vol);
         return true;
-    if (!en->on_disk)
-        return false;
-    struct err e = {0};
-    double ms = 0;
-    if (irr_disk_read(c, en->key, &en->host, &ms, &e) != REFRACT_E_OK) {
-        log_warn("irradiance", "volume %016" PRIx64 " could not be read back: %s", en->key, e.msg);
+    }
+    if (rc != REFRACT_E_OK) {
+        log_warn("irradiance", "volume %016" PRIx64 " could not be read back: %s", en->key, e->msg);
         en->on_disk = false; /* recompute it on the next request */
         if (!en->has_gpu)
             en->cancelled = true;
         return false;
     }
+    en->host = *vol;
     en->has_host = true;
     en->has_stats = true;
     en->stats = en->host.stats;
@@ -240,6 +242,43 @@ static bool load_locked(struct irradiance_cache *c, struct irr_entry *en)
     en->loaded_from_disk = true;
     c->counters.loaded++;
     return true;
+}
+
+/* Reads a ready entry's volume back from disk into its host copy, holding the lock (the
+ * GPU thread's fallback when a copy left memory between a request and its render). */
+static bool load_locked(struct irradiance_cache *c, struct irr_entry *en)
+{
+    if (en->has_host)
+        return true;
+    if (!en->on_disk)
+        return false;
+    struct err e = {0};
+    struct irradiance_volume vol = {0};
+    double ms = 0;
+    enum refract_code rc = irr_disk_read(c, en->key, &vol, &ms, &e);
+    return install_read_locked(c, en, rc, &vol, ms, &e);
+}
+
+/* HTTP threads: reads the host copies of ready entries from disk with the lock released,
+ * so renders on the GPU thread never wait on the disk. Called and returns with the lock
+ * held; `loading` pins each entry against removal meanwhile. ok[i] tells whether list[i]
+ * has a host copy afterwards. */
+static void load_unlocked(struct irradiance_cache *c, struct irr_entry **list, int n, bool *ok)
+{
+    struct irradiance_volume vol[SCENE_MAX_LIGHTS] = {0};
+    enum refract_code rc[SCENE_MAX_LIGHTS];
+    struct err e[SCENE_MAX_LIGHTS] = {0};
+    double ms[SCENE_MAX_LIGHTS] = {0};
+    for (int i = 0; i < n; i++)
+        list[i]->loading++;
+    pthread_mutex_unlock(&c->lock);
+    for (int i = 0; i < n; i++)
+        rc[i] = irr_disk_read(c, list[i]->key, &vol[i], &ms[i], &e[i]);
+    pthread_mutex_lock(&c->lock);
+    for (int i = 0; i < n; i++) {
+        list[i]->loading--;
+        ok[i] = install_read_locked(c, list[i], rc[i], &vol[i], ms[i], &e[i]);
+    }
 }
 
 /* A ready entry usable now (in memory, or read back from disk). */
@@ -303,6 +342,9 @@ bool irradiance_cache_request(struct irradiance_cache *c, const struct irradianc
         return true;
     uint64_t transport = irradiance_transport_hash(src);
     bool all_hit = true;
+    struct irr_entry *to_load[SCENE_MAX_LIGHTS];
+    struct irr_slot *load_slot[SCENE_MAX_LIGHTS];
+    int loads = 0;
     pthread_mutex_lock(&c->lock);
     c->tick++;
     /* Slots of lights the scene no longer has. */
@@ -356,10 +398,34 @@ bool irradiance_cache_request(struct irradiance_cache *c, const struct irradianc
             continue;
         }
         en->last_use = c->tick;
-        if (!usable_locked(c, en))
-            all_hit = false;
-        else {
+        bool ready = en->phase == IRR_READY && !en->cancelled;
+        if (ready && !en->has_gpu && !en->has_host && en->on_disk) {
+            to_load[loads] = en; /* read back below, without the lock */
+            load_slot[loads++] = sl;
+        } else if (ready && (en->has_gpu || en->has_host)) {
             sl->previous = key;
+            sl->has_previous = true;
+        } else {
+            all_hit = false;
+        }
+    }
+    /* Another request may add or drop slots while the lock is released (the array may
+     * move): remember the names and keys, and look the slots up again afterwards. */
+    uint64_t load_keys[SCENE_MAX_LIGHTS];
+    char load_names[SCENE_MAX_LIGHTS][SCENE_NAME_MAX];
+    for (int i = 0; i < loads; i++) {
+        load_keys[i] = to_load[i]->key;
+        snprintf(load_names[i], sizeof load_names[i], "%s", load_slot[i]->light);
+    }
+    bool ok[SCENE_MAX_LIGHTS];
+    if (loads > 0)
+        load_unlocked(c, to_load, loads, ok);
+    for (int i = 0; i < loads; i++) {
+        struct irr_slot *sl = find_slot(c, src->scene_id, load_names[i]);
+        if (!ok[i])
+            all_hit = false;
+        else if (sl && sl->current == load_keys[i]) {
+            sl->previous = load_keys[i];
             sl->has_previous = true;
         }
     }
@@ -545,8 +611,10 @@ enum refract_code irradiance_cache_copy(struct irradiance_cache *c,
     struct irr_entry *en =
         best_locked(c, src->scene_id, name,
                     irradiance_cache_key(c, irradiance_transport_hash(src), l), using_previous);
-    if (en && !en->has_host)
-        load_locked(c, en);
+    if (en && !en->has_host && en->on_disk) {
+        bool ok = false;
+        load_unlocked(c, &en, 1, &ok);
+    }
     enum refract_code rc = REFRACT_E_OK;
     if (en == NULL || !en->has_host) {
         rc = err_set(e, REFRACT_E_CONFLICT,

@@ -42,6 +42,7 @@ struct irr_entry {
     bool persisting;          /* (L) the worker is writing the host copy */
     bool on_disk;             /* (L) <key>.exr and <key>.json exist */
     bool loaded_from_disk;    /* (L) */
+    int loading;              /* (L) threads reading its volume back from disk */
     struct scene_light light; /* the pose computed (unit colour; colour ignored) */
     struct scene_lightsim set;
     double progress;               /* (L) */
