@@ -19,7 +19,8 @@
  *   - the EXR download decodes with io's EXR reader: its grid is the status's, the
  *     irradiance is E = 1 (unit light, normal incidence, index-matched medium) inside the
  *     beam and the direction (0, -1, 0);
- *   - a scene that needs no light simulation reports not_needed and renders say so.
+ *   - a scene that needs no light simulation reports not_needed and renders say so;
+ *   - the simulator's input fields were built once for all those poses (the log).
  */
 #include <math.h>
 #include <stdbool.h>
@@ -372,6 +373,15 @@ int main(void)
         point_light_positions(&d, id);
     }
     not_needed(&d);
+    /* Every pose above shares one transport: its input fields were built once. */
+    FILE *log = fopen(d.log_path, "r");
+    int builds = 0;
+    char line[2048];
+    while (log && fgets(line, sizeof line, log))
+        builds += strstr(line, "light fields") != NULL;
+    if (log)
+        fclose(log);
+    CHECK_INT(builds, 1);
     CHECK_INT(test_daemon_stop(&d), 0);
     test_daemon_cleanup(&d);
     return test_summary("test_irradiance_cache");
