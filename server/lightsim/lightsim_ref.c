@@ -93,7 +93,7 @@ static void update_progress(struct lightsim_ref *r)
         r->st.patches_peak = (int)r->count;
     r->st.done = r->count == 0 || r->st.steps >= r->max_steps;
     double t = (double)r->st.steps * r->dt;
-    r->st.progress = r->st.done ? 1.0 : fmin(1.0, t / r->t_sweep);
+    r->st.progress = r->st.done ? 1.0 : fmin(0.99, t / r->t_sweep); /* 1 means done */
 }
 
 static enum refract_code oom(struct err *e)

@@ -132,6 +132,11 @@ enum refract_code scene_reference_build(const struct scene *s, enum scene_refere
         ro->xf = o->world_from_object;
         ro->smoothing_sigma_voxels = o->smoothing_sigma_voxels;
         ro->opaque_ior = o->opaque_ior;
+        /* The same BRDF the GPU gets from render.c (GGX alpha = roughness^2). */
+        ro->brdf.kind = (int)o->brdf.kind;
+        memcpy(ro->brdf.color, o->brdf.color, sizeof ro->brdf.color);
+        ro->brdf.alpha = o->brdf.roughness * o->brdf.roughness;
+        ro->brdf.exponent = o->brdf.exponent;
         rc = mode == SCENE_REFERENCE_ANALYTIC ? build_analytic(out, i, o, s->ambient_ior, e)
                                               : build_voxels(out, s, i, lookup, ctx, e);
     }
