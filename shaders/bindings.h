@@ -56,7 +56,7 @@
 #define LS_SCAN_LOCAL 256   /* lightsim_scan: invocations per work group */
 #define LS_SCAN_BLOCK 1024  /* elements per scan block (4 per invocation) */
 #define LS_MAX_PATCHES 1048576 /* = LS_SCAN_BLOCK^2: two scan levels suffice */
-#define LS_DEPOSIT_STRIDE 6 /* floats per voxel: irradiance rgb, direction xyz */
+#define LS_DEPOSIT_CHANNELS 6 /* deposit buffers: irradiance r, g, b; direction x, y, z */
 #define LS_DEPOSIT_FLUX 0
 #define LS_DEPOSIT_MAX 1
 /* float accumulators of one step (ls_accum[]) */
@@ -83,7 +83,8 @@
 #define BIND_SSBO_LS_CONTROL 10    /* ls_control: indirect arguments and counters */
 #define BIND_SSBO_LS_ACCUM 11      /* float[LS_ACC_COUNT], one step's flux sums */
 #define BIND_SSBO_LS_TOTALS 12     /* double[LS_TOT_COUNT], the run's totals */
-#define BIND_SSBO_LS_DEPOSIT 13    /* float[LS_DEPOSIT_STRIDE] per light voxel */
+#define BIND_SSBO_LS_DEPOSIT 13    /* .. + 5: one float per light voxel and deposit channel
+                                      (one buffer each: GL guarantees only 128 MiB a block) */
 #define UNIT_LS_IOR_GRAD 5         /* sampler3D: rgb grad n (world units), a = n */
 #define UNIT_LS_EXTINCTION 6       /* sampler3D: rgb sigma_t per world unit, a coverage */
 #define IMAGE_LS_IRRADIANCE 1      /* lightsim_finish writes the irradiance volume */

@@ -20,7 +20,7 @@ void main()
         totals[LS_TOT_PATCH_STEPS] += double(n_in);
     }
     for (int k = 0; k < LS_ACC_LIVE; k++) {
-#ifdef GL_NV_shader_atomic_float
+#ifdef LS_NATIVE_FLOAT_ATOMICS
         totals[k] += double(ls_accum[k]);
         ls_accum[k] = 0.0;
 #else
@@ -30,7 +30,7 @@ void main()
     }
     if (n_in > 0) {
         for (int k = LS_ACC_LIVE; k < LS_ACC_LIVE + 3; k++) {
-#ifdef GL_NV_shader_atomic_float
+#ifdef LS_NATIVE_FLOAT_ATOMICS
             totals[k] = double(ls_accum[k]);
             ls_accum[k] = 0.0;
 #else

@@ -3,6 +3,11 @@
 // grid and atomic float addition. Twin: server/lightsim/lightsim_ref.c (double).
 // Include it first: the #extension line must precede every declaration.
 #extension GL_NV_shader_atomic_float : enable
+// LS_CAS_ATOMICS (a preamble #define, REFRACT_LIGHTSIM_CAS_ATOMICS=1 at start-up) forces
+// the portable compare-and-swap path where the extension exists, so tests run both.
+#if defined(GL_NV_shader_atomic_float) && !defined(LS_CAS_ATOMICS)
+#define LS_NATIVE_FLOAT_ATOMICS 1
+#endif
 #include "bindings.h"
 #include "shared_types.h"
 
@@ -19,7 +24,7 @@ layout(std430, binding = BIND_SSBO_LS_CONTROL) buffer ls_control_block
 // One step's flux sums. With GL_NV_shader_atomic_float they are added natively, else by
 // a compare-and-swap loop on their bits (both give the same sums up to the order of the
 // additions).
-#ifdef GL_NV_shader_atomic_float
+#ifdef LS_NATIVE_FLOAT_ATOMICS
 layout(std430, binding = BIND_SSBO_LS_ACCUM) buffer ls_accum_block
 {
     float ls_accum[];

@@ -10,29 +10,35 @@
 
 layout(local_size_x = LS_LOCAL_X) in;
 
-// Deposits: LS_DEPOSIT_STRIDE floats per voxel, added atomically (native float add or a
-// compare-and-swap loop); max mode keeps the largest irradiance with atomicMax on the bits
-// (positive floats order as their bits do).
-layout(std430, binding = BIND_SSBO_LS_DEPOSIT) buffer ls_deposit_bits_block
-{
-    uint deposit_bits[];
-};
-#ifdef GL_NV_shader_atomic_float
+// Deposits: one float buffer per channel (irradiance rgb, direction xyz), added
+// atomically (native float add or a compare-and-swap loop); max mode keeps the largest
+// irradiance with atomicMax on the bits (positive floats order as their bits do). The
+// channel index is a constant at every call (blocks of an array need a uniform index).
+#ifdef LS_NATIVE_FLOAT_ATOMICS
+#define LS_BITS_BLOCKS 3 /* only max mode's irradiance channels */
 layout(std430, binding = BIND_SSBO_LS_DEPOSIT) buffer ls_deposit_block
 {
-    float deposit[];
-};
-void deposit_add(uint i, float v)
-{
-    atomicAdd(deposit[i], v);
-}
+    float v[];
+} deposit[LS_DEPOSIT_CHANNELS];
 #else
-void deposit_add(uint i, float v)
+#define LS_BITS_BLOCKS LS_DEPOSIT_CHANNELS
+#endif
+layout(std430, binding = BIND_SSBO_LS_DEPOSIT) buffer ls_deposit_bits_block
 {
-    uint seen = deposit_bits[i];
+    uint v[];
+} deposit_bits[LS_BITS_BLOCKS];
+
+#ifdef LS_NATIVE_FLOAT_ATOMICS
+#define deposit_add(ch, i, value) atomicAdd(deposit[ch].v[i], value)
+#else
+#define deposit_add(ch, i, value) deposit_add_cas(ch, i, value)
+void deposit_add_cas(int ch, uint i, float value)
+{
+    uint seen = deposit_bits[ch].v[i];
     for (;;) {
         uint expected = seen;
-        seen = atomicCompSwap(deposit_bits[i], expected, floatBitsToUint(uintBitsToFloat(expected) + v));
+        seen = atomicCompSwap(deposit_bits[ch].v[i], expected,
+                              floatBitsToUint(uintBitsToFloat(expected) + value));
         if (seen == expected)
             break;
     }
@@ -44,30 +50,49 @@ uint voxel_index(ivec3 v)
     return uint((v.z * ls.dims.y + v.y) * ls.dims.x + v.x);
 }
 
-// Trilinear splat of q (rgb) and q_lum * d into the 8 voxels around m; voxels outside the
-// grid are skipped (docs/lightsim.md step 5, "flux").
+// Cubic B-spline weights of the four voxels i0 - 1 .. i0 + 2 along one axis (f = v - i0).
+vec4 bspline_weights(float f)
+{
+    float g = 1.0 - f;
+    return vec4(g * g * g / 6.0, 2.0 / 3.0 - f * f + 0.5 * f * f * f,
+                2.0 / 3.0 - g * g + 0.5 * g * g * g, f * f * f / 6.0);
+}
+
+// Splat of q (rgb) and q_lum * d into the 4 x 4 x 4 voxels around m with cubic B-spline
+// weights (docs/lightsim.md step 5, "flux": a lattice of tent splats ripples by up to 12%
+// per axis, the B-spline's by 0.45%); voxels outside the grid are skipped.
 void splat(vec3 m, vec3 q, vec3 d)
 {
     vec3 v = (m - ls.grid_min.xyz) / ls.grid_min.w - 0.5;
-    ivec3 i0 = ivec3(floor(v));
-    vec3 f = v - vec3(i0);
+    vec3 fl = floor(v);
+    ivec3 i0 = ivec3(fl) - 1;
+    vec3 f = v - fl;
+    vec4 wx = bspline_weights(f.x), wy = bspline_weights(f.y), wz = bspline_weights(f.z);
     float q_lum = (q.r + q.g + q.b) / 3.0;
-    for (int k = 0; k < 8; k++) {
-        ivec3 o = ivec3(k & 1, (k >> 1) & 1, (k >> 2) & 1);
-        ivec3 c = i0 + o;
-        if (any(lessThan(c, ivec3(0))) || any(greaterThanEqual(c, ls.dims.xyz)))
+    vec3 qd = q_lum * d;
+    for (int kz = 0; kz < 4; kz++) {
+        int z = i0.z + kz;
+        if (z < 0 || z >= ls.dims.z)
             continue;
-        vec3 wv = mix(1.0 - f, f, vec3(o));
-        float wt = wv.x * wv.y * wv.z;
-        if (wt == 0.0)
-            continue;
-        uint base = voxel_index(c) * LS_DEPOSIT_STRIDE;
-        deposit_add(base + 0u, wt * q.r);
-        deposit_add(base + 1u, wt * q.g);
-        deposit_add(base + 2u, wt * q.b);
-        deposit_add(base + 3u, wt * q_lum * d.x);
-        deposit_add(base + 4u, wt * q_lum * d.y);
-        deposit_add(base + 5u, wt * q_lum * d.z);
+        for (int ky = 0; ky < 4; ky++) {
+            int y = i0.y + ky;
+            if (y < 0 || y >= ls.dims.y)
+                continue;
+            float wyz = wy[ky] * wz[kz];
+            for (int kx = 0; kx < 4; kx++) {
+                int x = i0.x + kx;
+                float wt = wx[kx] * wyz;
+                if (x < 0 || x >= ls.dims.x || wt == 0.0)
+                    continue;
+                uint o = voxel_index(ivec3(x, y, z));
+                deposit_add(0, o, wt * q.r);
+                deposit_add(1, o, wt * q.g);
+                deposit_add(2, o, wt * q.b);
+                deposit_add(3, o, wt * qd.x);
+                deposit_add(4, o, wt * qd.y);
+                deposit_add(5, o, wt * qd.z);
+            }
+        }
     }
 }
 
@@ -78,13 +103,14 @@ void deposit_max(vec3 m, vec3 e_p, vec3 q, vec3 d)
     ivec3 c = ivec3(floor((m - ls.grid_min.xyz) / ls.grid_min.w));
     if (any(lessThan(c, ivec3(0))) || any(greaterThanEqual(c, ls.dims.xyz)))
         return;
-    uint base = voxel_index(c) * LS_DEPOSIT_STRIDE;
-    for (int ch = 0; ch < 3; ch++)
-        atomicMax(deposit_bits[base + uint(ch)], floatBitsToUint(max(e_p[ch], 0.0)));
+    uint o = voxel_index(c);
+    atomicMax(deposit_bits[0].v[o], floatBitsToUint(max(e_p.r, 0.0)));
+    atomicMax(deposit_bits[1].v[o], floatBitsToUint(max(e_p.g, 0.0)));
+    atomicMax(deposit_bits[2].v[o], floatBitsToUint(max(e_p.b, 0.0)));
     float q_lum = (q.r + q.g + q.b) / 3.0;
-    deposit_add(base + 3u, q_lum * d.x);
-    deposit_add(base + 4u, q_lum * d.y);
-    deposit_add(base + 5u, q_lum * d.z);
+    deposit_add(3, o, q_lum * d.x);
+    deposit_add(4, o, q_lum * d.y);
+    deposit_add(5, o, q_lum * d.z);
 }
 
 // dx/dt = w / n^2, dw/dt = grad n / n (tevs2007 eqs. 4.12/4.13).
@@ -166,11 +192,19 @@ void main()
         if (p.state.y != 0 && p.state.z == 0) {
             float n_mid = 0.5 * (p.zone.x + p.zone.y);
             if ((n0 >= n_mid) != (s1.a >= n_mid)) {
-                vec3 N = glen > 0.0 ? s1.rgb / glen : d;
-                float cos_i = min(1.0, abs(dot(d, N)));
+                vec3 w_bar = 0.25 * (p.w[0].xyz + p.w[1].xyz + p.w[2].xyz + p.w[3].xyz);
+                vec3 N = glen > 0.0 ? s1.rgb / glen : normalize(w_bar);
                 float n_i = s1.a > n0 ? p.zone.x : p.zone.y;
                 float n_t = s1.a > n0 ? p.zone.y : p.zone.x;
-                if (n_i * n_i * (1.0 - cos_i * cos_i) < n_t * n_t) {
+                // Snell's invariant: the ray equation changes w = n d only along grad n, so
+                // |w x N| is the incident side's n_i sin(theta_i) anywhere in the smoothed
+                // interface. w_t >= n_t: total internal reflection (the ray equation turns
+                // the wavefront round); w_t >= n_i: it turned round inside the zone and
+                // comes back, no surface is crossed.
+                float w_t = length(cross(w_bar, N));
+                if (w_t < n_t && w_t < n_i) {
+                    float sin_i = min(1.0, w_t / n_i);
+                    float cos_i = sqrt(1.0 - sin_i * sin_i);
                     float R = fresnel_unpolarized(cos_i, n_i, n_t);
                     acc_refl += P * R;
                     P *= 1.0 - R;

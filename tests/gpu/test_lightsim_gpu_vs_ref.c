@@ -3,16 +3,17 @@
  * twin, lightsim_ref_run (docs/lightsim.md: both follow it step for step), on coarse
  * light grids built from real scenes by lightsim_fields_build: a glass ball with tinted
  * absorption and a tilted glass slab, directional and point lights, flux and max deposit.
- * Bounds, from measurements on llvmpipe with ~20x headroom (float against double: a
+ * Bounds, from measurements on llvmpipe with 10-30x headroom (float against double: a
  * split decided differently at the threshold moves a few patches; another GPU sums the
  * atomics in another order):
  *   - each flux term (out, reflected, absorbed, culled) within 2e-5 of flux_in
- *     (measured <= 1.1e-6); patch_steps within 0.1% (measured 2e-5);
- *   - irradiance relative L1 difference sum|E_gpu - E_cpu| / sum|E_cpu| < 1e-4 in flux
- *     mode (measured <= 5.7e-6), < 2e-3 in max mode (8.8e-5: a maximum follows the one
+ *     (measured <= 7e-7); patch_steps within 0.1% (measured 6e-5);
+ *   - irradiance relative L1 difference sum|E_gpu - E_cpu| / sum|E_cpu| < 2e-4 in flux
+ *     mode (measured <= 1.3e-5), < 2e-3 in max mode (1.1e-4: a maximum follows the one
  *     patch that set it);
- *   - the largest per-voxel difference is reported (<= 2.5e-5 of the largest E in flux
- *     mode, 7e-4 in max mode); the direction's angle: mean 1 - cos < 1e-6 (measured 1e-8).
+ *   - the largest per-voxel difference is reported (<= 9e-5 of the largest E in flux
+ *     mode, 6.4e-4 in max mode); the direction's angle: mean 1 - cos < 1e-6 (measured
+ *     <= 5e-8).
  */
 #include "scene/scene.h"
 #include "test_lightsim_gpu_support.h"
@@ -128,7 +129,7 @@ static void compare(struct gpu *gpu, const struct compare_case *c)
            "voxels %d both / %d either, 1 - cos(direction angle) mean %.2e max %.2e\n",
            l1 / norm, max_diff, max_diff / max_e, max_e, lit_both, lit_either,
            lit_both ? dir_sum / lit_both : 0, dir_max);
-    CHECK(l1 / norm < (c->deposit == SCENE_DEPOSIT_FLUX ? 1e-4 : 2e-3));
+    CHECK(l1 / norm < (c->deposit == SCENE_DEPOSIT_FLUX ? 2e-4 : 2e-3));
     CHECK(lit_both >= 0.99 * lit_either);
     CHECK(lit_both == 0 || dir_sum / lit_both < 1e-6);
     irradiance_volume_free(&t.out);
@@ -142,13 +143,13 @@ int main(void)
     struct gpu *gpu = test_start_gpu("test_lightsim_gpu_vs_ref");
     printf("GL_RENDERER: %s\n", gpu_info(gpu)->renderer);
     const struct compare_case cases[] = {
-        {"glass ball, directional", ball_json, test_directional(0.2, -1, 0.1), 24, 48,
+        {"glass ball, directional", ball_json, test_directional(0.2, -1, 0.1), 24, 32,
          SCENE_DEPOSIT_FLUX},
-        {"tilted slab, directional", slab_json, test_directional(0, -1, 0.3), 32, 48,
+        {"tilted slab, directional", slab_json, test_directional(0, -1, 0.3), 28, 32,
          SCENE_DEPOSIT_FLUX},
-        {"glass ball, point light", ball_json, test_point(0.05, 1.1, -0.03), 24, 12,
+        {"glass ball, point light", ball_json, test_point(0.05, 1.1, -0.03), 24, 8,
          SCENE_DEPOSIT_FLUX},
-        {"tilted slab, max deposit", slab_json, test_directional(0, -1, 0.3), 24, 32,
+        {"tilted slab, max deposit", slab_json, test_directional(0, -1, 0.3), 20, 24,
          SCENE_DEPOSIT_MAX},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++)

@@ -19,7 +19,20 @@ _Static_assert(sizeof(ls_gpu_patch) == 176, "ls_gpu_patch must match std430");
 _Static_assert(sizeof(ls_control) == 80, "ls_control must match std430");
 _Static_assert(sizeof(lightsim_params) == 96, "lightsim_params must match std140");
 
-enum { LIST_A, LIST_B, COUNTS, OFFSETS, BLOCK_SUMS, CONTROL, ACCUM, TOTALS, DEPOSIT, BUFFER_COUNT };
+/* The run's buffers; DEPOSIT .. DEPOSIT + 5 are the deposit channels (irradiance rgb,
+ * direction xyz), one buffer each so that 256^3 fits GL's guaranteed 128 MiB a block. */
+enum {
+    LIST_A,
+    LIST_B,
+    COUNTS,
+    OFFSETS,
+    BLOCK_SUMS,
+    CONTROL,
+    ACCUM,
+    TOTALS,
+    DEPOSIT,
+    BUFFER_COUNT = DEPOSIT + LS_DEPOSIT_CHANNELS
+};
 
 struct lightsim_gpu_run {
     struct gpu_buffer buf[BUFFER_COUNT];
@@ -111,7 +124,9 @@ static void bind_all(const struct lightsim_gpu_run *r)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_LS_CONTROL, r->buf[CONTROL].buf);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_LS_ACCUM, r->buf[ACCUM].buf);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_LS_TOTALS, r->buf[TOTALS].buf);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_LS_DEPOSIT, r->buf[DEPOSIT].buf);
+    for (int c = 0; c < LS_DEPOSIT_CHANNELS; c++)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_LS_DEPOSIT + c,
+                         r->buf[DEPOSIT + c].buf);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, r->buf[CONTROL].buf);
     glBindTextureUnit(UNIT_LS_IOR_GRAD, r->ior_grad.tex);
     glBindTextureUnit(UNIT_LS_EXTINCTION, r->extinction.tex);
@@ -168,7 +183,12 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
         [CONTROL] = {"lightsim control", sizeof control, &control},
         [ACCUM] = {"lightsim step sums", LS_ACC_COUNT * sizeof(float), NULL},
         [TOTALS] = {"lightsim totals", LS_TOT_COUNT * sizeof(double), NULL},
-        [DEPOSIT] = {"lightsim deposit", voxels * LS_DEPOSIT_STRIDE * sizeof(float), NULL},
+        [DEPOSIT] = {"lightsim deposit irradiance r", voxels * sizeof(float), NULL},
+        [DEPOSIT + 1] = {"lightsim deposit irradiance g", voxels * sizeof(float), NULL},
+        [DEPOSIT + 2] = {"lightsim deposit irradiance b", voxels * sizeof(float), NULL},
+        [DEPOSIT + 3] = {"lightsim deposit direction x", voxels * sizeof(float), NULL},
+        [DEPOSIT + 4] = {"lightsim deposit direction y", voxels * sizeof(float), NULL},
+        [DEPOSIT + 5] = {"lightsim deposit direction z", voxels * sizeof(float), NULL},
     };
     GLint64 max_block = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
@@ -188,7 +208,7 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
         rc = upload_fields(r, f, e);
     if (rc == REFRACT_E_OK) {
         uint32_t zero = 0;
-        for (int i = ACCUM; i <= DEPOSIT; i++)
+        for (int i = ACCUM; i < BUFFER_COUNT; i++)
             if (i != CONTROL)
                 glClearNamedBufferData(r->buf[i].buf, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT,
                                        &zero);
@@ -343,7 +363,7 @@ enum refract_code lightsim_gpu_advance(struct lightsim_gpu_run *run, int max_ste
         return rc;
     struct lightsim_stats *s = &run->stats;
     s->done = s->patches_live == 0 || run->steps_issued >= run->max_steps;
-    s->progress = s->done ? 1 : fmin(1, s->steps * run->dt / run->t_sweep);
+    s->progress = s->done ? 1 : fmin(0.99, s->steps * run->dt / run->t_sweep); /* 1 = done */
     if (s->done)
         rc = finish(run, p, e);
     *done = s->done;

@@ -5,6 +5,8 @@
 #include "lightsim_gpu_programs.h"
 
 #include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "../../core/log.h"
@@ -14,6 +16,7 @@
 
 static struct lightsim_gpu_programs programs;
 static bool built;
+static bool built_with_cas;
 
 const struct lightsim_gpu_programs *lightsim_gpu_programs(void)
 {
@@ -25,6 +28,11 @@ enum refract_code lightsim_gpu_init(struct gpu *gpu, struct err *e)
     (void)gpu; /* the programs come from the embedded sources, as gpu_create's do */
     if (built)
         return REFRACT_E_OK;
+    /* REFRACT_LIGHTSIM_CAS_ATOMICS=1: float atomics by compare-and-swap even where
+     * GL_NV_shader_atomic_float exists (the path of GPUs without it; for tests). */
+    const char *cas_env = getenv("REFRACT_LIGHTSIM_CAS_ATOMICS");
+    bool cas = cas_env != NULL && strcmp(cas_env, "1") == 0;
+    const char *atomics = cas ? "#define LS_CAS_ATOMICS 1\n" : "";
     struct {
         GLuint *out;
         const char *label, *main, *preamble;
@@ -39,8 +47,11 @@ enum refract_code lightsim_gpu_init(struct gpu *gpu, struct err *e)
         {&programs.finish, "lightsim finish", "lightsim_finish.comp", NULL},
     };
     for (size_t i = 0; i < sizeof table / sizeof table[0]; i++) {
+        char preamble[128];
+        snprintf(preamble, sizeof preamble, "%s%s", atomics,
+                 table[i].preamble ? table[i].preamble : "");
         struct gpu_program_desc desc = {
-            .label = table[i].label, .main = table[i].main, .preamble = table[i].preamble};
+            .label = table[i].label, .main = table[i].main, .preamble = preamble};
         *table[i].out = gpu_program_create(&desc, NULL, e);
         if (*table[i].out == 0) {
             lightsim_gpu_shutdown();
@@ -48,8 +59,15 @@ enum refract_code lightsim_gpu_init(struct gpu *gpu, struct err *e)
         }
     }
     built = true;
-    log_info("lightsim", "compiled %zu light simulator programs", sizeof table / sizeof table[0]);
+    built_with_cas = cas;
+    log_info("lightsim", "compiled %zu light simulator programs (float atomics: %s)",
+             sizeof table / sizeof table[0], cas ? "compare-and-swap" : "native where available");
     return REFRACT_E_OK;
+}
+
+bool lightsim_gpu_programs_use_cas(void)
+{
+    return built && built_with_cas;
 }
 
 void lightsim_gpu_shutdown(void)

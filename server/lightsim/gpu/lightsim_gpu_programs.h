@@ -7,6 +7,8 @@
 #ifndef REFRACT_LIGHTSIM_GPU_PROGRAMS_H
 #define REFRACT_LIGHTSIM_GPU_PROGRAMS_H
 
+#include <stdbool.h>
+
 #include "../../gpu/gl.h"
 
 struct lightsim_gpu_programs {
@@ -19,6 +21,9 @@ struct lightsim_gpu_programs {
 
 /* The programs, or NULL before lightsim_gpu_init. */
 const struct lightsim_gpu_programs *lightsim_gpu_programs(void);
+/* Whether they were built with compare-and-swap float atomics forced
+ * (REFRACT_LIGHTSIM_CAS_ATOMICS=1 when lightsim_gpu_init ran). */
+bool lightsim_gpu_programs_use_cas(void);
 
 /* Records the exclusive prefix sum of the uint counts at BIND_SSBO_LS_COUNTS into
  * BIND_SSBO_LS_OFFSETS, using BIND_SSBO_LS_BLOCK_SUMS, for control.counts.x elements
