@@ -11,8 +11,8 @@
 #include "cli.h"
 
 const struct cli_command *const cli_commands[] = {
-    &cli_cmd_health, &cli_cmd_scene, &cli_cmd_volume, &cli_cmd_env, &cli_cmd_render,
-    &cli_cmd_trace,  NULL,
+    &cli_cmd_health, &cli_cmd_scene, &cli_cmd_volume,     &cli_cmd_env, &cli_cmd_render,
+    &cli_cmd_trace,  &cli_cmd_light, &cli_cmd_irradiance, NULL,
 };
 
 const struct cli_command *cli_find_command(const char *name)

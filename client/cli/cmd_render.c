@@ -21,7 +21,8 @@
     "usage: refract render ID -o FILE [options]\n"                                                 \
     "\n"                                                                                           \
     "Renders a view of scene ID and writes the image to FILE (- = stdout). Prints\n"               \
-    "\"wrote FILE (WxH, FORMAT, N bytes, render R ms on RENDERER)\" to stderr.\n"                  \
+    "\"wrote FILE (WxH, FORMAT, N bytes, render R ms on RENDERER)\" to stderr, and a\n"            \
+    "note when some light's irradiance was stale or missing (see refract light set).\n"            \
     "\n"                                                                                           \
     "  -o, --output FILE      where to write the image (required)\n"                               \
     "  --width W, --height H  image size in pixels\n"                                              \
@@ -231,6 +232,25 @@ static void report(const char *path, const struct refract_image *img)
             img->renderer[0] != '\0' ? img->renderer : "an unknown renderer");
 }
 
+/* A note on stderr when the image lacks some light's current irradiance: the exit status
+ * stays 0, because the image is what refractd could render now, and a script that wants
+ * the final image waits with `refract light set` (which waits by default) first. */
+static void note_irradiance(const char *scene, const struct refract_image *img)
+{
+    if (strcmp(img->irradiance, "stale") == 0)
+        fprintf(stderr,
+                "refract: note: a light's irradiance is being recomputed for its new pose; "
+                "this image used the previous pose's volume (X-Refract-Irradiance: stale). "
+                "'refract irradiance status %s' shows the progress\n",
+                scene);
+    else if (strcmp(img->irradiance, "missing") == 0)
+        fprintf(stderr,
+                "refract: note: a light has no irradiance volume yet, so this image was "
+                "rendered without its light-dependent terms (X-Refract-Irradiance: missing). "
+                "'refract irradiance status %s' shows the progress\n",
+                scene);
+}
+
 static int run_render(struct cli *cli, int argc, char **argv)
 {
     static const char *const names[] = {"the scene ID"};
@@ -273,8 +293,10 @@ static int run_render(struct cli *cli, int argc, char **argv)
     }
     if (code == REFRACT_E_OK)
         code = cli_write_file(opts[OPT_OUTPUT].value, img.bytes, img.len);
-    if (code == REFRACT_E_OK)
+    if (code == REFRACT_E_OK) {
         report(opts[OPT_OUTPUT].value, &img);
+        note_irradiance(p.pos[0], &img);
+    }
     refract_image_free(&img);
     cJSON_free(request);
     return code;
