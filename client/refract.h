@@ -215,11 +215,12 @@ int refract_irradiance_status(refract_client *c, const char *scene_id,
                               struct refract_irradiance *out);
 
 /* GET /v1/scenes/{id}/irradiance/{light}.exr: the light's irradiance volume as an
- * OpenEXR file (layout in docs/api.md). On success *bytes_out is a new buffer of *len_out
- * bytes; release it with refract_free(). A reply that is not an OpenEXR file gives
- * REFRACT_E_PROTOCOL. */
+ * OpenEXR file (layout in docs/api.md) in out (overwritten; on success release it with
+ * refract_image_free()): content_type "image/x-exr", and irradiance "stale" when the
+ * light's current pose has no volume yet and this is the previous pose's. A reply that
+ * is not an OpenEXR file gives REFRACT_E_PROTOCOL. */
 int refract_irradiance_get_exr(refract_client *c, const char *scene_id, const char *light,
-                               void **bytes_out, size_t *len_out);
+                               struct refract_image *out);
 
 /* Called by refract_irradiance_wait() with every status it reads, the first included. */
 typedef void (*refract_progress_fn)(const struct refract_irradiance *status, void *user);

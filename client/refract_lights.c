@@ -219,7 +219,7 @@ int refract_irradiance_status(refract_client *c, const char *scene_id,
 }
 
 int refract_irradiance_get_exr(refract_client *c, const char *scene_id, const char *light,
-                               void **bytes_out, size_t *len_out)
+                               struct refract_image *out)
 {
     static const unsigned char exr_magic[4] = {0x76, 0x2F, 0x31, 0x01};
     const char *call = "refract_irradiance_get_exr";
@@ -229,14 +229,14 @@ int refract_irradiance_get_exr(refract_client *c, const char *scene_id, const ch
     char *path = NULL;
     int code;
 
-    if (bytes_out != NULL)
-        *bytes_out = NULL;
-    if (len_out != NULL)
-        *len_out = 0;
+    if (out != NULL) {
+        memset(out, 0, sizeof(*out)); /* the contract allows an uninitialised out */
+        out->render_ms = -1.0;
+    }
     if (refract_begin(c, NULL) != REFRACT_E_OK)
         return REFRACT_E_USAGE;
-    if (bytes_out == NULL || len_out == NULL)
-        return refract_fail(c, REFRACT_E_USAGE, "%s: bytes_out and len_out must not be NULL", call);
+    if (out == NULL)
+        return refract_fail(c, REFRACT_E_USAGE, "%s: out is NULL", call);
     code = refract_check_segment(c, call, "scene id", scene_id);
     if (code == REFRACT_E_OK)
         code = refract_check_segment(c, call, "light name", light);
@@ -257,9 +257,11 @@ int refract_irradiance_get_exr(refract_client *c, const char *scene_id, const ch
                                 "%ld with Content-Type \"%s\" and %zu bytes",
                                 path, r.status, r.content_type, r.body_len);
         if (code == REFRACT_E_OK) {
-            *bytes_out = r.body; /* ownership moves to the caller */
-            *len_out = r.body_len;
+            out->bytes = r.body; /* ownership moves to the caller */
+            out->len = r.body_len;
             r.body = NULL;
+            refract_copy_string(out->content_type, sizeof(out->content_type), "image/x-exr");
+            refract_copy_string(out->irradiance, sizeof(out->irradiance), r.irradiance);
         }
         refract_response_free(&r);
     }

@@ -98,15 +98,32 @@ static int check_output(const struct cli_opt *out)
     return REFRACT_E_OK;
 }
 
+/* "wrote FILE (WxH EXR, N bytes)" on stderr, and a note when the volume is stale. */
+static void report_get(const char *path, const char *scene, const char *light,
+                       const struct refract_image *img)
+{
+    const char *shown = strcmp(path, "-") == 0 ? "<stdout>" : path;
+    long width = 0;
+    long height = 0;
+
+    if (cli_image_size(img->bytes, img->len, &width, &height))
+        fprintf(stderr, "wrote %s (%ldx%ld EXR, %zu bytes)\n", shown, width, height, img->len);
+    else
+        fprintf(stderr, "wrote %s (EXR, %zu bytes)\n", shown, img->len);
+    if (strcmp(img->irradiance, "stale") == 0)
+        fprintf(stderr,
+                "refract: note: light %s's volume for its current pose is not ready yet; "
+                "this is the previous pose's. 'refract irradiance status %s' shows the "
+                "progress\n",
+                light, scene);
+}
+
 static int run_get(struct cli *cli, int argc, char **argv)
 {
     static const char *const names[] = {"the scene ID", "the LIGHT name"};
     struct cli_opt opts[] = {{.name = "--output", .alias = "-o", .takes_value = true}};
+    struct refract_image img = {0};
     struct cli_parsed p;
-    void *bytes = NULL;
-    size_t len = 0;
-    long width = 0;
-    long height = 0;
     int code = cli_parse_command(&irradiance_get_cmd, argc, argv, opts, 1, &p);
 
     if (code != REFRACT_E_OK || p.help)
@@ -117,19 +134,15 @@ static int run_get(struct cli *cli, int argc, char **argv)
     if (code == REFRACT_E_OK)
         code = cli_connect(cli);
     if (code == REFRACT_E_OK) {
-        code = refract_irradiance_get_exr(cli->client, p.pos[0], p.pos[1], &bytes, &len);
+        code = refract_irradiance_get_exr(cli->client, p.pos[0], p.pos[1], &img);
         if (code != REFRACT_E_OK)
             code = cli_call_failed(cli, code);
     }
     if (code == REFRACT_E_OK)
-        code = cli_write_file(opts[0].value, bytes, len);
-    if (code == REFRACT_E_OK && cli_image_size(bytes, len, &width, &height))
-        fprintf(stderr, "wrote %s (%ldx%ld EXR, %zu bytes)\n",
-                strcmp(opts[0].value, "-") == 0 ? "<stdout>" : opts[0].value, width, height, len);
-    else if (code == REFRACT_E_OK)
-        fprintf(stderr, "wrote %s (EXR, %zu bytes)\n",
-                strcmp(opts[0].value, "-") == 0 ? "<stdout>" : opts[0].value, len);
-    refract_free(bytes);
+        code = cli_write_file(opts[0].value, img.bytes, img.len);
+    if (code == REFRACT_E_OK)
+        report_get(opts[0].value, p.pos[0], p.pos[1], &img);
+    refract_image_free(&img);
     return code;
 }
 
