@@ -51,4 +51,61 @@
 /* ---- image units ---- */
 #define IMAGE_IOR_GRAD_OUT 0 /* gradient_ior writes the ior+grad atlas */
 
+/* ==== light simulator (docs/lightsim.md; server/lightsim/gpu) ==== */
+#define LS_LOCAL_X 64       /* per-patch kernels: lightsim_step, lightsim_emit */
+#define LS_SCAN_LOCAL 256   /* lightsim_scan: invocations per work group */
+#define LS_SCAN_BLOCK 1024  /* elements per scan block (4 per invocation) */
+#define LS_MAX_PATCHES 1048576 /* = LS_SCAN_BLOCK^2: two scan levels suffice */
+#define LS_DEPOSIT_STRIDE 6 /* floats per voxel: irradiance rgb, direction xyz */
+#define LS_DEPOSIT_FLUX 0
+#define LS_DEPOSIT_MAX 1
+/* float accumulators of one step (ls_accum[]) */
+#define LS_ACC_OUT 0        /* rgb: flux_out */
+#define LS_ACC_REFLECTED 3  /* rgb */
+#define LS_ACC_ABSORBED 6   /* rgb */
+#define LS_ACC_CULLED 9     /* rgb */
+#define LS_ACC_LIVE 12      /* rgb: power of the patches written by lightsim_emit */
+#define LS_ACC_COUNT 15
+/* run totals (double ls_totals[]): the LS_ACC_* slots, then these */
+#define LS_TOT_SPLITS 15
+#define LS_TOT_CULLED_ENERGY 16
+#define LS_TOT_CULLED_LEVEL 17
+#define LS_TOT_CULLED_FLIP 18
+#define LS_TOT_CULLED_CAPACITY 19
+#define LS_TOT_PATCH_STEPS 20
+#define LS_TOT_COUNT 21
+#define BIND_UBO_LIGHTSIM 2        /* lightsim_params */
+#define BIND_SSBO_LS_PATCHES_IN 5  /* ls_patch[]: the live list (updated in place) */
+#define BIND_SSBO_LS_PATCHES_OUT 6 /* ls_patch[]: the next list (lightsim_emit) */
+#define BIND_SSBO_LS_COUNTS 7      /* uint per patch: outputs 0, 1 or 4 */
+#define BIND_SSBO_LS_OFFSETS 8     /* uint per patch: exclusive prefix sum of counts */
+#define BIND_SSBO_LS_BLOCK_SUMS 9  /* uint per scan block, scanned in place */
+#define BIND_SSBO_LS_CONTROL 10    /* ls_control: indirect arguments and counters */
+#define BIND_SSBO_LS_ACCUM 11      /* float[LS_ACC_COUNT], one step's flux sums */
+#define BIND_SSBO_LS_TOTALS 12     /* double[LS_TOT_COUNT], the run's totals */
+#define BIND_SSBO_LS_DEPOSIT 13    /* float[LS_DEPOSIT_STRIDE] per light voxel */
+#define UNIT_LS_IOR_GRAD 5         /* sampler3D: rgb grad n (world units), a = n */
+#define UNIT_LS_EXTINCTION 6       /* sampler3D: rgb sigma_t per world unit, a coverage */
+#define IMAGE_LS_IRRADIANCE 1      /* lightsim_finish writes the irradiance volume */
+#define IMAGE_LS_DIRECTION 2       /* ... and the direction volume */
+/* ==== end light simulator ==== */
+
+/* ---- lights (view renderer: tevs2007 eqs. 5.4-5.8; docs/tracing.md "Light") ---- */
+#define MAX_LIGHTS 4              /* = SCENE_MAX_LIGHTS (static_assert in render.c) */
+#define BIND_UBO_LIGHTS 6         /* march_lights: lights, receiver, per-object BRDFs */
+#define UNIT_SCATTERING 7         /* sampler3D atlas: rgb = sigma_s per world unit, a = g */
+#define UNIT_IRRADIANCE0 8        /* sampler3D x MAX_LIGHTS: rgb = E of light j (unit light) */
+#define UNIT_LIGHT_DIR0 12        /* sampler3D x MAX_LIGHTS: xyz = light direction of light j */
+#define LIGHT_MODE_OFF 0          /* the light contributes nothing (no volume yet) */
+#define LIGHT_MODE_VOLUME 1       /* E, l from the light's irradiance and direction volumes */
+#define LIGHT_MODE_DIRECT 2       /* unshadowed direct light (scenes without light simulation) */
+#define LIGHT_KIND_DIRECTIONAL 0  /* = SCENE_LIGHT_DIRECTIONAL */
+#define LIGHT_KIND_POINT 1        /* = SCENE_LIGHT_POINT */
+#define LIGHT_KIND_SPOT 2         /* = SCENE_LIGHT_SPOT */
+#define BRDF_NONE 0               /* = SCENE_BRDF_NONE ... */
+#define BRDF_LAMBERT 1
+#define BRDF_PHONG 2
+#define BRDF_GGX 3
+/* ---- end of lights ---- */
+
 #endif

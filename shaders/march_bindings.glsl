@@ -18,6 +18,12 @@
 #ifndef MARCH_OPAQUE
 #define MARCH_OPAQUE 1
 #endif
+#ifndef MARCH_SCATTERING
+#define MARCH_SCATTERING 1
+#endif
+#ifndef MARCH_LIGHTS
+#define MARCH_LIGHTS 1
+#endif
 
 layout(std140, binding = BIND_UBO_RENDER) uniform march_params_block
 {
@@ -29,3 +35,14 @@ layout(binding = UNIT_ATTENUATION) uniform sampler3D attenuation_atlas;
 layout(binding = UNIT_EMISSION) uniform sampler3D emission_atlas;
 layout(binding = UNIT_OPAQUE) uniform sampler3D opaque_atlas;
 layout(binding = UNIT_ENVIRONMENT) uniform sampler2D environment_map;
+
+// Lights (tevs2007 eqs. 5.4-5.8): the scattering atlas, the lights' irradiance and
+// direction volumes (one texture unit each, MAX_LIGHTS of each) and their parameters.
+layout(binding = UNIT_SCATTERING) uniform sampler3D scattering_atlas;
+layout(binding = UNIT_IRRADIANCE0) uniform sampler3D irradiance_volume[MAX_LIGHTS];
+layout(binding = UNIT_LIGHT_DIR0) uniform sampler3D light_direction_volume[MAX_LIGHTS];
+
+layout(std140, binding = BIND_UBO_LIGHTS) uniform march_lights_block
+{
+    march_lights lights;
+};

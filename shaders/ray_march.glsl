@@ -1,17 +1,20 @@
 // ray_march.glsl - a ray's whole journey through a scene's volume objects: docs/tracing.md
 // "The march", implemented step for step (the CPU twin is server/core/reftrace.c).
 //
-// Image formation follows tevs2007 eq. 5.10 without the light-dependent terms:
-// L = sum T_f exp(-alpha) L_e ds + reflections + T_f exp(-alpha) L_bg, with Fresnel
-// transmission factors T_f multiplied along the ray (sect. 5.1.3) and Beer-Lambert optical
-// depth alpha (eq. 5.9). Define MARCH_RADIANCE to 1 before including this file to gather
-// radiance (render_view); trace_rays leaves it 0 and only transports the ray.
+// Image formation follows tevs2007 eqs. 5.4-5.10: L = sum T_f exp(-alpha) (n_amb/n)^2
+// (L_e + L_s) ds + reflections (environment and, eq. 5.6/5.8, the lights' L_r) +
+// T_f exp(-alpha) (receiver or L_bg), with Fresnel transmission factors T_f multiplied
+// along the ray (sect. 5.1.3), Beer-Lambert optical depth alpha over the extinction
+// sigma_a + sigma_s (eq. 5.9), and frisvad2010's basic radiance factor (n_amb/n)^2 for
+// light that starts inside a medium of index n. Define MARCH_RADIANCE to 1 before
+// including this file to gather radiance (render_view, which also includes lighting.glsl);
+// trace_rays leaves it 0 and only transports the ray.
 
 #ifndef MARCH_RADIANCE
 #define MARCH_RADIANCE 0
 #endif
-// The variant switches MARCH_INTEGRATOR, MARCH_ATTENUATION, MARCH_EMISSION and MARCH_OPAQUE
-// are set in march_bindings.glsl.
+// The variant switches MARCH_INTEGRATOR, MARCH_ATTENUATION, MARCH_EMISSION, MARCH_OPAQUE,
+// MARCH_SCATTERING and MARCH_LIGHTS are set in march_bindings.glsl.
 
 const float MARCH_INDEX_EPS = 1e-6;       // |n_field - n_ambient| below this: no interface
 const float MARCH_ABSORBED = 1e-6;        // throughput below this: the ray is absorbed
@@ -62,11 +65,32 @@ float march_throughput(march_state s)
     return s.t_f * max(t.r, max(t.g, t.b));
 }
 
+// frisvad2010's basic radiance: radiance that starts in a medium of index n reaches the
+// viewer in the ambient medium times (n_amb / n)^2 (docs/tracing.md "Basic radiance").
+float march_basic_radiance(float n)
+{
+    float r = params.settings_f.z / n;
+    return r * r;
+}
+
 // Adds a reflection seen in world direction d_world with weight R (MARCH_RADIANCE only).
 void march_add_reflection(inout march_state s, float R, vec3 d_world)
 {
 #if MARCH_RADIANCE
     s.L += s.t_f * exp(-s.alpha) * R * environment_radiance(d_world);
+#endif
+}
+
+// The lights' reflected radiance at a Fresnel event with reflectance R (the delta(x) R L_r
+// term of tevs2007 eq. 5.4): world point, the view ray's world direction before the event,
+// the surface normal (object space, either orientation) and the index on the viewer's side.
+void march_add_light_reflection(inout march_state s, int obj, vec3 p, vec3 q, vec3 N, float R,
+                                float n_view)
+{
+#if MARCH_RADIANCE && MARCH_LIGHTS
+    vec3 Lr = light_reflected(obj, march_point_to_world(obj, p), march_dir_to_world(obj, q),
+                              march_dir_to_world(obj, N), R);
+    s.L += s.t_f * exp(-s.alpha) * march_basic_radiance(n_view) * Lr;
 #endif
 }
 
@@ -202,7 +226,7 @@ bool march_zone_crossed(march_zone z, float n_before, float n_after)
 }
 
 // The crossing: unpolarised Fresnel from the side the ray comes from to the other.
-void march_zone_event(inout march_state s, inout march_zone z, int obj, vec4 sample_at_p,
+void march_zone_event(inout march_state s, inout march_zone z, int obj, vec3 p, vec4 sample_at_p,
                       float n_before, vec3 q)
 {
     z.armed = false;
@@ -221,6 +245,7 @@ void march_zone_event(inout march_state s, inout march_zone z, int obj, vec4 sam
     if (R >= 1.0)
         return; // total internal reflection emerges from the ray equation itself
     march_add_reflection(s, R, march_dir_to_world(obj, reflect(q, N)));
+    march_add_light_reflection(s, obj, p, q, N, R, n_i);
     s.t_f *= 1.0 - R;
 }
 
@@ -238,6 +263,7 @@ void march_opaque_hit(inout march_state s, int obj, vec3 p, vec4 opaque, float n
     float R = fresnel_unpolarized(abs(dot(q, N)), n_here, params.objects[obj].atlas_offset.w);
     s.L += s.t_f * exp(-s.alpha) *
            (R * environment_radiance(march_dir_to_world(obj, reflect(q, N))) + (1.0 - R) * opaque.rgb);
+    march_add_light_reflection(s, obj, p, q, N, R, n_here);
 #endif
     s.status = RAY_STATUS_ABSORBED;
 }
@@ -245,7 +271,8 @@ void march_opaque_hit(inout march_state s, int obj, vec3 p, vec4 opaque, float n
 // Crossing a bounds face from n_from to n_to with outward normal N (object space).
 // Returns false on total internal reflection (q is then mirrored); otherwise q refracts
 // and the reflected part is gathered.
-bool march_face(inout march_state s, int obj, inout vec3 q, vec3 N, float n_from, float n_to)
+bool march_face(inout march_state s, int obj, vec3 p, inout vec3 q, vec3 N, float n_from,
+                float n_to)
 {
     if (abs(n_from - n_to) <= MARCH_INDEX_EPS)
         return true;
@@ -256,6 +283,7 @@ bool march_face(inout march_state s, int obj, inout vec3 q, vec3 N, float n_from
         return false;
     }
     march_add_reflection(s, R, march_dir_to_world(obj, r));
+    march_add_light_reflection(s, obj, p, q, N, R, n_from);
     s.t_f *= 1.0 - R;
     vec3 t;
     snell_refract(q, N, n_from, n_to, t);
@@ -280,7 +308,7 @@ void march_through_object(inout march_state s, int obj, vec3 p, vec3 q)
     float threshold = params.settings_f.y;
     int max_steps = params.settings_i.y;
     vec4 s0 = volume_sample_ior_grad(obj, p);
-    vec3 sig0 = volume_sample_attenuation(obj, p);
+    vec3 sig0 = volume_sample_extinction(obj, p);
     vec3 w = s0.a * q;
     march_zone zone;
     zone.inside = false;
@@ -312,12 +340,21 @@ void march_through_object(inout march_state s, int obj, vec3 p, vec3 q)
                 w1 = w + f * (w1 - w);
             }
             vec4 s1 = volume_sample_ior_grad(obj, p1);
-            vec3 sig1 = volume_sample_attenuation(obj, p1);
+            vec4 sc1 = volume_sample_scattering(obj, p1);
+            vec3 sig1 = volume_sample_attenuation(obj, p1) + sc1.rgb; // extinction
             float ds = length(p1 - p) * scale;
             s.opl += 0.5 * (s0.a + s1.a) * ds;
             s.alpha += 0.5 * (sig0 + sig1) * ds;
 #if MARCH_RADIANCE && MARCH_EMISSION
-            s.L += s.t_f * exp(-s.alpha) * volume_sample_emission(obj, p1) * ds;
+            s.L += s.t_f * exp(-s.alpha) * march_basic_radiance(s1.a) *
+                   volume_sample_emission(obj, p1) * ds;
+#endif
+#if MARCH_RADIANCE && MARCH_SCATTERING
+            // In-scattering L_s (tevs2007 eqs. 5.4/5.5) at the step's end, towards the eye.
+            if (any(greaterThan(sc1.rgb, vec3(0.0))))
+                s.L += s.t_f * exp(-s.alpha) * march_basic_radiance(s1.a) * ds *
+                       light_inscatter(march_point_to_world(obj, p1),
+                                       march_dir_to_world(obj, normalize(w1)), sc1.rgb, sc1.a);
 #endif
             float g = length(s1.rgb) * h_min;
             entering = !zone.inside && g > threshold;
@@ -347,7 +384,7 @@ void march_through_object(inout march_state s, int obj, vec3 p, vec3 q)
             crossed = march_zone_crossed(zone, n_before, s0.a); // a thin zone, one step
         }
         if (crossed)
-            march_zone_event(s, zone, obj, s0, n_before, q);
+            march_zone_event(s, zone, obj, p, s0, n_before, q);
         if (opaque) {
             march_opaque_hit(s, obj, p, op, s0.a, q);
             break;
@@ -358,7 +395,7 @@ void march_through_object(inout march_state s, int obj, vec3 p, vec3 q)
         }
         if (leaving) {
             vec3 N = march_axis_normal(exit_axis, exit_sign);
-            if (march_face(s, obj, q, N, s0.a, ambient)) {
+            if (march_face(s, obj, p, q, N, s0.a, ambient)) {
                 s.x = march_point_to_world(obj, p);
                 s.d = march_dir_to_world(obj, q);
                 return;
@@ -405,7 +442,7 @@ march_state march_ray(vec3 origin, vec3 dir)
         vec3 q = march_dir_to_object(obj, s.d);
         if (!inside) {
             float n_in = volume_sample_ior_grad(obj, p).a;
-            if (!march_face(s, obj, q, march_axis_normal(axis, sgn), ambient, n_in)) {
+            if (!march_face(s, obj, p, q, march_axis_normal(axis, sgn), ambient, n_in)) {
                 s.d = march_dir_to_world(obj, q); // reflected off the face, never entered
                 continue;
             }
@@ -417,7 +454,14 @@ march_state march_ray(vec3 origin, vec3 dir)
     } else if (s.status == RAY_STATUS_RUNNING) {
         s.status = s.crossed ? RAY_STATUS_EXITED : RAY_STATUS_MISSED;
 #if MARCH_RADIANCE
-        s.L += s.t_f * exp(-s.alpha) * environment_radiance(s.d);
+        // The receiver plane where the ray hits it (MARCH_LIGHTS), else the background.
+        vec3 seen = environment_radiance(s.d);
+#if MARCH_LIGHTS
+        vec3 plane;
+        if (light_receiver(s.x, s.d, plane))
+            seen = plane;
+#endif
+        s.L += s.t_f * exp(-s.alpha) * seen;
 #endif
     }
     return s;

@@ -8,6 +8,7 @@
 #include "environment.glsl"
 #include "volume_sample.glsl"
 #include "ray_equation.glsl"
+#include "lighting.glsl"
 #include "ray_march.glsl"
 
 layout(local_size_x = RENDER_LOCAL_X, local_size_y = RENDER_LOCAL_Y) in;

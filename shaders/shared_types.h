@@ -77,4 +77,72 @@ struct trace_hit_out {
     vec4 transmittance;  /* xyz: T_fresnel * exp(-alpha); w: optical path length */
 };
 
+/* ==== light simulator (docs/lightsim.md; server/lightsim/gpu) ==== */
+#ifdef REFRACT_HOST_C
+typedef struct lightsim_params lightsim_params;
+typedef struct ls_patch ls_patch;
+typedef struct ls_control ls_control;
+#endif
+
+/* Uniform block of the lightsim_*.comp kernels (std140). */
+struct lightsim_params {
+    vec4 grid_min;   /* xyz: light grid bmin (world); w: voxel edge (world units) */
+    vec4 grid_max;   /* xyz: bmin + dims * voxel; w: dt (world units) */
+    ivec4 dims;      /* xyz: light grid voxels; w: LS_DEPOSIT_* */
+    vec4 medium;     /* x: ambient n; y: probe distance k (world); z: boundary threshold
+                        (dn per light voxel); w: split length (world units) */
+    vec4 cull;       /* x: energy cut (absolute max(P)); y: 1 = cull flipped patches */
+    ivec4 limits;    /* x: max_level; y: max_patches */
+};
+
+/* One wavefront patch (std430; docs/lightsim.md "Patches"): corners p00, p10, p11, p01. */
+struct ls_patch {
+    vec4 x[4];    /* xyz: corner positions (world) */
+    vec4 w[4];    /* xyz: corner ray vectors n d (tevs2007 eq. 4.8) */
+    vec4 power;   /* rgb: P (unit light) */
+    vec4 zone;    /* x: n_lo, y: n_hi of the interface zone */
+    ivec4 state;  /* x: level; y: in_zone; z: crossed; w: entered */
+};
+
+/* Indirect dispatch arguments and counters written on the GPU (std430). */
+struct ls_control {
+    ivec4 dispatch_patches; /* xyz: work groups of LS_LOCAL_X over the live list */
+    ivec4 dispatch_blocks;  /* xyz: scan blocks over the live list */
+    ivec4 counts;           /* x: live patches; y: scan total; z: steps; w: peak live */
+    ivec4 events;           /* this step: x splits, y culled_energy, z culled_level,
+                               w culled_flip */
+    ivec4 events2;          /* this step: x culled_capacity */
+};
+/* ==== end light simulator ==== */
+
+/* ---- lights (view renderer: tevs2007 eqs. 5.4-5.8; docs/tracing.md "Light") ---- */
+
+/* Channel flag in object_params.resolution.w: the object has a scattering channel
+ * (sigma_s, and g from its anisotropy channel) in the scattering atlas. */
+#define OBJECT_HAS_SCATTERING 8
+
+/* One light as the march sees it. */
+struct light_params {
+    vec4 position;  /* xyz: world (point, spot); w: LIGHT_KIND_* */
+    vec4 direction; /* xyz: unit, the way light travels (directional, spot); w: cos_spot */
+    vec4 scale;     /* rgb: colour * intensity (multiplies the unit-light volume); w: LIGHT_MODE_* */
+    vec4 grid_min;  /* xyz: world bmin of the light grid; w: voxel edge (world units) */
+    vec4 grid_size; /* xyz: grid extent dims * voxel (world units); w: unused */
+};
+
+#ifdef REFRACT_HOST_C
+typedef struct light_params light_params;
+#endif
+
+/* Uniform block BIND_UBO_LIGHTS of render_view.comp. */
+struct march_lights {
+    ivec4 count;             /* x: lights; y: 1 = receiver enabled */
+    vec4 receiver;           /* x: height (world y); y: half size */
+    vec4 receiver_albedo;    /* rgb: Lambertian reflectance */
+    vec4 brdf[MAX_OBJECTS];  /* x: BRDF_*; y: GGX alpha (roughness^2); z: Phong exponent */
+    vec4 brdf_color[MAX_OBJECTS]; /* rgb: colour of the BRDF */
+    light_params lights[MAX_LIGHTS];
+};
+/* ---- end of lights ---- */
+
 #endif

@@ -4,7 +4,7 @@
 // starting at objects[i].atlas_offset. Continuous voxel coordinates are clamped to
 // [0.5, res - 0.5] texels so trilinear filtering never reads a neighbour object
 // (clamp-to-edge, docs/tracing.md "Conventions"). Needs `params` and the samplers
-// ior_grad_atlas, attenuation_atlas, emission_atlas, opaque_atlas.
+// ior_grad_atlas, attenuation_atlas, emission_atlas, opaque_atlas, scattering_atlas.
 
 vec3 volume_sample_coord(int obj, vec3 p)
 {
@@ -52,4 +52,23 @@ vec4 volume_sample_opaque(int obj, vec3 p)
 #else
     return vec4(0.0);
 #endif
+}
+
+// rgb: scattering coefficient sigma_s per world unit; a: Henyey-Greenstein g (tevs2007
+// eqs. 5.4/5.5). Zero for objects without a scattering channel.
+vec4 volume_sample_scattering(int obj, vec3 p)
+{
+#if MARCH_SCATTERING
+    vec4 s = textureLod(scattering_atlas, volume_sample_coord(obj, p), 0.0);
+    return (params.objects[obj].resolution.w & OBJECT_HAS_SCATTERING) != 0 ? s : vec4(0.0);
+#else
+    return vec4(0.0);
+#endif
+}
+
+// Extinction sigma_t = sigma_a + sigma_s per world unit: what the optical depth alpha
+// integrates (eq. 5.9 with scattering out of the ray).
+vec3 volume_sample_extinction(int obj, vec3 p)
+{
+    return volume_sample_attenuation(obj, p) + volume_sample_scattering(obj, p).rgb;
 }

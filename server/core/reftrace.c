@@ -16,17 +16,21 @@
  * lands exactly on the bounds face instead of cutting a straight segment, because it
  * is the "exact" reference for analytic fields, not a model of the GPU.
  *
- * Not here: rendering images, image environments, light simulation.
+ * The light-dependent terms (in-scattering, the lights' reflected light, the receiver;
+ * docs/tracing.md "Light") are evaluated by reftrace_light.c when settings->lighting is
+ * set. Not here: rendering images, image environments, light simulation.
  */
 #include "reftrace.h"
 
 #include <assert.h>
 #include <float.h>
 #include <math.h>
+#include <stddef.h>
 
 #include "env.h"
 #include "fresnel.h"
 #include "reftrace_integrate.h"
+#include "reftrace_light.h"
 
 /* docs/tracing.md constants. */
 #define INDEX_EPS 1e-6       /* |n - ambient_n| at or below this: no interface */
@@ -82,6 +86,29 @@ static void add_reflection(struct march *m, double R, vec3 d_world)
 {
     vec3 t = vec3_scale(exp_neg(m->alpha), m->t_f * R);
     m->L = vec3_add(m->L, vec3_mul(t, environment(m, d_world)));
+}
+
+/* frisvad2010's basic radiance: light that starts in a medium of index n reaches the
+ * viewer in the ambient medium times (n_amb / n)^2 (docs/tracing.md "Basic radiance"). */
+static double basic_radiance(const struct march *m, double n)
+{
+    double r = m->set->ambient_ior / n;
+    return r * r;
+}
+
+/* The lights' reflected radiance at a Fresnel event (the delta(x) R L_r term of tevs2007
+ * eq. 5.4) at object-space p, view direction q before the event, normal nrm (object
+ * space), index n_view on the viewer's side. */
+static void add_light_reflection(struct march *m, const struct reftrace_object *o, vec3 p, vec3 q,
+                                 vec3 nrm, double R, double n_view)
+{
+    if (m->set->lighting == NULL || m->set->lighting->count == 0)
+        return;
+    vec3 Lr =
+        reftrace_light_reflected(m->set->lighting, &o->brdf, xform_point_to_world(&o->xf, p),
+                                 xform_dir_to_world(&o->xf, q), xform_dir_to_world(&o->xf, nrm), R);
+    double w = m->t_f * basic_radiance(m, n_view);
+    m->L = vec3_add(m->L, vec3_mul(vec3_scale(exp_neg(m->alpha), w), Lr));
 }
 
 static double throughput(const struct march *m)
@@ -188,7 +215,7 @@ static bool next_object(const struct march *m, const struct reftrace_object *obj
  * the object-space direction *q. Returns false on total internal reflection, with *q
  * mirrored; otherwise gathers the reflection, multiplies T_f by 1 - R and refracts *q
  * (frisvad2010: Fresnel equations, law of refraction). */
-static bool cross_face(struct march *m, const struct object_frame *fr, vec3 *q, vec3 nrm,
+static bool cross_face(struct march *m, const struct object_frame *fr, vec3 p, vec3 *q, vec3 nrm,
                        double n_from, double n_to)
 {
     if (fabs(n_from - n_to) <= INDEX_EPS)
@@ -201,6 +228,7 @@ static bool cross_face(struct march *m, const struct object_frame *fr, vec3 *q, 
         return false;
     }
     add_reflection(m, R, xform_dir_to_world(&fr->o->xf, r));
+    add_light_reflection(m, fr->o, p, *q, nrm, R, n_from);
     m->t_f *= 1.0 - R;
     *q = t;
     return true;
@@ -237,8 +265,8 @@ static bool zone_crossed(const struct zone *z, double n_before, double n_after)
 /* The crossing at p: unpolarised Fresnel from the side the ray comes from. n_i sin_i >=
  * n_t means the ray equation itself turns the ray around (tevs2007 sect. 5.2);
  * fresnel_unpolarized returns exactly 1 then and nothing is added. */
-static void zone_event(struct march *m, struct zone *z, const struct object_frame *fr, vec3 grad,
-                       double n_before, double n_after, vec3 q)
+static void zone_event(struct march *m, struct zone *z, const struct object_frame *fr, vec3 p,
+                       vec3 grad, double n_before, double n_after, vec3 q)
 {
     z->armed = false;
     if (vec3_length(grad) <= 0.0)
@@ -250,11 +278,12 @@ static void zone_event(struct march *m, struct zone *z, const struct object_fram
         return;
     vec3 nrm = vec3_normalize(grad);
     bool rising = n_after > n_before;
-    double R = fresnel_unpolarized(fabs(vec3_dot(q, nrm)), rising ? z->n_lo : z->n_hi,
-                                   rising ? z->n_hi : z->n_lo);
+    double n_i = rising ? z->n_lo : z->n_hi;
+    double R = fresnel_unpolarized(fabs(vec3_dot(q, nrm)), n_i, rising ? z->n_hi : z->n_lo);
     if (R >= 1.0)
         return;
     add_reflection(m, R, xform_dir_to_world(&fr->o->xf, vec3_reflect(q, nrm)));
+    add_light_reflection(m, fr->o, p, q, nrm, R, n_i);
     m->t_f *= 1.0 - R;
 }
 
@@ -280,6 +309,7 @@ static void opaque_hit(struct march *m, const struct object_frame *fr, vec3 p, v
     vec3 env_r = environment(m, xform_dir_to_world(&fr->o->xf, vec3_reflect(q, nrm)));
     vec3 seen = vec3_add(vec3_scale(env_r, R), vec3_scale(colour, 1.0 - R));
     m->L = vec3_add(m->L, vec3_mul(vec3_scale(exp_neg(m->alpha), m->t_f), seen));
+    add_light_reflection(m, fr->o, p, q, nrm, R, n_here);
 }
 
 /* Fraction f in [0, 1] of the segment p0 -> p1 (p1 outside) that stays inside the
@@ -346,9 +376,19 @@ static void fixed_step(struct march *m, const struct object_frame *fr, vec3 p, v
      * 5.10's emission term for L). */
     double ds = vec3_length(vec3_sub(s->p, p)) * fr->scale;
     m->opl += 0.5 * (f0->n + s->f.n) * ds;
-    m->alpha = vec3_madd(m->alpha, vec3_add(f0->sigma_a, s->f.sigma_a), 0.5 * ds);
-    vec3 t = vec3_scale(exp_neg(m->alpha), m->t_f * ds);
+    vec3 sigma_t0 = vec3_add(f0->sigma_a, f0->sigma_s);
+    vec3 sigma_t1 = vec3_add(s->f.sigma_a, s->f.sigma_s);
+    m->alpha = vec3_madd(m->alpha, vec3_add(sigma_t0, sigma_t1), 0.5 * ds);
+    vec3 t = vec3_scale(exp_neg(m->alpha), m->t_f * ds * basic_radiance(m, s->f.n));
     m->L = vec3_add(m->L, vec3_mul(t, s->f.emission));
+    /* In-scattering L_s (tevs2007 eqs. 5.4/5.5) at the step's end, towards the eye. */
+    const struct reftrace_lighting *lt = m->set->lighting;
+    if (lt != NULL && (s->f.sigma_s.x > 0.0 || s->f.sigma_s.y > 0.0 || s->f.sigma_s.z > 0.0)) {
+        vec3 Ls = reftrace_light_inscatter(lt, xform_point_to_world(&fr->o->xf, s->p),
+                                           xform_dir_to_world(&fr->o->xf, vec3_normalize(s->w)),
+                                           s->f.sigma_s, s->f.g);
+        m->L = vec3_add(m->L, vec3_mul(t, Ls));
+    }
 }
 
 /* How far p is outside the box along the worst axis: > 0 outside, <= 0 inside (minus
@@ -442,7 +482,8 @@ static void adaptive_step(struct march *m, const struct object_frame *fr, vec3 p
     s->w = y1.w;
     reftrace_sample_field(fr->o, s->p, &s->f);
     m->opl += y1.opl;
-    m->L = vec3_add(m->L, vec3_mul(vec3_scale(exp_neg(m->alpha), m->t_f), y1.emit));
+    double amb2 = m->set->ambient_ior * m->set->ambient_ior; /* emit is in basic radiance */
+    m->L = vec3_add(m->L, vec3_mul(vec3_scale(exp_neg(m->alpha), m->t_f * amb2), y1.emit));
     m->alpha = vec3_add(m->alpha, y1.alpha);
 }
 
@@ -477,7 +518,7 @@ static void march_object(struct march *m, const struct object_frame *fr, vec3 p,
         if (!zone.inside && g > set->boundary_threshold)
             zone_enter(&zone, fr, s.p, s.f.grad);
         if (zone_crossed(&zone, f0.n, s.f.n))
-            zone_event(m, &zone, fr, s.f.grad, f0.n, s.f.n, q1);
+            zone_event(m, &zone, fr, s.p, s.f.grad, f0.n, s.f.n, q1);
         if (zone.inside && g < 0.5 * set->boundary_threshold)
             zone.inside = zone.armed = false;
 
@@ -504,7 +545,7 @@ static void march_object(struct march *m, const struct object_frame *fr, vec3 p,
         if (s.leaving) {
             /* Exit face: from n(p') to the ambient index. */
             vec3 nrm = axis_normal(s.axis, s.sign);
-            if (cross_face(m, fr, &q1, nrm, s.f.n, set->ambient_ior)) {
+            if (cross_face(m, fr, p, &q1, nrm, s.f.n, set->ambient_ior)) {
                 m->x = xform_point_to_world(&fr->o->xf, p);
                 m->d = xform_dir_to_world(&fr->o->xf, q1);
                 return;
@@ -536,9 +577,15 @@ void reftrace_ray(const struct reftrace_object *objects, int count,
         struct entry e;
         if (!next_object(&m, objects, count, &e)) {
             stop(&m, m.crossed ? RAY_EXITED : RAY_MISSED);
-            /* 5. The background term of tevs2007 eq. 5.10. */
+            /* 5. The receiver where the ray hits it, else the background term of tevs2007
+             * eq. 5.10. */
             vec3 t = vec3_scale(exp_neg(m.alpha), m.t_f);
-            m.L = vec3_add(m.L, vec3_mul(t, environment(&m, m.d)));
+            vec3 seen = environment(&m, m.d), plane;
+            if (settings->lighting != NULL &&
+                reftrace_light_receiver(settings->lighting, environment(&m, (vec3){0, 1, 0}), m.x,
+                                        m.d, &plane))
+                seen = plane;
+            m.L = vec3_add(m.L, vec3_mul(t, seen));
             break;
         }
         const struct reftrace_object *o = &objects[e.index];
@@ -557,7 +604,7 @@ void reftrace_ray(const struct reftrace_object *objects, int count,
             p = snap_to_face(o, p, e.axis, e.sign);
             vec3 g_unused;
             double n_in = reftrace_sample_ior(o, p, &g_unused);
-            if (!cross_face(&m, &fr, &q, axis_normal(e.axis, e.sign), settings->ambient_ior,
+            if (!cross_face(&m, &fr, p, &q, axis_normal(e.axis, e.sign), settings->ambient_ior,
                             n_in)) {
                 m.d = xform_dir_to_world(&o->xf, q); /* reflected, never entered */
                 continue;

@@ -17,6 +17,7 @@
 
 #include <stdbool.h>
 
+#include "brdf.h"
 #include "ray_status.h"
 #include "vec3.h"
 #include "xform.h"
@@ -45,6 +46,35 @@ struct reftrace_object {
     const struct reftrace_grid *grid; /* voxel fields; when NULL, `ior` is used */
     reftrace_ior_fn ior;              /* exact field (no attenuation/emission/opaque) */
     void *ior_ctx;
+    struct brdf_params brdf; /* reflection of lights at its Fresnel events; zero: none */
+};
+
+/* One light as the reference sees it (docs/tracing.md "Light"); the CPU twin of the GPU's
+ * light_params, independent of the light simulator. */
+struct reftrace_light {
+    int kind;                      /* LIGHT_KIND_* (shaders/bindings.h) */
+    int mode;                      /* LIGHT_MODE_OFF, _VOLUME, _DIRECT */
+    vec3 position, direction;      /* world; direction unit, the way light travels */
+    double cos_spot;               /* spot: cos of the cone half angle */
+    double scale[3];               /* colour * intensity */
+    const float *irradiance;       /* LIGHT_MODE_VOLUME: 4 per voxel (E rgb, -), x fastest */
+    const float *direction_volume; /* 4 per voxel (light direction xyz, lit) */
+    int dims[3];
+    vec3 bmin;    /* world corner of the grid */
+    double voxel; /* cubic voxel edge, world units */
+};
+
+/* The receiver plane y = height, |x|, |z| <= half_size (thesis fig. 7.4). */
+struct reftrace_receiver {
+    bool enabled;
+    double height, half_size;
+    double albedo[3];
+};
+
+struct reftrace_lighting {
+    const struct reftrace_light *lights;
+    int count;
+    struct reftrace_receiver receiver;
 };
 
 enum reftrace_integrator {
@@ -61,6 +91,8 @@ struct reftrace_settings {
     double ambient_ior;
     double tolerance;     /* adaptive: absolute error per step in object units */
     double env_intensity; /* procedural environment multiplier for radiance */
+    const struct reftrace_lighting *lighting; /* lights and receiver; NULL: none. In-scattering
+                                                 is not modelled by REFTRACE_ADAPTIVE. */
 };
 
 struct reftrace_result {

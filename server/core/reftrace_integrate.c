@@ -46,6 +46,8 @@ void reftrace_sample_field(const struct reftrace_object *o, vec3 p, struct reftr
 {
     f->sigma_a = (vec3){0, 0, 0};
     f->emission = (vec3){0, 0, 0};
+    f->sigma_s = (vec3){0, 0, 0};
+    f->g = 0.0;
     f->n = reftrace_sample_ior(o, p, &f->grad);
     if (o->grid == NULL)
         return;
@@ -58,6 +60,14 @@ void reftrace_sample_field(const struct reftrace_object *o, vec3 p, struct reftr
     if (o->grid->emission != NULL) {
         voxel_sample_trilinear(o->grid->emission, 4, o->res, v, s);
         f->emission = (vec3){s[0], s[1], s[2]};
+    }
+    if (o->grid->scattering != NULL) {
+        voxel_sample_trilinear(o->grid->scattering, 4, o->res, v, s);
+        f->sigma_s = (vec3){s[0], s[1], s[2]};
+        if (o->grid->anisotropy != NULL) {
+            voxel_sample_trilinear(o->grid->anisotropy, 1, o->res, v, s);
+            f->g = s[0];
+        }
     }
 }
 
@@ -164,16 +174,18 @@ static void ode_from_array(const double a[ODE_DIM], struct reftrace_ode *y)
     y->emit = triple(a + 10);
 }
 
-/* dy/ds, s in object units: (w / n, grad n, n scale, sigma_a scale,
- * exp(-alpha) L_e scale). alpha here is the optical depth gathered since the step began;
+/* dy/ds, s in object units: (w / n, grad n, n scale, sigma_t scale,
+ * exp(-alpha) L_e / n^2 scale). alpha here is the optical depth gathered since the step began;
  * the march multiplies the step's emission by the transmittance at its start. */
 static void ode_deriv(const struct reftrace_object *o, double scale, const double y[ODE_DIM],
                       double dy[ODE_DIM])
 {
     struct reftrace_field f;
     reftrace_sample_field(o, triple(y), &f);
-    const double sig[3] = {f.sigma_a.x, f.sigma_a.y, f.sigma_a.z};
-    const double em[3] = {f.emission.x, f.emission.y, f.emission.z};
+    const double sig[3] = {f.sigma_a.x + f.sigma_s.x, f.sigma_a.y + f.sigma_s.y,
+                           f.sigma_a.z + f.sigma_s.z};
+    const double inv_n2 = 1.0 / (f.n * f.n);
+    const double em[3] = {f.emission.x * inv_n2, f.emission.y * inv_n2, f.emission.z * inv_n2};
     const double g[3] = {f.grad.x, f.grad.y, f.grad.z};
     for (int c = 0; c < 3; c++) {
         dy[c] = y[3 + c] / f.n;

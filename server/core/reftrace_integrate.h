@@ -22,6 +22,8 @@ struct reftrace_field {
     vec3 grad;     /* grad n, per object unit */
     vec3 sigma_a;  /* absorption per world unit (0 for analytic fields) */
     vec3 emission; /* L_e per world unit (0 for analytic fields) */
+    vec3 sigma_s;  /* scattering per world unit (0 without a scattering channel) */
+    double g;      /* Henyey-Greenstein anisotropy (0 without an anisotropy channel) */
 };
 
 /* State of the adaptive integrator: the ray plus the integrals it carries along one
@@ -29,8 +31,9 @@ struct reftrace_field {
 struct reftrace_ode {
     vec3 p, w;  /* object space */
     double opl; /* integral of n ds, world units */
-    vec3 alpha; /* integral of sigma_a ds (tevs2007 eq. 5.9) */
-    vec3 emit;  /* integral of exp(-alpha) L_e ds (eq. 5.10's emission term) */
+    vec3 alpha; /* integral of sigma_t ds, sigma_t = sigma_a + sigma_s (tevs2007 eq. 5.9) */
+    vec3 emit;  /* integral of exp(-alpha) L_e / n^2 ds (eq. 5.10's emission term, in basic
+                   radiance: the march multiplies by n_amb^2, frisvad2010) */
 };
 
 /* Voxel size per axis, (bmax - bmin) / res, object units. */

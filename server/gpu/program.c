@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "../core/log.h"
+#include "queue.h"
 #include "shader_source.h"
 
 static const char *const kernel_files[GPU_KERNEL_COUNT] = {
@@ -25,7 +26,8 @@ static unsigned variant_mask(enum gpu_kernel kernel)
     case GPU_KERNEL_RENDER_VIEW:
         return GPU_VARIANT_COUNT - 1;
     case GPU_KERNEL_TRACE_RAYS:
-        return GPU_VARIANT_RK4 | GPU_VARIANT_ATTENUATION | GPU_VARIANT_OPAQUE;
+        return GPU_VARIANT_RK4 | GPU_VARIANT_ATTENUATION | GPU_VARIANT_OPAQUE |
+               GPU_VARIANT_SCATTERING;
     default:
         return 0;
     }
@@ -93,28 +95,51 @@ GLuint gpu_program_create(const struct gpu_program_desc *desc, const char *shade
     return program;
 }
 
-enum refract_code gpu_programs_build(struct gpu_programs *p, const char *shader_dir,
-                                     struct err *e)
+struct gpu_programs_lazy {
+    char *shader_dir; /* NULL: embedded shaders */
+    /* The programs array lives in the const struct; variants built later are written
+     * through this pointer to it (GPU thread only). */
+    GLuint (*program)[GPU_VARIANT_COUNT];
+};
+
+static GLuint build_variant(enum gpu_kernel k, unsigned v, const char *shader_dir, struct err *e)
+{
+    unsigned mask = variant_mask(k);
+    char preamble[320], label[96];
+    snprintf(preamble, sizeof preamble,
+             "#define MARCH_INTEGRATOR %s\n#define MARCH_ATTENUATION %d\n"
+             "#define MARCH_EMISSION %d\n#define MARCH_OPAQUE %d\n"
+             "#define MARCH_SCATTERING %d\n#define MARCH_LIGHTS %d",
+             (v & GPU_VARIANT_RK4) ? "INTEGRATOR_RK4" : "INTEGRATOR_EULER",
+             (v & GPU_VARIANT_ATTENUATION) ? 1 : 0, (v & GPU_VARIANT_EMISSION) ? 1 : 0,
+             (v & GPU_VARIANT_OPAQUE) ? 1 : 0, (v & GPU_VARIANT_SCATTERING) ? 1 : 0,
+             (v & GPU_VARIANT_LIGHTS) ? 1 : 0);
+    snprintf(label, sizeof label, "%s variant %u", kernel_files[k], v);
+    struct gpu_program_desc desc = {
+        .label = label, .main = kernel_files[k], .preamble = mask ? preamble : NULL};
+    return gpu_program_create(&desc, shader_dir, e);
+}
+
+enum refract_code gpu_programs_build(struct gpu_programs *p, const char *shader_dir, struct err *e)
 {
     memset(p, 0, sizeof *p);
+    p->lazy = calloc(1, sizeof *p->lazy);
+    if (p->lazy == NULL || (shader_dir && (p->lazy->shader_dir = strdup(shader_dir)) == NULL)) {
+        gpu_programs_destroy(p);
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory building GPU programs");
+    }
+    p->lazy->program = p->program;
     int built = 0;
     for (int k = 0; k < GPU_KERNEL_COUNT; k++) {
         unsigned mask = variant_mask((enum gpu_kernel)k);
         for (unsigned v = 0; v < GPU_VARIANT_COUNT; v++) {
             if ((v & ~mask) != 0)
                 continue;
-            char preamble[256], label[96];
-            snprintf(preamble, sizeof preamble,
-                     "#define MARCH_INTEGRATOR %s\n#define MARCH_ATTENUATION %d\n"
-                     "#define MARCH_EMISSION %d\n#define MARCH_OPAQUE %d",
-                     (v & GPU_VARIANT_RK4) ? "INTEGRATOR_RK4" : "INTEGRATOR_EULER",
-                     (v & GPU_VARIANT_ATTENUATION) ? 1 : 0, (v & GPU_VARIANT_EMISSION) ? 1 : 0,
-                     (v & GPU_VARIANT_OPAQUE) ? 1 : 0);
-            snprintf(label, sizeof label, "%s variant %u", kernel_files[k], v);
-            struct gpu_program_desc desc = {.label = label,
-                                            .main = kernel_files[k],
-                                            .preamble = mask ? preamble : NULL};
-            p->program[k][v] = gpu_program_create(&desc, shader_dir, e);
+            /* Lazy variants wait for their first use, except the one with every bit,
+             * which proves the shaders compile. */
+            if ((v & GPU_VARIANT_LAZY) != 0 && v != mask)
+                continue;
+            p->program[k][v] = build_variant((enum gpu_kernel)k, v, shader_dir, e);
             if (p->program[k][v] == 0) {
                 gpu_programs_destroy(p);
                 return e->code;
@@ -122,8 +147,10 @@ enum refract_code gpu_programs_build(struct gpu_programs *p, const char *shader_
             built++;
         }
     }
-    log_info("gpu", "compiled %d compute programs (kernels x variants) from %s", built,
-             shader_dir ? shader_dir : "embedded shaders");
+    log_info("gpu",
+             "compiled %d compute programs (kernels x variants) from %s; variants with "
+             "scattering or lights compile on first use",
+             built, shader_dir ? shader_dir : "embedded shaders");
     return REFRACT_E_OK;
 }
 
@@ -136,9 +163,34 @@ void gpu_programs_destroy(struct gpu_programs *p)
             p->program[k][v] = 0;
         }
     }
+    if (p->lazy) {
+        free(p->lazy->shader_dir);
+        free(p->lazy);
+        p->lazy = NULL;
+    }
+}
+
+GLuint gpu_program_get_e(const struct gpu_programs *p, enum gpu_kernel kernel, unsigned variant,
+                         struct err *e)
+{
+    unsigned v = variant & variant_mask(kernel);
+    if (p->program[kernel][v] != 0 || p->lazy == NULL)
+        return p->program[kernel][v];
+    double t0 = gpu_time_ms();
+    GLuint prog = build_variant(kernel, v, p->lazy->shader_dir, e);
+    if (prog != 0) {
+        p->lazy->program[kernel][v] = prog;
+        log_info("gpu", "compiled %s variant %u on first use in %.0f ms", kernel_files[kernel], v,
+                 gpu_time_ms() - t0);
+    }
+    return prog;
 }
 
 GLuint gpu_program_get(const struct gpu_programs *p, enum gpu_kernel kernel, unsigned variant)
 {
-    return p->program[kernel][variant & variant_mask(kernel)];
+    struct err e = {0};
+    GLuint prog = gpu_program_get_e(p, kernel, variant, &e);
+    if (prog == 0)
+        log_error("gpu", "%s", e.msg);
+    return prog;
 }

@@ -29,7 +29,17 @@ enum gpu_kernel {
 #define GPU_VARIANT_ATTENUATION 2u /* the scene has an attenuation channel */
 #define GPU_VARIANT_EMISSION 4u    /* ... an emission channel (render_view only) */
 #define GPU_VARIANT_OPAQUE 8u      /* ... an opaque channel */
-#define GPU_VARIANT_COUNT 16
+#define GPU_VARIANT_SCATTERING                                                                     \
+    16u /* ... a scattering channel: extinction sigma_a + sigma_s,                                 \
+           in-scattering L_s (tevs2007 eq. 5.4/5.5) */
+#define GPU_VARIANT_LIGHTS                                                                         \
+    32u /* lights or a receiver: reflected light L_r at Fresnel                                    \
+           events (eq. 5.6/5.8) and the receiver (render_view) */
+#define GPU_VARIANT_COUNT 64
+/* Variants with any of these bits are compiled on first use (gpu_program_get), not at
+ * start-up: doubling the variant count twice would quadruple the start-up time. One
+ * variant with every bit is compiled at start-up, so a shader error still stops it. */
+#define GPU_VARIANT_LAZY (GPU_VARIANT_SCATTERING | GPU_VARIANT_LIGHTS)
 
 struct gpu_program_desc {
     const char *label;    /* for glObjectLabel and messages */
@@ -37,8 +47,13 @@ struct gpu_program_desc {
     const char *preamble; /* #defines inserted after #version; may be NULL */
 };
 
+struct gpu_programs_lazy; /* program.c: shader directory for variants built on first use */
+
 struct gpu_programs {
     GLuint program[GPU_KERNEL_COUNT][GPU_VARIANT_COUNT];
+    /* Owned; mutable through a const struct gpu_programs (a cache of lazily built
+     * variants, GPU thread only). */
+    struct gpu_programs_lazy *lazy;
 };
 
 /* Compiles and links one compute program. Returns the GL name, or 0 with e filled
@@ -47,11 +62,15 @@ GLuint gpu_program_create(const struct gpu_program_desc *desc, const char *shade
                           struct err *e);
 
 /* Builds every kernel in every variant it has. On failure destroys what it built. */
-enum refract_code gpu_programs_build(struct gpu_programs *p, const char *shader_dir,
-                                     struct err *e);
+enum refract_code gpu_programs_build(struct gpu_programs *p, const char *shader_dir, struct err *e);
 void gpu_programs_destroy(struct gpu_programs *p);
 
-/* The program of a kernel variant (bits a kernel does not use are ignored). */
+/* The program of a kernel variant (bits a kernel does not use are ignored). A variant
+ * with GPU_VARIANT_LAZY bits is compiled here on its first use (tens of ms on llvmpipe)
+ * and cached. Returns 0 only when that compilation fails (it compiled at start-up in its
+ * all-bits form, so this means a driver problem); gpu_program_get_e says why. */
 GLuint gpu_program_get(const struct gpu_programs *p, enum gpu_kernel kernel, unsigned variant);
+GLuint gpu_program_get_e(const struct gpu_programs *p, enum gpu_kernel kernel, unsigned variant,
+                         struct err *e);
 
 #endif

@@ -46,11 +46,11 @@ void lightsim_domain(const struct scene *s, struct light_grid *out);
 struct lightsim_fields {
     struct light_grid grid;
     double ambient_ior;
-    double probe_distance;   /* world units: k of the interface probe (docs/lightsim.md) */
+    double probe_distance;     /* world units: k of the interface probe (docs/lightsim.md) */
     double boundary_threshold; /* index change per light voxel that marks an interface */
-    double *ior_grad;        /* 4 per voxel: dn/dx, dn/dy, dn/dz (world units), n; owned */
-    double *extinction;      /* 4 per voxel: sigma_t = sigma_a + sigma_s (r, g, b) per world
-                                unit, opaque coverage; owned */
+    double *ior_grad;          /* 4 per voxel: dn/dx, dn/dy, dn/dz (world units), n; owned */
+    double *extinction;        /* 4 per voxel: sigma_t = sigma_a + sigma_s (r, g, b) per world
+                                  unit, opaque coverage; owned */
 };
 
 /* Builds the fields from the scene (docs/lightsim.md "Fields"). CONFLICT for a missing
@@ -73,10 +73,10 @@ struct lightsim_stats {
     long long patch_steps;    /* sum over steps of the live patch count */
     long long splits;         /* patches split in four */
     long long culled_energy, culled_level, culled_flip, culled_capacity;
-    int patches_initial;      /* patches of the initial wavefront aimed at the domain */
-    int patches_live;         /* now */
+    int patches_initial; /* patches of the initial wavefront aimed at the domain */
+    int patches_live;    /* now */
     int patches_peak;
-    double progress;          /* 0..1: fraction of the domain swept (docs/lightsim.md) */
+    double progress; /* 0..1: fraction of the domain swept (docs/lightsim.md) */
     bool done;
 };
 
@@ -97,5 +97,26 @@ size_t irradiance_volume_bytes(const struct irradiance_volume *v);
 enum refract_code lightsim_ref_run(const struct lightsim_fields *f, const struct scene_light *l,
                                    const struct scene_lightsim *set, struct irradiance_volume *out,
                                    struct err *e);
+
+/* The same reference in resumable form, so a comparison can stop after N steps (the GPU
+ * run's lightsim_gpu_begin/advance/stats/read). The run borrows f, which must outlive it;
+ * l and set are copied. */
+struct lightsim_ref;
+enum refract_code lightsim_ref_begin(const struct lightsim_fields *f, const struct scene_light *l,
+                                     const struct scene_lightsim *set, struct lightsim_ref **out,
+                                     struct err *e);
+/* Advances at most max_steps time steps; *done is set when the run has ended. */
+enum refract_code lightsim_ref_advance(struct lightsim_ref *run, int max_steps, bool *done,
+                                       struct err *e);
+/* Statistics as of now (flux_live summed over the live patches). */
+void lightsim_ref_stats(const struct lightsim_ref *run, struct lightsim_stats *out);
+/* The volumes as deposited so far (new buffers: irradiance_volume_free), with the stats. */
+enum refract_code lightsim_ref_read(const struct lightsim_ref *run, struct irradiance_volume *out,
+                                    struct err *e);
+void lightsim_ref_destroy(struct lightsim_ref *run);
+
+/* The largest relative violation of the bookkeeping identity over the channels:
+ * |in - (out + reflected + absorbed + culled + live)| / in (0 when in is 0). */
+double lightsim_stats_imbalance(const struct lightsim_stats *s);
 
 #endif

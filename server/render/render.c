@@ -13,6 +13,7 @@
 
 #include "../core/log.h"
 #include "../core/ray_status.h"
+#include "../lightsim/gpu/lightsim_gpu.h"
 #include "bindings.h"
 #include "scene_gpu.h"
 #define REFRACT_HOST_C
@@ -27,6 +28,7 @@ struct render {
     size_t cache_count;
     size_t cache_bytes;
     struct gpu_buffer params_ubo;
+    struct gpu_buffer lights_ubo; /* march_lights */
 };
 
 _Static_assert(sizeof(struct object_params) == 2 * 64 + 6 * 16, "object_params layout");
@@ -35,6 +37,18 @@ _Static_assert(sizeof(struct march_params) == 8 * 16 + MAX_OBJECTS * sizeof(stru
 _Static_assert(sizeof(struct volume_params) == 3 * 16 + 8 * 16, "volume_params layout");
 _Static_assert(sizeof(struct trace_ray_in) == 32, "trace_ray_in layout");
 _Static_assert(sizeof(struct trace_hit_out) == 48, "trace_hit_out layout");
+_Static_assert(sizeof(struct light_params) == 5 * 16, "light_params layout");
+_Static_assert(sizeof(struct march_lights) ==
+                   3 * 16 + 2 * MAX_OBJECTS * 16 + MAX_LIGHTS * sizeof(struct light_params),
+               "march_lights layout");
+_Static_assert(MAX_LIGHTS == SCENE_MAX_LIGHTS, "one light slot per scene light");
+_Static_assert(UNIT_IRRADIANCE0 + MAX_LIGHTS <= UNIT_LIGHT_DIR0, "irradiance units overlap");
+_Static_assert(LIGHT_KIND_DIRECTIONAL == SCENE_LIGHT_DIRECTIONAL &&
+                   LIGHT_KIND_POINT == SCENE_LIGHT_POINT && LIGHT_KIND_SPOT == SCENE_LIGHT_SPOT,
+               "light kinds");
+_Static_assert(BRDF_NONE == SCENE_BRDF_NONE && BRDF_LAMBERT == SCENE_BRDF_LAMBERT &&
+                   BRDF_PHONG == SCENE_BRDF_PHONG && BRDF_GGX == SCENE_BRDF_GGX,
+               "BRDF kinds");
 
 struct render *render_create(struct gpu *gpu, const struct render_desc *desc, struct err *e)
 {
@@ -50,6 +64,12 @@ struct render *render_create(struct gpu *gpu, const struct render_desc *desc, st
         free(r);
         return NULL;
     }
+    if (gpu_buffer_create("march lights", sizeof(struct march_lights), NULL, &r->lights_ubo, e) !=
+        REFRACT_E_OK) {
+        gpu_buffer_destroy(&r->params_ubo);
+        free(r);
+        return NULL;
+    }
     return r;
 }
 
@@ -60,6 +80,7 @@ void render_destroy(struct render *r)
     for (size_t i = 0; i < r->cache_count; i++)
         scene_gpu_destroy(r->cache[i]);
     gpu_buffer_destroy(&r->params_ubo);
+    gpu_buffer_destroy(&r->lights_ubo);
     free(r);
 }
 
@@ -195,6 +216,70 @@ static void fill_camera(struct march_params *mp, const struct scene_camera *c)
     mp->image = (ivec4){c->width, c->height, 0, 0};
 }
 
+/* Whether the scene needs irradiance volumes: some object scatters or a receiver is
+ * enabled (tevs2007 sect. 1.2). Same rule as scene_needs_light_simulation (scene.h), decided
+ * here from the struct until the scene module defines that function. */
+static bool needs_light_simulation(const struct scene *s)
+{
+    if (s->receiver.enabled)
+        return true;
+    for (size_t i = 0; i < s->object_count; i++)
+        if (scene_channel_used(&s->objects[i], SCENE_CH_SCATTERING))
+            return true;
+    return false;
+}
+
+/* The lights block: per light its mode (volume, unshadowed direct light in scenes without
+ * light simulation, or nothing), pose, scale and grid; the receiver; the BRDFs. */
+static void fill_lights(struct march_lights *ml, const struct scene *s,
+                        const struct render_view_request *req)
+{
+    memset(ml, 0, sizeof *ml);
+    bool needs_sim = needs_light_simulation(s);
+    int count = req->light_count < MAX_LIGHTS ? req->light_count : MAX_LIGHTS;
+    if (count < 0 || req->lights == NULL)
+        count = 0;
+    ml->count = (ivec4){count, s->receiver.enabled ? 1 : 0, 0, 0};
+    ml->receiver = (vec4){(float)s->receiver.height, (float)s->receiver.half_size, 0.0f, 0.0f};
+    ml->receiver_albedo = (vec4){(float)s->receiver.albedo[0], (float)s->receiver.albedo[1],
+                                 (float)s->receiver.albedo[2], 0.0f};
+    for (size_t i = 0; i < s->object_count && i < MAX_OBJECTS; i++) {
+        const struct scene_brdf *b = &s->objects[i].brdf;
+        ml->brdf[i] =
+            (vec4){(float)b->kind, (float)(b->roughness * b->roughness), (float)b->exponent, 0.0f};
+        ml->brdf_color[i] =
+            (vec4){(float)b->color[0], (float)b->color[1], (float)b->color[2], 0.0f};
+    }
+    for (int j = 0; j < count; j++) {
+        const struct render_light *l = &req->lights[j];
+        struct light_params *lp = &ml->lights[j];
+        int mode = l->volume ? LIGHT_MODE_VOLUME : needs_sim ? LIGHT_MODE_OFF : LIGHT_MODE_DIRECT;
+        lp->position = v4(l->position, (double)l->kind);
+        lp->direction = v4(l->direction, l->cos_spot);
+        lp->scale = (vec4){(float)l->scale[0], (float)l->scale[1], (float)l->scale[2], (float)mode};
+        if (l->volume) {
+            const struct light_grid *g = &l->volume->grid;
+            lp->grid_min = v4(g->bmin, g->voxel);
+            lp->grid_size = (vec4){(float)(g->dims[0] * g->voxel), (float)(g->dims[1] * g->voxel),
+                                   (float)(g->dims[2] * g->voxel), 0.0f};
+        }
+    }
+}
+
+/* Binds light j's volumes to its units; units of lights without one get a stand-in 3D
+ * texture (never sampled: their mode is not LIGHT_MODE_VOLUME). */
+static void bind_lights(struct render *r, const struct scene_gpu *sg, const struct march_lights *ml,
+                        const struct render_view_request *req)
+{
+    glNamedBufferSubData(r->lights_ubo.buf, 0, sizeof *ml, ml);
+    glBindBufferBase(GL_UNIFORM_BUFFER, BIND_UBO_LIGHTS, r->lights_ubo.buf);
+    for (int j = 0; j < MAX_LIGHTS; j++) {
+        const struct irradiance_gpu *v = j < ml->count.x ? req->lights[j].volume : NULL;
+        glBindTextureUnit(UNIT_IRRADIANCE0 + j, v ? v->irradiance.tex : sg->scattering.tex);
+        glBindTextureUnit(UNIT_LIGHT_DIR0 + j, v ? v->direction.tex : sg->scattering.tex);
+    }
+}
+
 /* The kernel variant for a scene's channels and the chosen integrator. */
 static unsigned march_variant(const struct scene_gpu *sg, const struct scene_render_settings *st)
 {
@@ -207,6 +292,8 @@ static unsigned march_variant(const struct scene_gpu *sg, const struct scene_ren
             v |= GPU_VARIANT_EMISSION;
         if (f & OBJECT_HAS_OPAQUE)
             v |= GPU_VARIANT_OPAQUE;
+        if (f & OBJECT_HAS_SCATTERING)
+            v |= GPU_VARIANT_SCATTERING;
     }
     return v;
 }
@@ -219,6 +306,7 @@ static void bind_scene(struct render *r, const struct scene_gpu *sg, const struc
     glBindTextureUnit(UNIT_ATTENUATION, sg->attenuation.tex);
     glBindTextureUnit(UNIT_EMISSION, sg->emission.tex);
     glBindTextureUnit(UNIT_OPAQUE, sg->opaque.tex);
+    glBindTextureUnit(UNIT_SCATTERING, sg->scattering.tex);
     glBindTextureUnit(UNIT_ENVIRONMENT, sg->environment.tex);
 }
 
@@ -248,9 +336,21 @@ enum refract_code render_view(struct render *r, const struct render_scene_source
         out->rgba = NULL;
         return rc;
     }
+    struct march_lights ml;
+    fill_lights(&ml, src->scene, req);
+    unsigned variant = march_variant(sg, &req->settings);
+    if (ml.count.x > 0 || ml.count.y != 0)
+        variant |= GPU_VARIANT_LIGHTS;
+    GLuint prog = gpu_program_get_e(gpu_programs_get(r->gpu), GPU_KERNEL_RENDER_VIEW, variant, e);
+    if (prog == 0) {
+        gpu_buffer_destroy(&image);
+        free(out->rgba);
+        out->rgba = NULL;
+        return e->code;
+    }
     bind_scene(r, sg, &mp);
-    glUseProgram(gpu_program_get(gpu_programs_get(r->gpu), GPU_KERNEL_RENDER_VIEW,
-                                 march_variant(sg, &req->settings)));
+    bind_lights(r, sg, &ml, req);
+    glUseProgram(prog);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_IMAGE_OUT, image.buf);
     double t_dispatch = gpu_time_ms();
     glDispatchCompute(gpu_groups(w, RENDER_LOCAL_X), gpu_groups(h, RENDER_LOCAL_Y), 1);
@@ -309,17 +409,21 @@ enum refract_code render_trace(struct render *r, const struct render_scene_sourc
     if (rc == REFRACT_E_OK)
         rc = gpu_buffer_create("trace hits out", count * sizeof *res, NULL, &out_buf, e);
     if (rc == REFRACT_E_OK) {
+        GLuint prog = gpu_program_get_e(gpu_programs_get(r->gpu), GPU_KERNEL_TRACE_RAYS,
+                                        march_variant(sg, settings), e);
+        rc = prog ? REFRACT_E_OK : e->code;
         bind_scene(r, sg, &mp);
-        glUseProgram(gpu_program_get(gpu_programs_get(r->gpu), GPU_KERNEL_TRACE_RAYS,
-                                     march_variant(sg, settings)));
+        glUseProgram(prog);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_RAYS_IN, in_buf.buf);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_HITS_OUT, out_buf.buf);
         double t = gpu_time_ms();
-        glDispatchCompute(gpu_groups((int)count, TRACE_LOCAL_X), 1, 1);
-        glFinish();
-        if (gpu_ms)
-            *gpu_ms = gpu_time_ms() - t;
-        rc = gpu_check("tracing", e);
+        if (rc == REFRACT_E_OK) {
+            glDispatchCompute(gpu_groups((int)count, TRACE_LOCAL_X), 1, 1);
+            glFinish();
+            if (gpu_ms)
+                *gpu_ms = gpu_time_ms() - t;
+            rc = gpu_check("tracing", e);
+        }
     }
     if (rc == REFRACT_E_OK)
         rc = gpu_buffer_read(&out_buf, res, count * sizeof *res, e);

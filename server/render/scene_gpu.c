@@ -56,7 +56,8 @@ static size_t planned_bytes(const struct build_ctx *b)
     const struct scene *s = b->src->scene;
     size_t voxels = (size_t)b->sg->atlas_size[0] * b->sg->atlas_size[1] * b->sg->atlas_size[2];
     size_t bytes = voxels * gpu_texel_bytes(GPU_TEXEL_RGBA32F);
-    const enum scene_channel others[] = {SCENE_CH_ATTENUATION, SCENE_CH_EMISSION, SCENE_CH_OPAQUE};
+    const enum scene_channel others[] = {SCENE_CH_ATTENUATION, SCENE_CH_EMISSION, SCENE_CH_OPAQUE,
+                                         SCENE_CH_SCATTERING};
     for (size_t c = 0; c < sizeof others / sizeof others[0]; c++)
         if (channel_used_anywhere(s, others[c]))
             bytes += voxels * gpu_texel_bytes(GPU_TEXEL_RGBA16F);
@@ -113,6 +114,8 @@ static void layout_atlas(struct scene_gpu *sg, const struct scene *s)
             flags |= OBJECT_HAS_EMISSION;
         if (scene_channel_used(&s->objects[i], SCENE_CH_OPAQUE))
             flags |= OBJECT_HAS_OPAQUE;
+        if (scene_channel_used(&s->objects[i], SCENE_CH_SCATTERING))
+            flags |= OBJECT_HAS_SCATTERING;
         sg->objects[i].flags = flags;
     }
     sg->atlas_size[2] = z;
@@ -219,6 +222,40 @@ static enum refract_code build_channel(struct build_ctx *b, size_t i, enum scene
                              obj->resolution[1], obj->resolution[2], 4, b->host, e);
 }
 
+/* The scattering atlas: sigma_s (rgb) from the scattering channel and the Henyey-Greenstein
+ * g from the anisotropy channel in alpha (0 when the object has none; tevs2007 eq. 5.5). */
+static enum refract_code build_scattering(struct build_ctx *b, size_t i, struct err *e)
+{
+    const struct scene *s = b->src->scene;
+    const struct scene_object *obj = &s->objects[i];
+    if (!scene_channel_used(obj, SCENE_CH_SCATTERING))
+        return REFRACT_E_OK;
+    size_t voxels = (size_t)obj->resolution[0] * obj->resolution[1] * obj->resolution[2];
+    enum refract_code rc = scene_field_eval(s, obj, SCENE_CH_SCATTERING, b->src->lookup,
+                                            b->src->lookup_ctx, b->host, e);
+    if (rc != REFRACT_E_OK)
+        return err_prefix(e, "objects[%zu].scattering: ", i);
+    if (scene_channel_used(obj, SCENE_CH_ANISOTROPY)) {
+        int comps = scene_channel_components(SCENE_CH_ANISOTROPY);
+        float *g = malloc(voxels * (size_t)comps * sizeof(float));
+        if (g == NULL)
+            return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of host memory evaluating fields");
+        rc =
+            scene_field_eval(s, obj, SCENE_CH_ANISOTROPY, b->src->lookup, b->src->lookup_ctx, g, e);
+        for (size_t v = 0; rc == REFRACT_E_OK && v < voxels; v++)
+            b->host[v * 4 + 3] = g[v * (size_t)comps];
+        free(g);
+        if (rc != REFRACT_E_OK)
+            return err_prefix(e, "objects[%zu].anisotropy: ", i);
+    } else {
+        for (size_t v = 0; v < voxels; v++)
+            b->host[v * 4 + 3] = 0.0f;
+    }
+    return gpu_volume_upload(&b->sg->scattering, 0, 0, b->sg->objects[i].atlas_z,
+                             obj->resolution[0], obj->resolution[1], obj->resolution[2], 4, b->host,
+                             e);
+}
+
 static enum refract_code build_environment(struct build_ctx *b, struct err *e)
 {
     const struct render_scene_source *src = b->src;
@@ -283,6 +320,8 @@ static enum refract_code build_all(struct build_ctx *b, struct err *e)
         rc = alloc_atlas(b, &b->sg->emission, SCENE_CH_EMISSION, "emission", e);
     if (rc == REFRACT_E_OK)
         rc = alloc_atlas(b, &b->sg->opaque, SCENE_CH_OPAQUE, "opaque", e);
+    if (rc == REFRACT_E_OK)
+        rc = alloc_atlas(b, &b->sg->scattering, SCENE_CH_SCATTERING, "scattering", e);
     for (size_t i = 0; rc == REFRACT_E_OK && i < s->object_count; i++) {
         rc = build_ior(b, i, e);
         if (rc == REFRACT_E_OK)
@@ -291,6 +330,8 @@ static enum refract_code build_all(struct build_ctx *b, struct err *e)
             rc = build_channel(b, i, SCENE_CH_EMISSION, &b->sg->emission, e);
         if (rc == REFRACT_E_OK)
             rc = build_channel(b, i, SCENE_CH_OPAQUE, &b->sg->opaque, e);
+        if (rc == REFRACT_E_OK)
+            rc = build_scattering(b, i, e);
     }
     if (rc == REFRACT_E_OK)
         rc = build_environment(b, e);
@@ -323,7 +364,7 @@ struct scene_gpu *scene_gpu_build(struct gpu *gpu, const struct render_scene_sou
         return NULL;
     }
     sg->bytes = sg->ior_grad.bytes + sg->attenuation.bytes + sg->emission.bytes + sg->opaque.bytes +
-                sg->environment.bytes;
+                sg->scattering.bytes + sg->environment.bytes;
     sg->build_ms = gpu_time_ms() - t0;
     log_info("render",
              "built scene %s (generation %llu): %zu objects, atlas %dx%dx%d, %.1f MiB, "
@@ -341,6 +382,7 @@ void scene_gpu_destroy(struct scene_gpu *sg)
     gpu_volume_destroy(&sg->attenuation);
     gpu_volume_destroy(&sg->emission);
     gpu_volume_destroy(&sg->opaque);
+    gpu_volume_destroy(&sg->scattering);
     gpu_volume_destroy(&sg->environment);
     free(sg);
 }

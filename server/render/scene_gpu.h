@@ -20,8 +20,8 @@
 #include "render.h"
 
 struct scene_gpu_object {
-    int atlas_z;      /* first z slice of this object in the atlases */
-    unsigned flags;   /* OBJECT_HAS_* */
+    int atlas_z;    /* first z slice of this object in the atlases */
+    unsigned flags; /* OBJECT_HAS_* */
 };
 
 struct scene_gpu {
@@ -31,6 +31,8 @@ struct scene_gpu {
     struct gpu_volume attenuation; /* RGBA16F or 1x1x1 stand-in */
     struct gpu_volume emission;    /* RGBA16F or stand-in */
     struct gpu_volume opaque;      /* RGBA16F or stand-in */
+    struct gpu_volume scattering;  /* RGBA16F: sigma_s rgb per world unit, g; or stand-in (only
+                                      built when some object scatters: OBJECT_HAS_SCATTERING) */
     struct gpu_volume environment; /* RGBA32F 2D, or 1x1 stand-in */
     int atlas_size[3];
     size_t object_count;

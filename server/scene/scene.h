@@ -4,8 +4,9 @@
  * procedural fields into voxels.
  *
  * A scene holds volume objects. Each object has axis-aligned bounds in its object
- * space, a voxel resolution, a similarity transform to world space and up to four
- * channels (refractive index, RGB attenuation, RGB emission, opaque colour). A channel
+ * space, a voxel resolution, a similarity transform to world space and up to six
+ * channels (refractive index, RGB attenuation, RGB emission, opaque colour, RGB
+ * scattering, scattering anisotropy). A channel
  * is a list of layers evaluated in order; later layers override earlier ones where
  * they cover (shapes, with an anti-aliased boundary one voxel wide) or everywhere
  * (GRIN profiles, uploaded volumes, constants).
@@ -68,16 +69,16 @@ struct scene_shape {
     vec3 base;            /* lathe: point on the axis where h = 0 */
     double (*profile)[2]; /* lathe: closed polygon of (r, h) points, r >= 0; owned */
     size_t profile_count;
-    char *text;           /* text: printable ASCII; owned */
-    double depth;         /* text: extrusion length along z, centred on center.z */
+    char *text;            /* text: printable ASCII; owned */
+    double depth;          /* text: extrusion length along z, centred on center.z */
     double bump_amplitude; /* bumpy_sphere: r(theta, phi) = radius + a sin(f theta) sin(f phi) */
     int bump_frequency;    /* bumpy_sphere: f, 1..32 */
 };
 
 struct scene_layer {
     enum scene_layer_kind kind;
-    struct scene_shape shape;     /* SCENE_LAYER_SHAPE */
-    struct grin_profile profile;  /* SCENE_LAYER_PROFILE */
+    struct scene_shape shape;           /* SCENE_LAYER_SHAPE */
+    struct grin_profile profile;        /* SCENE_LAYER_PROFILE */
     char volume[SCENE_VOLUME_NAME_MAX]; /* SCENE_LAYER_VOLUME: upload name */
     double volume_scale, volume_offset; /* value = offset + scale * sample */
     double inside[4];  /* shape: value inside; constant: the value. Components as the channel. */
@@ -114,9 +115,9 @@ struct scene_object {
     int resolution[3];           /* voxels along x, y, z */
     struct xform world_from_object;
     double smoothing_sigma_voxels; /* Gaussian std dev for the ior field (tevs2007 3.1); 0 = none */
-    double opaque_ior;             /* n of opaque embeddings' surfaces, for their Fresnel reflection */
+    double opaque_ior; /* n of opaque embeddings' surfaces, for their Fresnel reflection */
     struct scene_field fields[SCENE_CH_COUNT];
-    struct scene_brdf brdf;        /* reflection of lights at the object's boundaries (eq. 5.6) */
+    struct scene_brdf brdf; /* reflection of lights at the object's boundaries (eq. 5.6) */
 };
 
 struct scene_camera {
@@ -149,6 +150,7 @@ struct scene_render_settings {
 /* ---- lights, receiver and light simulation (tevs2007 ch. 4.2, 6.2) ---- */
 
 #define SCENE_MAX_LIGHTS 4
+#define SCENE_LIGHT_NAME_MAX 64 /* names are 1..63 characters */
 
 enum scene_light_kind {
     SCENE_LIGHT_DIRECTIONAL = 0, /* plane wavefront */
@@ -182,19 +184,19 @@ enum scene_lightsim_deposit {
 
 /* Settings of the light simulator (docs/lightsim.md); all part of the transport hash. */
 struct scene_lightsim {
-    int resolution;           /* voxels along the longest axis of the light domain, 8..512; 64 */
-    double step_voxels;       /* wavefront time step in vacuum voxel lengths, 0.05..4; 0.5 */
-    int initial_patches;      /* patches per side of the initial wavefront, 2..1024; 64 */
-    int max_level;            /* subdivision levels, 0..12; 6 */
-    double split_voxels;      /* a patch whose longest edge exceeds this many voxels splits,
-                                 0.1..8; 1 */
-    double energy_threshold;  /* cull a patch below this fraction of the initial mean patch
-                                 power, 0..1; 1e-4 */
-    double point_radius;      /* point/spot: initial wavefront radius (thesis note 5),
-                                 world units, > 0; default 0.01 */
+    int resolution;          /* voxels along the longest axis of the light domain, 8..512; 64 */
+    double step_voxels;      /* wavefront time step in vacuum voxel lengths, 0.05..4; 0.5 */
+    int initial_patches;     /* patches per side of the initial wavefront, 2..1024; 64 */
+    int max_level;           /* subdivision levels, 0..12; 6 */
+    double split_voxels;     /* a patch whose longest edge exceeds this many voxels splits,
+                                0.1..8; 1 */
+    double energy_threshold; /* cull a patch below this fraction of the initial mean patch
+                                power, 0..1; 1e-4 */
+    double point_radius;     /* point/spot: initial wavefront radius (thesis note 5),
+                                world units, > 0; default 0.01 */
     enum scene_lightsim_deposit deposit;
-    bool cull_flipped;        /* cull patches whose orientation flips (thesis 6.2.4); false */
-    int max_patches;          /* capacity of the patch list, 1024..1048576; 262144 */
+    bool cull_flipped; /* cull patches whose orientation flips (thesis 6.2.4); false */
+    int max_patches;   /* capacity of the patch list, 1024..1048576; 262144 */
 };
 
 struct scene {
@@ -213,7 +215,9 @@ struct scene {
 
 /* True when some object scatters (a SCENE_CH_SCATTERING field) or a receiver is enabled:
  * only then does the scene need irradiance volumes (tevs2007 sect. 1.2: model only what a
- * scene needs). */
+ * scene needs). Defined by the scene's transport alone, not by its lights: a scene that
+ * needs light simulation but has no lights simply has nothing to simulate yet (lights
+ * come and go with PUT .../lights without changing the answer). */
 bool scene_needs_light_simulation(const struct scene *s);
 
 /* FNV-1a 64 over everything that affects light transport (docs/lightsim.md, the irradiance
@@ -227,13 +231,13 @@ uint64_t scene_transport_hash(const struct scene *s);
 
 /* Limits enforced by scene_parse (configurable with refractd flags). */
 struct scene_limits {
-    int max_resolution;       /* per axis */
-    int64_t max_voxels;       /* summed over the scene's objects */
+    int max_resolution; /* per axis */
+    int64_t max_voxels; /* summed over the scene's objects */
     int max_objects;
-    int max_layers;           /* per channel */
-    int max_profile_points;   /* lathe polygon */
+    int max_layers;         /* per channel */
+    int max_profile_points; /* lathe polygon */
     int max_text_length;
-    int max_image_dim;        /* camera width/height */
+    int max_image_dim; /* camera width/height */
     int max_steps;
 };
 
@@ -258,8 +262,9 @@ struct scene_volume {
 /* Returns the volume uploaded under `name`, or NULL. Borrowed for the call. */
 typedef const struct scene_volume *(*scene_volume_lookup_fn)(void *ctx, const char *name);
 
-/* Number of floats per voxel that scene_field_eval writes for a channel: 1 for ior,
- * 4 for the others (RGB + 0 for attenuation/emission; RGB + coverage for opaque). */
+/* Number of floats per voxel that scene_field_eval writes for a channel: 1 for ior and
+ * anisotropy, 4 for the others (RGB + 0 for attenuation/emission/scattering; RGB +
+ * coverage for opaque). */
 int scene_channel_components(enum scene_channel ch);
 const char *scene_channel_name(enum scene_channel ch);
 bool scene_channel_used(const struct scene_object *obj, enum scene_channel ch);
@@ -274,11 +279,12 @@ int scene_missing_volumes(const struct scene *s, scene_volume_lookup_fn lookup, 
  * bounds_min + (i + 0.5) * (bounds_max - bounds_min) / resolution. Borrows everything
  * until return. Fails only on a missing or mismatched volume (REFRACT_E_CONFLICT). */
 enum refract_code scene_field_eval(const struct scene *s, const struct scene_object *obj,
-                                   enum scene_channel ch, scene_volume_lookup_fn lookup,
-                                   void *ctx, float *out, struct err *e);
+                                   enum scene_channel ch, scene_volume_lookup_fn lookup, void *ctx,
+                                   float *out, struct err *e);
 
 /* Signed distance from p (object space) to the shape's surface: negative inside.
- * Exact for sphere, box, rounded_box, cylinder, lathe and text. */
+ * Exact for sphere, box, rounded_box, cylinder, lathe and text; for bumpy_sphere a
+ * first-order estimate near the surface, with the exact sign (shapes.c). */
 double scene_shape_sdf(const struct scene_shape *shape, vec3 p);
 
 /* Axis-aligned box (object space) that contains the shape's solid. Returns false, and

@@ -8,7 +8,8 @@
  * voxels within one voxel of the shape's bounding box and, along each row, skip runs of
  * voxels whose coverage is already known to be 0 or 1: shape SDFs are exact, hence
  * 1-Lipschitz, so a voxel at distance t from one with sdf = d has sdf within d +- t
- * (shapes.c). That keeps a 128^3 lathe or text layer well under a second on one core.
+ * (shapes.c; the bumpy sphere, whose SDF is an estimate, is evaluated at every voxel of
+ * its box). That keeps a 128^3 lathe or text layer well under a second on one core.
  *
  * Not here: smoothing and gradients of the ior (the GPU module does those, tracing.md).
  */
@@ -19,16 +20,16 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *const channel_names[SCENE_CH_COUNT] = {"ior", "attenuation", "emission",
-                                                          "opaque"};
+static const char *const channel_names[SCENE_CH_COUNT] = {"ior",    "attenuation", "emission",
+                                                          "opaque", "scattering",  "anisotropy"};
 
 /* Valid range of every component a channel stores; volume layers are clamped to it. */
-static const double channel_min[SCENE_CH_COUNT] = {0.2, 0.0, 0.0, 0.0};
-static const double channel_max[SCENE_CH_COUNT] = {5.0, 1e5, 1e6, 1.0};
+static const double channel_min[SCENE_CH_COUNT] = {0.2, 0.0, 0.0, 0.0, 0.0, -0.99};
+static const double channel_max[SCENE_CH_COUNT] = {5.0, 1e5, 1e6, 1.0, 1e5, 0.99};
 
 int scene_channel_components(enum scene_channel ch)
 {
-    return ch == SCENE_CH_IOR ? 1 : 4;
+    return (ch == SCENE_CH_IOR || ch == SCENE_CH_ANISOTROPY) ? 1 : 4;
 }
 
 const char *scene_channel_name(enum scene_channel ch)
@@ -170,6 +171,9 @@ static void eval_shape(const struct grid *g, const struct scene_layer *l, float 
         !index_range(lo.z - grow, hi.z + grow, g->bmin.z, g->vs.z, g->n[2], &k0, &k1))
         return;
     double half = 0.5 * g->h_min;
+    /* Only a true distance bounds its neighbours' values (the bumpy sphere's estimate does
+     * not, shapes.c). */
+    bool exact = l->shape.kind != SCENE_SHAPE_BUMPY_SPHERE;
     for (int k = k0; k <= k1; k++) {
         for (int j = j0; j <= j1; j++) {
             size_t row = ((size_t)k * (size_t)g->n[1] + (size_t)j) * (size_t)g->n[0];
@@ -178,7 +182,7 @@ static void eval_shape(const struct grid *g, const struct scene_layer *l, float 
                 double c = fmin(fmax(0.5 - d / g->h_min, 0.0), 1.0);
                 /* Voxels up to `skip` further along x are within |d| - h/2 of this one,
                  * so their coverage is the same 0 or 1. */
-                double skip = fabs(d) > half ? floor((fabs(d) - half) / g->vs.x) : 0.0;
+                double skip = exact && fabs(d) > half ? floor((fabs(d) - half) / g->vs.x) : 0.0;
                 int last = skip >= (double)(i1 - i) ? i1 : i + (int)skip;
                 for (int t = i; t <= last; t++)
                     blend(out + (row + (size_t)t) * (size_t)g->comps, g->comps, l->inside, c);
@@ -252,13 +256,14 @@ static enum refract_code check_volume(const struct scene_volume *v, const char *
                        "%s: volume \"%s\" has not been uploaded; upload it with PUT "
                        "/v1/scenes/{id}/volumes/%s before rendering",
                        path, name, name);
-    bool comps_ok = v->components == 1 || (v->components == 3 && ch != SCENE_CH_IOR);
+    bool scalar = scene_channel_components(ch) == 1;
+    bool comps_ok = v->components == 1 || (v->components == 3 && !scalar);
     if (!comps_ok)
         return err_set(e, REFRACT_E_CONFLICT,
                        "%s: volume \"%s\" has %d components but %s takes %s; upload it again "
                        "with PUT /v1/scenes/{id}/volumes/%s",
                        path, name, v->components, scene_channel_name(ch),
-                       ch == SCENE_CH_IOR ? "1" : "1 (grey) or 3 (RGB)", name);
+                       scalar ? "1" : "1 (grey) or 3 (RGB)", name);
     if (v->data == NULL || v->dims[0] < 1 || v->dims[1] < 1 || v->dims[2] < 1)
         return err_set(e, REFRACT_E_CONFLICT,
                        "%s: volume \"%s\" is empty (dims %d x %d x %d); upload it again with PUT "

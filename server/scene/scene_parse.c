@@ -6,7 +6,8 @@
  * field (ranges, limits, a camera that can look somewhere). Any problem is returned as
  * a code plus a message that starts with the JSON path; nothing is ignored, so a typo
  * in a key is an UNKNOWN_FIELD error rather than a silent default. Channels (ior,
- * attenuation, emission, opaque) are read by scene_parse_field.c.
+ * attenuation, emission, opaque, scattering, anisotropy) are read by scene_parse_field.c;
+ * lights, receiver, lightsim settings and BRDFs by scene_parse_light.c.
  *
  * Ownership: the cJSON tree lives only inside scene_parse; the scene is built in a
  * zeroed allocation so that scene_destroy can free a half-built one on any error path.
@@ -278,6 +279,15 @@ static enum refract_code parse_transform(const cJSON *obj, const char *path, str
     return rc;
 }
 
+/* How many channels other than `except` the object uses. */
+static int any_but(const struct scene_object *o, enum scene_channel except)
+{
+    int n = 0;
+    for (int ch = 0; ch < SCENE_CH_COUNT; ch++)
+        n += ch != (int)except && o->fields[ch].count > 0;
+    return n;
+}
+
 static enum refract_code parse_channels(const cJSON *obj, const char *path,
                                         const struct scene_parse_ctx *ctx, struct scene_object *o,
                                         struct err *e)
@@ -295,9 +305,18 @@ static enum refract_code parse_channels(const cJSON *obj, const char *path,
         if (rc != REFRACT_E_OK)
             return rc;
     }
-    if (!any)
+    /* Anisotropy only shapes scattering, so alone it would describe nothing. A smoke
+     * object may consist of scattering only. */
+    bool scatters = o->fields[SCENE_CH_SCATTERING].count > 0;
+    if (!any || (!scatters && any_but(o, SCENE_CH_ANISOTROPY) == 0))
         return err_set(e, REFRACT_E_MISSING_FIELD,
-                       "%s: an object needs at least one of ior, attenuation, emission, opaque",
+                       "%s: an object needs at least one of ior, attenuation, emission, opaque, "
+                       "scattering",
+                       path);
+    if (!scatters && o->fields[SCENE_CH_ANISOTROPY].count > 0)
+        return err_set(e, REFRACT_E_INVALID_FIELD,
+                       "%s.anisotropy: has no effect without scattering; add a \"scattering\" "
+                       "field or remove \"anisotropy\"",
                        path);
     return REFRACT_E_OK;
 }
@@ -307,8 +326,8 @@ static enum refract_code parse_object(const cJSON *obj, const char *path, int in
                                       struct err *e)
 {
     static const char *const keys[] = {
-        "name",     "bounds", "resolution", "transform", "smoothing_sigma", "ior", "attenuation",
-        "emission", "opaque", "opaque_ior", NULL};
+        "name",     "bounds", "resolution", "transform",  "smoothing_sigma", "ior",  "attenuation",
+        "emission", "opaque", "opaque_ior", "scattering", "anisotropy",      "brdf", NULL};
     char def_name[32];
     snprintf(def_name, sizeof def_name, "object%d", index);
     enum refract_code rc = jr_check_object(obj, path, keys, e);
@@ -326,6 +345,8 @@ static enum refract_code parse_object(const cJSON *obj, const char *path, int in
                        &o->smoothing_sigma_voxels, e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(obj, path, "opaque_ior", false, 1.5, 1.0, 4.0, &o->opaque_ior, e);
+    if (rc == REFRACT_E_OK)
+        rc = scene_parse_brdf(obj, path, &o->brdf, e);
     if (rc != REFRACT_E_OK)
         return rc;
     struct scene_parse_ctx ctx = *outer;
@@ -398,8 +419,9 @@ static enum refract_code parse_description(const cJSON *root, struct err *e)
 static enum refract_code parse_document(const cJSON *root, const struct scene_limits *lim,
                                         struct scene *s, struct err *e)
 {
-    static const char *const keys[] = {"name",   "description", "ambient_ior", "environment",
-                                       "camera", "render",      "objects",     NULL};
+    static const char *const keys[] = {"name",     "description", "ambient_ior", "environment",
+                                       "camera",   "render",      "objects",     "lights",
+                                       "receiver", "lightsim",    NULL};
     enum refract_code rc = jr_check_object(root, "", keys, e);
     if (rc == REFRACT_E_OK)
         rc = jr_string(root, "", "name", false, "untitled", SCENE_NAME_MAX - 1, s->name,
@@ -416,8 +438,18 @@ static enum refract_code parse_document(const cJSON *root, const struct scene_li
         rc = parse_render(root, lim, &s->render, e);
     if (rc != REFRACT_E_OK)
         return rc;
+    if (rc == REFRACT_E_OK)
+        rc = scene_parse_lights(member(root, "lights"), s, e);
+    if (rc == REFRACT_E_OK)
+        rc = scene_parse_lightsim(member(root, "lightsim"), &s->lightsim, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
     struct scene_parse_ctx ctx = {.limits = lim, .ambient_ior = s->ambient_ior};
-    return parse_objects(root, &ctx, s, e);
+    rc = parse_objects(root, &ctx, s, e);
+    /* After the objects: the receiver's default size depends on where they are. */
+    if (rc == REFRACT_E_OK)
+        rc = scene_parse_receiver(member(root, "receiver"), s, e);
+    return rc;
 }
 
 enum refract_code scene_parse(const char *json, size_t len, const struct scene_limits *limits,

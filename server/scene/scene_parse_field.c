@@ -25,8 +25,14 @@
 #include "scene_parse_internal.h"
 
 /* Range of one component of a VALUE, per channel. */
-static const double value_max[SCENE_CH_COUNT] = {5.0, 1e5, 1e6, 1.0};
-static const double value_min[SCENE_CH_COUNT] = {0.2, 0.0, 0.0, 0.0};
+static const double value_max[SCENE_CH_COUNT] = {5.0, 1e5, 1e6, 1.0, 1e5, 0.99};
+static const double value_min[SCENE_CH_COUNT] = {0.2, 0.0, 0.0, 0.0, 0.0, -0.99};
+
+/* ior and anisotropy hold one number per voxel; the others RGB. */
+static bool scalar_channel(enum scene_channel ch)
+{
+    return scene_channel_components(ch) == 1;
+}
 
 static const cJSON *member(const cJSON *obj, const char *key)
 {
@@ -46,13 +52,15 @@ static bool is_number_array(const cJSON *item)
 
 static bool is_value(const cJSON *item, enum scene_channel ch)
 {
-    return cJSON_IsNumber(item) || (ch != SCENE_CH_IOR && is_number_array(item));
+    return cJSON_IsNumber(item) || (!scalar_channel(ch) && is_number_array(item));
 }
 
 static const char *value_rule(enum scene_channel ch, char *buf, size_t size)
 {
     if (ch == SCENE_CH_IOR)
         snprintf(buf, size, "a refractive index in 0.2..5");
+    else if (ch == SCENE_CH_ANISOTROPY)
+        snprintf(buf, size, "a Henyey-Greenstein g in -0.99..0.99");
     else
         snprintf(buf, size, "a number or [r, g, b], each in 0..%.15g", value_max[ch]);
     return buf;
@@ -67,9 +75,9 @@ static enum refract_code parse_value(const cJSON *item, const char *path, enum s
     v[1] = v[2] = v[3] = 0.0;
     if (cJSON_IsNumber(item)) {
         rc = jr_check_number(item, path, lo, false, hi, &v[0], e);
-        if (ch != SCENE_CH_IOR)
+        if (!scalar_channel(ch))
             v[1] = v[2] = v[0];
-    } else if (ch != SCENE_CH_IOR && cJSON_IsArray(item) && cJSON_GetArraySize(item) == 3) {
+    } else if (!scalar_channel(ch) && cJSON_IsArray(item) && cJSON_GetArraySize(item) == 3) {
         rc = REFRACT_E_OK;
         for (int i = 0; i < 3 && rc == REFRACT_E_OK; i++) {
             char p[256];
@@ -99,8 +107,8 @@ static enum refract_code value_member(const cJSON *obj, const char *path, const 
 
 /* ---- shapes ---- */
 
-static const char *const shape_names[] = {"sphere", "box",  "rounded_box", "cylinder",
-                                          "lathe",  "text", NULL};
+static const char *const shape_names[] = {"sphere", "box",  "rounded_box",  "cylinder",
+                                          "lathe",  "text", "bumpy_sphere", NULL};
 static const char *const axis_names[] = {"x", "y", "z", NULL};
 
 /* Keys of each shape besides "shape", "inside" and "outside". */
@@ -111,6 +119,7 @@ static const char *const shape_keys[][6] = {
     [SCENE_SHAPE_CYLINDER] = {"center", "radius", "height", "axis", NULL},
     [SCENE_SHAPE_LATHE] = {"base", "axis", "profile", NULL},
     [SCENE_SHAPE_TEXT] = {"text", "center", "height", "depth", NULL},
+    [SCENE_SHAPE_BUMPY_SPHERE] = {"center", "radius", "bump_amplitude", "bump_frequency", NULL},
 };
 
 /* An array of 3 numbers, each > 0 and <= SCENE_COORD_MAX (box edge lengths). */
@@ -292,9 +301,15 @@ static enum refract_code parse_geometry(const cJSON *o, const char *path,
         if (rc == REFRACT_E_OK)
             rc = jr_number_gt(o, path, "radius", true, 0.0, 0.0, m, &s->radius, e);
         break;
-    case SCENE_SHAPE_BUMPY_SPHERE: /* parsed by the scene-model work (issue 3) */
+    case SCENE_SHAPE_BUMPY_SPHERE:
         if (rc == REFRACT_E_OK)
             rc = jr_number_gt(o, path, "radius", true, 0.0, 0.0, m, &s->radius, e);
+        /* a <= R / 2 keeps r(theta, phi) >= R / 2 > 0: the surface stays star-shaped. */
+        if (rc == REFRACT_E_OK)
+            rc = jr_number(o, path, "bump_amplitude", false, 0.1 * s->radius, 0.0, 0.5 * s->radius,
+                           &s->bump_amplitude, e);
+        if (rc == REFRACT_E_OK)
+            rc = jr_int(o, path, "bump_frequency", false, 6, 1, 32, &s->bump_frequency, e);
         break;
     case SCENE_SHAPE_BOX:
         if (rc == REFRACT_E_OK)

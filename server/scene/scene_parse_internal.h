@@ -32,6 +32,21 @@ enum refract_code scene_parse_field(const cJSON *item, const char *path, enum sc
 /* Frees what a field owns (layers, lathe profiles, text) and zeroes it. */
 void scene_field_fini(struct scene_field *f);
 
+/* scene_parse_light.c: "lights" (arr may be NULL: no lights), one light object at path,
+ * "receiver" (o may be NULL: disabled; parse the objects first, the default half_size
+ * depends on them), "lightsim" (o may be NULL: all defaults) and an object's "brdf". */
+enum refract_code scene_parse_lights(const cJSON *arr, struct scene *s, struct err *e);
+enum refract_code scene_parse_light(const cJSON *o, const char *path, int index,
+                                    struct scene_light *l, struct err *e);
+enum refract_code scene_parse_receiver(const cJSON *o, struct scene *s, struct err *e);
+enum refract_code scene_parse_lightsim(const cJSON *o, struct scene_lightsim *ls, struct err *e);
+enum refract_code scene_parse_brdf(const cJSON *obj, const char *path, struct scene_brdf *b,
+                                   struct err *e);
+
+/* A colour under key: a number (grey) or [r, g, b], each in 0..max; absent -> def grey. */
+enum refract_code scene_read_rgb(const cJSON *obj, const char *path, const char *key, double def,
+                                 double max, double out[3], struct err *e);
+
 /* LIMIT_EXCEEDED: "<path>: <given> exceeds the limit <limit_name> = <value>; start
  * refractd with <flag> to raise it". */
 enum refract_code scene_limit_error(struct err *e, const char *path, const char *given,

@@ -24,8 +24,7 @@ static double analytic_constant(void *ctx, vec3 p, vec3 *grad)
 static void fill_settings(const struct scene *s, struct reftrace_settings *st)
 {
     memset(st, 0, sizeof *st);
-    st->integrator = s->render.integrator == SCENE_INTEGRATOR_EULER ? REFTRACE_EULER
-                                                                    : REFTRACE_RK4;
+    st->integrator = s->render.integrator == SCENE_INTEGRATOR_EULER ? REFTRACE_EULER : REFTRACE_RK4;
     st->step_voxels = s->render.step_voxels;
     st->max_steps = s->render.max_steps;
     st->boundary_threshold = s->render.boundary_threshold;
@@ -64,19 +63,19 @@ static enum refract_code build_analytic(struct scene_reference *r, size_t i,
                    i, f->count);
 }
 
-/* Channel floats (4 per voxel, or 1 for ior) -> doubles (4 per voxel). */
-static double *widen(const float *src, size_t voxels)
+/* Channel floats -> doubles, `comps` per voxel (4, or 1 for anisotropy). */
+static double *widen(const float *src, size_t voxels, int comps)
 {
-    double *d = malloc(voxels * 4 * sizeof(double));
+    size_t n = voxels * (size_t)comps;
+    double *d = malloc(n * sizeof(double));
     if (d)
-        for (size_t k = 0; k < voxels * 4; k++)
+        for (size_t k = 0; k < n; k++)
             d[k] = src[k];
     return d;
 }
 
-static enum refract_code build_voxels(struct scene_reference *r, const struct scene *s,
-                                      size_t i, scene_volume_lookup_fn lookup, void *ctx,
-                                      struct err *e)
+static enum refract_code build_voxels(struct scene_reference *r, const struct scene *s, size_t i,
+                                      scene_volume_lookup_fn lookup, void *ctx, struct err *e)
 {
     const struct scene_object *o = &s->objects[i];
     size_t voxels = (size_t)o->resolution[0] * o->resolution[1] * o->resolution[2];
@@ -98,12 +97,15 @@ static enum refract_code build_voxels(struct scene_reference *r, const struct sc
         if (!scene_channel_used(o, (enum scene_channel)ch))
             continue;
         rc = scene_field_eval(s, o, (enum scene_channel)ch, lookup, ctx, tmp, e);
-        if (rc == REFRACT_E_OK && (r->buffers[i][ch] = widen(tmp, voxels)) == NULL)
+        int comps = scene_channel_components((enum scene_channel)ch);
+        if (rc == REFRACT_E_OK && (r->buffers[i][ch] = widen(tmp, voxels, comps)) == NULL)
             rc = err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for the reference fields");
     }
     r->grids[i].attenuation = r->buffers[i][SCENE_CH_ATTENUATION];
     r->grids[i].emission = r->buffers[i][SCENE_CH_EMISSION];
     r->grids[i].opaque = r->buffers[i][SCENE_CH_OPAQUE];
+    r->grids[i].scattering = r->buffers[i][SCENE_CH_SCATTERING];
+    r->grids[i].anisotropy = r->buffers[i][SCENE_CH_ANISOTROPY];
     r->objects[i].grid = &r->grids[i];
     free(tmp);
     free(smooth);

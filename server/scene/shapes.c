@@ -200,21 +200,36 @@ static double text_sdf(const struct scene_shape *s, vec3 p)
 }
 
 /* r(theta, phi) = R + a sin(f theta) sin(f phi), theta the polar angle from +y, phi the
- * azimuth about y. The radial distance |d| - r is not a true distance where the surface
- * tilts; dividing by the bound on |grad r| / |d| (sqrt(1 + 2 (a f / R)^2), the bumps' largest
- * slope) keeps it a conservative distance, so the one-voxel anti-aliased boundary stays
- * about one voxel wide (a hard case for caustics: its cusps, tevs2007 sect. 6.2.4). */
+ * azimuth about y: a hard case for caustics, its cusps (tevs2007 sect. 6.2.4).
+ *
+ * With g(p) = |d| - r(theta, phi), the value is the first-order distance estimate
+ * g / |grad g|, |grad g|^2 = 1 + (dr/dtheta / |d|)^2 + (dr/dphi / (|d| sin theta))^2: close
+ * to the true distance near the surface wherever it tilts, so the anti-aliased boundary
+ * stays about one voxel wide. It is not a bound on the distance far from the surface
+ * (scene_field.c therefore evaluates this shape at every voxel rather than skipping runs),
+ * but its sign is exact, and outside the shell R - a <= |d| <= R + a that holds the surface
+ * the exact distances to the shell take over, so deep inside reads as inside. */
 static double bumpy_sphere_sdf(const struct scene_shape *s, vec3 d)
 {
     double len = vec3_length(d);
+    double inner = len - (s->radius - s->bump_amplitude),
+           outer = len - (s->radius + s->bump_amplitude);
     if (len < 1e-12)
-        return -(s->radius - s->bump_amplitude);
+        return inner;
     double theta = acos(fmax(-1.0, fmin(1.0, d.y / len)));
     double phi = atan2(d.z, d.x);
-    double f = (double)s->bump_frequency;
-    double r = s->radius + s->bump_amplitude * sin(f * theta) * sin(f * phi);
-    double slope = s->bump_amplitude * f / s->radius;
-    return (len - r) / sqrt(1.0 + 2.0 * slope * slope);
+    double f = (double)s->bump_frequency, a = s->bump_amplitude;
+    double st = sin(f * theta), sp = sin(f * phi);
+    double g = len - (s->radius + a * st * sp);
+    double dr_dtheta = a * f * cos(f * theta) * sp;
+    double sin_theta = sin(theta);
+    /* sin(f theta) / sin(theta) -> f at the poles */
+    double ratio = sin_theta > 1e-9 ? st / sin_theta : f;
+    double dr_dphi_over_sin = a * f * ratio * cos(f * phi);
+    double grad2 =
+        1.0 + (dr_dtheta * dr_dtheta + dr_dphi_over_sin * dr_dphi_over_sin) / (len * len);
+    double est = g / sqrt(grad2);
+    return g < 0.0 ? fmin(est, inner) : fmax(est, outer);
 }
 
 double scene_shape_sdf(const struct scene_shape *s, vec3 p)

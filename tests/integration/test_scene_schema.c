@@ -1,7 +1,8 @@
 /*
  * test_scene_schema.c - proto/scene.schema.json describes the scene documents refractd
- * accepts: at every level of the document (root, camera, render, environment, object,
- * bounds, transform, each shape, each GRIN profile, volume layers), the keys the schema
+ * accepts: at every level of the document (root, camera, render, environment, lights of
+ * each type, receiver, lightsim, object, bounds, transform, brdf, each shape, each GRIN
+ * profile, volume layers), the keys the schema
  * lists are exactly the keys the daemon allows. The daemon says which keys it allows when
  * it meets an unknown one ("...; allowed: a, b, c"), so each case sends a valid document
  * with one unknown key at that level and compares the two sets.
@@ -68,6 +69,25 @@ static const struct schema_case cases[] = {
      OBJ_WITH("\"ior\": {\"profile\": \"gaussian\", \"n_peak\": 1.5, \"sigma\": 0.3, " UNKNOWN "}")},
     {"volume layer", {"/$defs/volume_layer", NULL},
      OBJ_WITH("\"ior\": {\"volume\": \"v\", " UNKNOWN "}")},
+    {"bumpy_sphere in scattering", {"/$defs/shape_bumpy_sphere", "/$defs/scattering_shape_layer", NULL},
+     OBJ_WITH("\"scattering\": {\"shape\": \"bumpy_sphere\", \"radius\": 0.5, \"inside\": 0.5, " UNKNOWN "}")},
+    {"box in anisotropy", {"/$defs/shape_box", "/$defs/anisotropy_shape_layer", NULL},
+     OBJ_WITH("\"scattering\": 1, \"anisotropy\": {\"shape\": \"box\", \"size\": [1, 1, 1], "
+              "\"inside\": 0.5, " UNKNOWN "}")},
+    {"brdf", {"/$defs/brdf", NULL}, OBJ_WITH("\"ior\": 1.5, \"brdf\": {" UNKNOWN "}")},
+    {"directional light", {"/$defs/light_directional", NULL},
+     "{\"lights\": [{\"type\": \"directional\", \"direction\": [0, -1, 0], " UNKNOWN "}], "
+     "\"objects\": [{" BOUNDS ", \"resolution\": 8, \"ior\": 1.5}]}"},
+    {"point light", {"/$defs/light_point", NULL},
+     "{\"lights\": [{\"type\": \"point\", \"position\": [0, 2, 0], " UNKNOWN "}], "
+     "\"objects\": [{" BOUNDS ", \"resolution\": 8, \"ior\": 1.5}]}"},
+    {"spot light", {"/$defs/light_spot", NULL},
+     "{\"lights\": [{\"type\": \"spot\", \"position\": [0, 2, 0], \"direction\": [0, -1, 0], "
+     UNKNOWN "}], \"objects\": [{" BOUNDS ", \"resolution\": 8, \"ior\": 1.5}]}"},
+    {"receiver", {"/properties/receiver", NULL},
+     "{\"receiver\": {\"height\": -1, " UNKNOWN "}, \"objects\": [{" BOUNDS ", \"resolution\": 8, \"ior\": 1.5}]}"},
+    {"lightsim", {"/properties/lightsim", NULL},
+     "{\"lightsim\": {" UNKNOWN "}, \"objects\": [{" BOUNDS ", \"resolution\": 8, \"ior\": 1.5}]}"},
 };
 /* clang-format on */
 

@@ -1,7 +1,8 @@
 /*
  * test_scene_examples.c - every scene in proto/examples parses, each channel of each
  * object evaluates to finite values in its channel's range, the camera looks at the
- * object, and the scenes hold what their names promise.
+ * object, and the scenes hold what their names promise (including the lights, receivers
+ * and light-simulation needs of the caustic and smoke scenes).
  *
  * The examples directory comes from REFRACT_SOURCE_DIR, which ctest sets.
  */
@@ -12,8 +13,8 @@
 #include "scene/scene.h"
 #include "test.h"
 
-static const double channel_lo[SCENE_CH_COUNT] = {0.1, 0.0, 0.0, 0.0};
-static const double channel_hi[SCENE_CH_COUNT] = {5.0, 1e5, 1e6, 1.0};
+static const double channel_lo[SCENE_CH_COUNT] = {0.1, 0.0, 0.0, 0.0, 0.0, -0.99};
+static const double channel_hi[SCENE_CH_COUNT] = {5.0, 1e5, 1e6, 1.0, 1e5, 0.99};
 
 static char *read_all(const char *path, size_t *len)
 {
@@ -161,7 +162,7 @@ static void every_example_parses_and_evaluates_in_range(const char *dir)
         scene_destroy(s);
     }
     closedir(d);
-    CHECK_MSG(count >= 7, "found %d examples in %s", count, dir);
+    CHECK_MSG(count >= 10, "found %d examples in %s", count, dir);
 }
 
 /* n at the object-space point p, from the evaluated ior field (nearest voxel). */
@@ -221,6 +222,85 @@ static void examples_hold_what_their_names_promise(const char *dir)
     }
 }
 
+/* Channel component c at p (nearest voxel) for the 4-component channels. */
+static double rgb_at(const struct scene *s, enum scene_channel ch, vec3 p, int c)
+{
+    const struct scene_object *o = &s->objects[0];
+    size_t nv = (size_t)o->resolution[0] * o->resolution[1] * o->resolution[2];
+    float *v = malloc(nv * 4 * sizeof *v);
+    struct err e;
+    scene_field_eval(s, o, ch, NULL, NULL, v, &e);
+    vec3 vs = scene_object_voxel_size(o);
+    int i = (int)floor((p.x - o->bounds_min.x) / vs.x);
+    int j = (int)floor((p.y - o->bounds_min.y) / vs.y);
+    int k = (int)floor((p.z - o->bounds_min.z) / vs.z);
+    double r = v[4 * (((size_t)k * o->resolution[1] + (size_t)j) * o->resolution[0] + (size_t)i) +
+                 (size_t)c];
+    free(v);
+    return r;
+}
+
+static void light_examples_hold_what_their_names_promise(const char *dir)
+{
+    struct scene *s = parse_file(dir, "ball_lens_caustic.json");
+    if (s != NULL) {
+        CHECK_INT(s->light_count, 1);
+        CHECK_INT(s->lights[0].kind, SCENE_LIGHT_DIRECTIONAL);
+        CHECK_NEAR(s->lights[0].direction.y, -1.0, 0);
+        CHECK(s->receiver.enabled);
+        /* The receiver lies at the ball lens's back focal distance n R / (2 (n - 1)). */
+        CHECK_NEAR(-s->receiver.height, 1.5 * 0.5 / (2 * 0.5), 1e-12);
+        CHECK_INT(s->lightsim.resolution, 64);
+        CHECK(scene_needs_light_simulation(s));
+        CHECK_NEAR(ior_at(s, vec3_make(0.01, 0.01, 0.01)), 1.5, 1e-6);
+        scene_destroy(s);
+    }
+    s = parse_file(dir, "bumpy_sphere.json");
+    if (s != NULL) {
+        const struct scene_shape *sh = &s->objects[0].fields[SCENE_CH_IOR].layers[0].shape;
+        CHECK_INT(sh->kind, SCENE_SHAPE_BUMPY_SPHERE);
+        CHECK(sh->bump_amplitude > 0.0);
+        CHECK_INT(s->light_count, 1);
+        CHECK(s->receiver.enabled);
+        /* The bumps stay inside the object's bounds. */
+        vec3 lo, hi;
+        CHECK(scene_shape_bounds(sh, &lo, &hi));
+        CHECK(lo.x > s->objects[0].bounds_min.x && hi.y < s->objects[0].bounds_max.y);
+        scene_destroy(s);
+    }
+    s = parse_file(dir, "smoke_spot.json");
+    if (s != NULL) {
+        CHECK_INT(s->light_count, 1);
+        CHECK_INT(s->lights[0].kind, SCENE_LIGHT_SPOT);
+        CHECK(!s->receiver.enabled);
+        CHECK(scene_needs_light_simulation(s)); /* by the smoke alone */
+        /* Smoke at a corner of the box, glass and no smoke at the sphere's centre. */
+        CHECK_NEAR(rgb_at(s, SCENE_CH_SCATTERING, vec3_make(-0.95, -0.95, -0.95), 1), 0.3, 1e-6);
+        CHECK_NEAR(rgb_at(s, SCENE_CH_SCATTERING, vec3_make(0.01, 0.41, 0.01), 1), 0.0, 1e-6);
+        CHECK_NEAR(ior_at(s, vec3_make(0.01, 0.41, 0.01)), 1.5, 1e-6);
+        CHECK_NEAR(s->objects[0].fields[SCENE_CH_ANISOTROPY].layers[0].inside[0], 0.3, 0);
+        /* The spot's cone covers the sphere: tan(angle) * distance > radius. */
+        double dist = s->lights[0].position.y - 0.4;
+        CHECK(tan(s->lights[0].spot_angle_deg * M_PI / 180) * dist > 0.4);
+        scene_destroy(s);
+    }
+    s = parse_file(dir, "wine_glass.json");
+    if (s != NULL) {
+        CHECK_INT(s->light_count, 1);
+        CHECK(s->receiver.enabled);
+        /* The table is at the glass's foot. */
+        CHECK_NEAR(s->receiver.height, -1.25, 0);
+        CHECK(scene_needs_light_simulation(s));
+        scene_destroy(s);
+    }
+    /* The scenes from before lights existed need no light simulation. */
+    s = parse_file(dir, "glass_sphere.json");
+    if (s != NULL) {
+        CHECK(!scene_needs_light_simulation(s));
+        scene_destroy(s);
+    }
+}
+
 int main(void)
 {
     const char *src = getenv("REFRACT_SOURCE_DIR");
@@ -230,5 +310,6 @@ int main(void)
     snprintf(dir, sizeof dir, "%s/proto/examples", src);
     every_example_parses_and_evaluates_in_range(dir);
     examples_hold_what_their_names_promise(dir);
+    light_examples_hold_what_their_names_promise(dir);
     return test_summary("test_scene_examples");
 }

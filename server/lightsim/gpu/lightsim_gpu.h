@@ -39,8 +39,10 @@ void lightsim_gpu_shutdown(void);
 
 struct lightsim_gpu_run;
 
-/* Starts a run: uploads the fields (borrowed for the call only), builds the initial
- * wavefront on the GPU. */
+/* Starts a run: uploads the fields (borrowed for the call only) and the initial
+ * wavefront (built on the host in double precision, lightsim_gpu_wavefront.h).
+ * INVALID_FIELD for max_patches outside 1..LS_MAX_PATCHES, GPU_OUT_OF_MEMORY,
+ * OUT_OF_MEMORY. */
 enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fields *f,
                                      const struct scene_light *l,
                                      const struct scene_lightsim *set,
@@ -59,6 +61,8 @@ enum refract_code lightsim_gpu_take_textures(struct lightsim_gpu_run *run,
                                              struct irradiance_gpu *out, struct err *e);
 /* Bytes of GPU memory the run holds now (patch lists, fields, outputs). */
 size_t lightsim_gpu_run_bytes(const struct lightsim_gpu_run *run);
+/* The most it held at once (while stepping, and while writing the output volumes). */
+size_t lightsim_gpu_run_peak_bytes(const struct lightsim_gpu_run *run);
 void lightsim_gpu_run_destroy(struct lightsim_gpu_run *run);
 
 #endif

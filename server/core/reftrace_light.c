@@ -1,0 +1,140 @@
+/*
+ * reftrace_light.c - the light-dependent terms of the reference tracer; see
+ * reftrace_light.h. Line for line the twin of shaders/lighting.glsl.
+ */
+#include "reftrace_light.h"
+
+#include <math.h>
+#include <stddef.h>
+
+#include "bindings.h"
+#include "phase.h"
+
+/* Trilinear sample of 4 floats per voxel at continuous voxel coordinates v, clamped to
+ * [0, dims - 1] (the GPU's linear filter with clamp-to-edge). */
+static void sample4(const float *grid, const int dims[3], vec3 v, double out[4])
+{
+    double c[3] = {v.x, v.y, v.z};
+    int i0[3], i1[3];
+    double f[3];
+    for (int a = 0; a < 3; a++) {
+        double x = fmin(fmax(c[a], 0.0), (double)(dims[a] - 1));
+        double fl = floor(x);
+        i0[a] = (int)fl;
+        i1[a] = i0[a] + 1 < dims[a] ? i0[a] + 1 : i0[a];
+        f[a] = x - fl;
+    }
+    for (int k = 0; k < 4; k++)
+        out[k] = 0.0;
+    for (int corner = 0; corner < 8; corner++) {
+        int ix = (corner & 1) ? i1[0] : i0[0];
+        int iy = (corner & 2) ? i1[1] : i0[1];
+        int iz = (corner & 4) ? i1[2] : i0[2];
+        double w = ((corner & 1) ? f[0] : 1.0 - f[0]) * ((corner & 2) ? f[1] : 1.0 - f[1]) *
+                   ((corner & 4) ? f[2] : 1.0 - f[2]);
+        const float *t = grid + (((size_t)iz * dims[1] + iy) * dims[0] + ix) * 4;
+        for (int k = 0; k < 4; k++)
+            out[k] += w * t[k];
+    }
+}
+
+bool reftrace_light_at(const struct reftrace_light *l, vec3 x, vec3 *E, vec3 *dir)
+{
+    *E = (vec3){0, 0, 0};
+    *dir = (vec3){0, -1, 0};
+    vec3 scale = {l->scale[0], l->scale[1], l->scale[2]};
+    if (l->mode == LIGHT_MODE_OFF)
+        return false;
+    if (l->mode == LIGHT_MODE_VOLUME) {
+        vec3 r = vec3_sub(x, l->bmin);
+        double u[3] = {r.x / (l->dims[0] * l->voxel), r.y / (l->dims[1] * l->voxel),
+                       r.z / (l->dims[2] * l->voxel)};
+        for (int a = 0; a < 3; a++)
+            if (u[a] < 0.0 || u[a] > 1.0)
+                return false;
+        vec3 v = {u[0] * l->dims[0] - 0.5, u[1] * l->dims[1] - 0.5, u[2] * l->dims[2] - 0.5};
+        double d[4], e[4];
+        sample4(l->direction_volume, l->dims, v, d);
+        double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        if (len <= 1e-6)
+            return false;
+        *dir = (vec3){d[0] / len, d[1] / len, d[2] / len};
+        sample4(l->irradiance, l->dims, v, e);
+        *E = vec3_mul((vec3){e[0], e[1], e[2]}, scale);
+        return true;
+    }
+    /* Unshadowed direct light (scenes without light simulation). */
+    if (l->kind == LIGHT_KIND_DIRECTIONAL) {
+        *dir = l->direction;
+        *E = scale;
+        return true;
+    }
+    vec3 r = vec3_sub(x, l->position);
+    double r2 = vec3_dot(r, r);
+    if (r2 <= 1e-12)
+        return false;
+    *dir = vec3_scale(r, 1.0 / sqrt(r2));
+    if (l->kind == LIGHT_KIND_SPOT && vec3_dot(*dir, l->direction) < l->cos_spot)
+        return false;
+    *E = vec3_scale(scale, 1.0 / r2);
+    return true;
+}
+
+vec3 reftrace_light_reflected(const struct reftrace_lighting *lt, const struct brdf_params *b,
+                              vec3 x, vec3 d, vec3 nrm, double R)
+{
+    vec3 v = vec3_scale(d, -1.0);
+    vec3 n = vec3_dot(nrm, v) < 0.0 ? vec3_scale(nrm, -1.0) : nrm;
+    vec3 sum = {0, 0, 0};
+    for (int j = 0; j < lt->count && j < MAX_LIGHTS; j++) {
+        vec3 E, l;
+        if (!reftrace_light_at(&lt->lights[j], x, &E, &l))
+            continue;
+        vec3 l_in = vec3_scale(l, -1.0);
+        double c = vec3_dot(n, l_in);
+        if (c <= 0.0)
+            continue;
+        double f[3];
+        brdf_eval(b, v, l_in, n, f);
+        sum = vec3_add(sum, vec3_scale(vec3_mul((vec3){f[0], f[1], f[2]}, E), c));
+    }
+    return vec3_scale(sum, R);
+}
+
+vec3 reftrace_light_inscatter(const struct reftrace_lighting *lt, vec3 x, vec3 d, vec3 sigma_s,
+                              double g)
+{
+    vec3 sum = {0, 0, 0};
+    vec3 toward_eye = vec3_scale(d, -1.0);
+    for (int j = 0; j < lt->count && j < MAX_LIGHTS; j++) {
+        vec3 E, l;
+        if (reftrace_light_at(&lt->lights[j], x, &E, &l))
+            sum = vec3_madd(sum, E, phase_hg(g, vec3_dot(l, toward_eye)));
+    }
+    return vec3_mul(sigma_s, sum);
+}
+
+bool reftrace_light_receiver(const struct reftrace_lighting *lt, vec3 env_up, vec3 x, vec3 d,
+                             vec3 *L)
+{
+    *L = (vec3){0, 0, 0};
+    const struct reftrace_receiver *rc = &lt->receiver;
+    if (!rc->enabled || d.y >= 0.0)
+        return false;
+    double t = (rc->height - x.y) / d.y;
+    if (t < 0.0)
+        return false;
+    vec3 hit = vec3_madd(x, d, t);
+    if (fabs(hit.x) > rc->half_size || fabs(hit.z) > rc->half_size)
+        return false;
+    vec3 sum = {0, 0, 0};
+    for (int j = 0; j < lt->count && j < MAX_LIGHTS; j++) {
+        vec3 E, l;
+        vec3 at = {hit.x, rc->height + 0.5 * lt->lights[j].voxel, hit.z};
+        if (reftrace_light_at(&lt->lights[j], at, &E, &l))
+            sum = vec3_madd(sum, E, fmax(0.0, -l.y));
+    }
+    vec3 albedo = {rc->albedo[0], rc->albedo[1], rc->albedo[2]};
+    *L = vec3_add(vec3_scale(vec3_mul(albedo, sum), 1.0 / M_PI), vec3_mul(albedo, env_up));
+    return true;
+}

@@ -1,0 +1,30 @@
+/*
+ * lightsim_gpu_programs.h - the light simulator's compute programs (compiled once by
+ * lightsim_gpu_init) and the exclusive prefix sum built from three of them.
+ *
+ * Thread: GPU thread only.
+ */
+#ifndef REFRACT_LIGHTSIM_GPU_PROGRAMS_H
+#define REFRACT_LIGHTSIM_GPU_PROGRAMS_H
+
+#include "../../gpu/gl.h"
+
+struct lightsim_gpu_programs {
+    GLuint step;    /* lightsim_step.comp */
+    GLuint emit;    /* lightsim_emit.comp */
+    GLuint scan[3]; /* lightsim_scan.comp, LS_SCAN_STAGE 0, 1, 2 */
+    GLuint args;    /* lightsim_args.comp */
+    GLuint finish;  /* lightsim_finish.comp */
+};
+
+/* The programs, or NULL before lightsim_gpu_init. */
+const struct lightsim_gpu_programs *lightsim_gpu_programs(void);
+
+/* Records the exclusive prefix sum of the uint counts at BIND_SSBO_LS_COUNTS into
+ * BIND_SSBO_LS_OFFSETS, using BIND_SSBO_LS_BLOCK_SUMS, for control.counts.x elements
+ * (<= LS_MAX_PATCHES); the total lands in control.counts.y. The dispatch sizes come from
+ * control.dispatch_blocks (glDispatchComputeIndirect from the buffer bound to
+ * GL_DISPATCH_INDIRECT_BUFFER, which must be the control buffer). No CPU round trip. */
+void lightsim_gpu_scan_record(const struct lightsim_gpu_programs *p);
+
+#endif

@@ -1,0 +1,57 @@
+/*
+ * lightsim_domain.c - the light grid of a scene (docs/lightsim.md "Domain"): the union of
+ * the objects' world boxes and the receiver square, clipped below at the receiver plane,
+ * padded by two cubic voxels.
+ */
+#include <math.h>
+
+#include "lightsim.h"
+
+static void grow(vec3 *lo, vec3 *hi, vec3 p)
+{
+    for (int a = 0; a < 3; a++) {
+        double v = vec3_get(p, a);
+        if (v < vec3_get(*lo, a))
+            vec3_set(lo, a, v);
+        if (v > vec3_get(*hi, a))
+            vec3_set(hi, a, v);
+    }
+}
+
+void lightsim_domain(const struct scene *s, struct light_grid *out)
+{
+    vec3 lo = {INFINITY, INFINITY, INFINITY}, hi = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t i = 0; i < s->object_count; i++) {
+        const struct scene_object *o = &s->objects[i];
+        for (int c = 0; c < 8; c++) {
+            vec3 p = {(c & 1) ? o->bounds_max.x : o->bounds_min.x,
+                      (c & 2) ? o->bounds_max.y : o->bounds_min.y,
+                      (c & 4) ? o->bounds_max.z : o->bounds_min.z};
+            grow(&lo, &hi, xform_point_to_world(&o->world_from_object, p));
+        }
+    }
+    const struct scene_receiver *r = &s->receiver;
+    if (r->enabled) {
+        grow(&lo, &hi, (vec3){-r->half_size, r->height, -r->half_size});
+        grow(&lo, &hi, (vec3){r->half_size, r->height, r->half_size});
+        lo.y = r->height; /* light below the receiver plane is never seen */
+        if (hi.y < lo.y)
+            hi.y = lo.y;
+    }
+    double longest = 0.0;
+    for (int a = 0; a < 3; a++) {
+        double ext = vec3_get(hi, a) - vec3_get(lo, a);
+        longest = ext > longest ? ext : longest;
+    }
+    int res = s->lightsim.resolution > 4 ? s->lightsim.resolution : 5;
+    double voxel = longest > 0.0 ? longest / (res - 4) : 1.0;
+    out->voxel = voxel;
+    for (int a = 0; a < 3; a++) {
+        bool clipped = a == 1 && r->enabled;
+        double ext = vec3_get(hi, a) - vec3_get(lo, a);
+        /* 1e-9: the longest axis gives exactly resolution - 4 despite rounding */
+        int n = (int)ceil(ext / voxel - 1e-9) + (clipped ? 2 : 4);
+        out->dims[a] = n > 2 ? n : 2;
+        vec3_set(&out->bmin, a, vec3_get(lo, a) - (clipped ? 0.0 : 2.0 * voxel));
+    }
+}

@@ -1,0 +1,233 @@
+/*
+ * lightsim_step.c - one time step of one patch; see lightsim_step.h and docs/lightsim.md
+ * "A time step". Every particle advances by the same time dt, so the wavefront stays
+ * equitemporal (tevs2007 sect. 4.2.3) and the patch area stays meaningful.
+ */
+#include "lightsim_step.h"
+
+#include <math.h>
+
+#include "../core/fresnel.h"
+#include "lightsim_sample.h"
+
+/* The ray equation in the time parameterisation (tevs2007 eqs. 4.12/4.13):
+ * dx/dt = w / n^2, dw/dt = grad n / n. */
+static void ray_rhs(const struct lightsim_fields *f, vec3 x, vec3 w, vec3 *dx, vec3 *dw)
+{
+    double n;
+    vec3 g;
+    ls_sample_ior(f, x, &n, &g);
+    *dx = vec3_scale(w, 1.0 / (n * n));
+    *dw = vec3_scale(g, 1.0 / n);
+}
+
+/* Explicit midpoint rule, the same dt for every particle. */
+static void propagate(const struct lightsim_fields *f, double dt, vec3 *x, vec3 *w)
+{
+    vec3 k1x, k1w, k2x, k2w;
+    ray_rhs(f, *x, *w, &k1x, &k1w);
+    vec3 xm = vec3_madd(*x, k1x, dt / 2), wm = vec3_madd(*w, k1w, dt / 2);
+    ray_rhs(f, xm, wm, &k2x, &k2w);
+    *x = vec3_madd(*x, k2x, dt);
+    *w = vec3_madd(*w, k2w, dt);
+}
+
+static void add3(double dst[3], const double P[3], double factor)
+{
+    for (int ch = 0; ch < 3; ch++)
+        dst[ch] += P[ch] * factor;
+}
+
+static double max3(const double P[3])
+{
+    return fmax(P[0], fmax(P[1], P[2]));
+}
+
+/* Step 3: the interface zone and its one Fresnel transmission event. */
+static void interface(const struct ls_step_ctx *c, struct ls_patch *p, const struct ls_sample *s0,
+                      const struct ls_sample *s1, vec3 c1, vec3 d0)
+{
+    const struct lightsim_fields *f = c->f;
+    double gl = vec3_length(s1->grad);
+    double g = gl * f->grid.voxel;
+    if (!p->in_zone && g > f->boundary_threshold) {
+        vec3 N = vec3_scale(s1->grad, 1.0 / gl);
+        vec3 unused;
+        ls_sample_ior(f, vec3_madd(c1, N, -f->probe_distance), &p->n_lo, &unused);
+        ls_sample_ior(f, vec3_madd(c1, N, f->probe_distance), &p->n_hi, &unused);
+        p->in_zone = true;
+        p->crossed = false;
+    }
+    if (p->in_zone && !p->crossed) {
+        double n_mid = 0.5 * (p->n_lo + p->n_hi);
+        if ((s0->n >= n_mid) != (s1->n >= n_mid)) {
+            vec3 N = gl > 0.0 ? vec3_scale(s1->grad, 1.0 / gl) : d0;
+            double cos_i = fmin(1.0, fabs(vec3_dot(d0, N)));
+            bool rising = s1->n > s0->n;
+            double n_i = rising ? p->n_lo : p->n_hi, n_t = rising ? p->n_hi : p->n_lo;
+            /* total internal reflection: the ray equation turns the wavefront round */
+            if (n_i * n_i * (1.0 - cos_i * cos_i) < n_t * n_t) {
+                double R = fresnel_unpolarized(cos_i, n_i, n_t);
+                add3(c->st->flux_reflected, p->P, R);
+                for (int ch = 0; ch < 3; ch++)
+                    p->P[ch] *= 1.0 - R;
+                p->crossed = true;
+            }
+        }
+    }
+    if (p->in_zone && g < 0.5 * f->boundary_threshold)
+        p->in_zone = false;
+}
+
+/* Cubic B-spline weights of the 4 voxels i0 - 1 .. i0 + 2 about fraction f = v - i0.
+ * They sum to 1 for every f, and their Fourier transform (sinc^4) suppresses the ripple
+ * of a lattice of splats to <= 0.45 % for any spacing up to one voxel (the tent's sinc^2
+ * leaves 12 %): docs/lightsim.md step 5. */
+static void bspline_weights(double f, double w[4])
+{
+    double g = 1.0 - f;
+    w[0] = g * g * g / 6.0;
+    w[1] = 2.0 / 3.0 - f * f + 0.5 * f * f * f;
+    w[2] = 2.0 / 3.0 - g * g + 0.5 * g * g * g;
+    w[3] = f * f * f / 6.0;
+}
+
+/* Step 5, flux mode: P ds / voxel^3 splatted about m with cubic B-spline weights. */
+static void deposit_flux(const struct ls_step_ctx *c, const double q[3], vec3 m, vec3 d1)
+{
+    const struct light_grid *g = &c->f->grid;
+    vec3 v = vec3_sub(vec3_scale(vec3_sub(m, g->bmin), 1.0 / g->voxel), (vec3){0.5, 0.5, 0.5});
+    int i0[3];
+    double w[3][4];
+    for (int a = 0; a < 3; a++) {
+        double va = vec3_get(v, a);
+        double fl = floor(va);
+        if (!(fl > -3.0 && fl < g->dims[a] + 1.0)) /* all 64 outside, or NaN */
+            return;
+        i0[a] = (int)fl - 1;
+        bspline_weights(va - fl, w[a]);
+    }
+    double q_lum = (q[0] + q[1] + q[2]) / 3.0;
+    for (int kz = 0; kz < 4; kz++) {
+        int z = i0[2] + kz;
+        if (z < 0 || z >= g->dims[2])
+            continue;
+        for (int ky = 0; ky < 4; ky++) {
+            int y = i0[1] + ky;
+            if (y < 0 || y >= g->dims[1])
+                continue;
+            for (int kx = 0; kx < 4; kx++) {
+                int x = i0[0] + kx;
+                if (x < 0 || x >= g->dims[0])
+                    continue;
+                double wt = w[0][kx] * w[1][ky] * w[2][kz];
+                size_t o =
+                    3 * ((size_t)x + (size_t)g->dims[0] * ((size_t)y + (size_t)g->dims[1] * z));
+                for (int ch = 0; ch < 3; ch++)
+                    c->acc_e[o + ch] += wt * q[ch];
+                c->acc_d[o + 0] += wt * q_lum * d1.x;
+                c->acc_d[o + 1] += wt * q_lum * d1.y;
+                c->acc_d[o + 2] += wt * q_lum * d1.z;
+            }
+        }
+    }
+}
+
+/* Step 5, max mode (tevs2007 sect. 6.2.3): the voxel containing m keeps the largest
+ * patch irradiance; the direction is accumulated as in flux mode. */
+static void deposit_max(const struct ls_step_ctx *c, const double P[3], const double q[3],
+                        double area, vec3 m, vec3 d1)
+{
+    const struct light_grid *g = &c->f->grid;
+    int idx[3];
+    for (int a = 0; a < 3; a++) {
+        double va = floor((vec3_get(m, a) - vec3_get(g->bmin, a)) / g->voxel);
+        if (!(va >= 0.0 && va < g->dims[a]))
+            return;
+        idx[a] = (int)va;
+    }
+    size_t o = 3 * ((size_t)idx[0] + (size_t)g->dims[0] * (idx[1] + (size_t)g->dims[1] * idx[2]));
+    double floor_area = 0.01 * g->voxel * 0.01 * g->voxel;
+    double a = area > floor_area ? area : floor_area;
+    for (int ch = 0; ch < 3; ch++) {
+        double E = P[ch] / a;
+        if (E > c->acc_e[o + ch])
+            c->acc_e[o + ch] = E;
+    }
+    double q_lum = (q[0] + q[1] + q[2]) / 3.0;
+    c->acc_d[o + 0] += q_lum * d1.x;
+    c->acc_d[o + 1] += q_lum * d1.y;
+    c->acc_d[o + 2] += q_lum * d1.z;
+}
+
+enum ls_fate ls_patch_step(const struct ls_step_ctx *c, struct ls_patch *p,
+                           struct ls_patch child[4])
+{
+    const struct lightsim_fields *f = c->f;
+    struct lightsim_stats *st = c->st;
+    struct ls_derived g0, g1;
+    ls_patch_derive(p, &g0);
+
+    /* 1. propagate every corner */
+    for (int k = 0; k < 4; k++)
+        propagate(f, c->dt, &p->x[k], &p->w[k]);
+    ls_patch_derive(p, &g1);
+
+    /* 2. path and extinction (trapezoid of sigma_t along the centre's path) */
+    struct ls_sample s0, s1;
+    ls_sample_all(f, g0.c, &s0);
+    ls_sample_all(f, g1.c, &s1);
+    double ds = vec3_length(vec3_sub(g1.c, g0.c));
+    for (int ch = 0; ch < 3; ch++) {
+        double T = exp(-0.5 * (s0.sigma[ch] + s1.sigma[ch]) * ds);
+        st->flux_absorbed[ch] += p->P[ch] * (1.0 - T);
+        p->P[ch] *= T;
+    }
+
+    /* 3. interface */
+    interface(c, p, &s0, &s1, g1.c, g0.d);
+
+    /* 4. opaque */
+    if (s1.coverage >= 0.5) {
+        add3(st->flux_absorbed, p->P, 1.0);
+        return LS_DIES;
+    }
+
+    /* 5. deposit at the segment midpoint */
+    vec3 m = vec3_scale(vec3_add(g0.c, g1.c), 0.5);
+    double vol = f->grid.voxel * f->grid.voxel * f->grid.voxel;
+    double q[3];
+    for (int ch = 0; ch < 3; ch++)
+        q[ch] = p->P[ch] * ds / vol;
+    if (c->set->deposit == SCENE_DEPOSIT_MAX)
+        deposit_max(c, p->P, q, g1.area, m, g1.d);
+    else
+        deposit_flux(c, q, m, g1.d);
+
+    /* 6. fate */
+    if (!ls_box_contains(c->lo, c->hi, g1.c) && !ls_halfline_meets_box(g1.c, g1.d, c->lo, c->hi)) {
+        add3(st->flux_out, p->P, 1.0);
+        return LS_DIES;
+    }
+    if (max3(p->P) < c->energy_floor) {
+        add3(st->flux_culled, p->P, 1.0);
+        st->culled_energy++;
+        return LS_DIES;
+    }
+    if (c->set->cull_flipped && !ls_patch_oriented(&g1)) {
+        add3(st->flux_culled, p->P, 1.0);
+        st->culled_flip++;
+        return LS_DIES;
+    }
+    if (g1.e_max > c->set->split_voxels * f->grid.voxel) {
+        if (p->level < c->set->max_level) {
+            ls_patch_split(p, child);
+            st->splits++;
+            return LS_SPLITS;
+        }
+        add3(st->flux_culled, p->P, 1.0);
+        st->culled_level++;
+        return LS_DIES;
+    }
+    return LS_LIVES;
+}

@@ -1,0 +1,32 @@
+/*
+ * lightsim_step.h - one wavefront time step of one patch (docs/lightsim.md "A time step",
+ * tevs2007 eqs. 4.12/4.13 and sect. 6.2): propagate, extinction, interface, opaque,
+ * deposit, fate. Internal to the CPU reference.
+ */
+#ifndef REFRACT_LIGHTSIM_STEP_H
+#define REFRACT_LIGHTSIM_STEP_H
+
+#include "lightsim.h"
+#include "lightsim_patch.h"
+
+struct ls_step_ctx {
+    const struct lightsim_fields *f;
+    const struct scene_lightsim *set;
+    double dt;           /* time step, world units (step_voxels * voxel) */
+    double energy_floor; /* energy_threshold * mean initial max(P) */
+    vec3 lo, hi;         /* the domain box */
+    double *acc_e;       /* 3 per voxel: flux deposit sum, or max mode's maximum */
+    double *acc_d;       /* 3 per voxel: power-weighted direction sum */
+    struct lightsim_stats *st;
+};
+
+enum ls_fate {
+    LS_DIES = 0,   /* its power went to one of the stats' sinks */
+    LS_LIVES = 1,  /* *p was updated in place */
+    LS_SPLITS = 2, /* child[0..3] replace it */
+};
+
+enum ls_fate ls_patch_step(const struct ls_step_ctx *c, struct ls_patch *p,
+                           struct ls_patch child[4]);
+
+#endif

@@ -1,0 +1,158 @@
+// lighting.glsl - the light-dependent terms of the image formation model (tevs2007 eqs.
+// 5.4-5.8): the Henyey-Greenstein phase function, the BRDFs of boundary reflections, the
+// lookup of a light's irradiance E and direction l at a world point (irradiance volumes,
+// or the unshadowed direct light in scenes that need no light simulation), and the
+// receiver plane (thesis fig. 7.4). The double twins are server/core/phase.c, brdf.c
+// and reftrace_light.c; docs/tracing.md "Light" fixes every formula. Needs march_params
+// `params`, the march_lights block `lights` and the samplers irradiance_volume[],
+// light_direction_volume[] (march_bindings.glsl).
+
+const float LIGHT_PI = 3.14159265358979;
+
+// Henyey-Greenstein (tevs2007 eq. 5.5), normalised over the sphere: 1 / (4 pi) at g = 0.
+// cos_theta is between the light's travel direction and the scattered direction.
+float phase_hg(float g, float cos_theta)
+{
+    float d = 1.0 + g * g - 2.0 * g * cos_theta;
+    return (1.0 - g * g) / (4.0 * LIGHT_PI * d * sqrt(d));
+}
+
+// f_r(v, l_in) for unit v (towards the eye), l_in (towards the light) and normal n on their
+// side (tevs2007 eq. 5.6/5.8). The event's Fresnel R multiplies outside; GGX has no F.
+vec3 brdf_eval(int obj, vec3 v, vec3 l_in, vec3 n)
+{
+    vec4 b = lights.brdf[obj];
+    vec3 color = lights.brdf_color[obj].rgb;
+    int kind = int(b.x);
+    float cos_i = dot(n, l_in), cos_o = dot(n, v);
+    if (kind == BRDF_NONE || cos_i <= 0.0 || cos_o <= 0.0)
+        return vec3(0.0);
+    if (kind == BRDF_LAMBERT)
+        return color / LIGHT_PI;
+    if (kind == BRDF_PHONG) {
+        // Normalised Phong: (e + 2) / (2 pi) cos^e of the angle between v and the mirror
+        // direction of the light.
+        float c = max(dot(reflect(-l_in, n), v), 0.0);
+        return color * (b.z + 2.0) / (2.0 * LIGHT_PI) * pow(c, b.z);
+    }
+    // GGX (Trowbridge-Reitz) D with the separable Smith G, D G / (4 cos_i cos_o).
+    float a2 = b.y * b.y;
+    vec3 h = normalize(v + l_in);
+    float ch = max(dot(n, h), 0.0);
+    float t = ch * ch * (a2 - 1.0) + 1.0;
+    float D = a2 / (LIGHT_PI * t * t);
+    float g_i = 2.0 * cos_i / (cos_i + sqrt(a2 + (1.0 - a2) * cos_i * cos_i));
+    float g_o = 2.0 * cos_o / (cos_o + sqrt(a2 + (1.0 - a2) * cos_o * cos_o));
+    return color * D * g_i * g_o / (4.0 * cos_i * cos_o);
+}
+
+// Irradiance E (unit light, times the light's scale) and the direction l the light travels
+// at world point x, for light j. Returns false when the light adds nothing there.
+// Volumes: trilinear at v = (x - bmin) / voxel - 0.5, clamped to the grid's edge; outside
+// the grid (x not in [bmin, bmin + dims voxel]) E = 0. The direction's xyz is normalised
+// after interpolation.
+bool light_at(int j, vec3 x, out vec3 E, out vec3 l)
+{
+    E = vec3(0.0);
+    l = vec3(0.0, -1.0, 0.0);
+    light_params lp = lights.lights[j];
+    int mode = int(lp.scale.w);
+    if (mode == LIGHT_MODE_OFF)
+        return false;
+    if (mode == LIGHT_MODE_VOLUME) {
+        vec3 u = (x - lp.grid_min.xyz) / lp.grid_size.xyz;
+        if (any(lessThan(u, vec3(0.0))) || any(greaterThan(u, vec3(1.0))))
+            return false;
+        vec3 d = textureLod(light_direction_volume[j], u, 0.0).xyz;
+        float dl = length(d);
+        if (dl <= 1e-6)
+            return false;
+        l = d / dl;
+        E = textureLod(irradiance_volume[j], u, 0.0).rgb * lp.scale.rgb;
+        return true;
+    }
+    // Unshadowed direct light: directional E = 1 along its direction; point and spot
+    // 1 / r^2 (radiant intensity 1 per steradian), the spot inside its cone only.
+    int kind = int(lp.position.w);
+    if (kind == LIGHT_KIND_DIRECTIONAL) {
+        l = lp.direction.xyz;
+        E = lp.scale.rgb;
+        return true;
+    }
+    vec3 r = x - lp.position.xyz;
+    float r2 = dot(r, r);
+    if (r2 <= 1e-12)
+        return false;
+    l = r / sqrt(r2);
+    if (kind == LIGHT_KIND_SPOT && dot(l, lp.direction.xyz) < lp.direction.w)
+        return false;
+    E = lp.scale.rgb / r2;
+    return true;
+}
+
+// Reflected light of the lights at a Fresnel event (the delta(x) R L_r term of eq. 5.4):
+// sum_j f_r(v, -l_j, N) max(0, dot(N, -l_j)) E_j(x) with N facing the viewer (v = -d),
+// times R. The caller multiplies by T_f exp(-alpha) and the basic radiance factor.
+vec3 light_reflected(int obj, vec3 x, vec3 d, vec3 N, float R)
+{
+    vec3 v = -d;
+    vec3 n = dot(N, v) < 0.0 ? -N : N;
+    vec3 sum = vec3(0.0);
+    for (int j = 0; j < MAX_LIGHTS; j++) {
+        if (j >= lights.count.x)
+            break;
+        vec3 E, l;
+        if (!light_at(j, x, E, l))
+            continue;
+        float c = dot(n, -l);
+        if (c <= 0.0)
+            continue;
+        sum += brdf_eval(obj, v, -l, n) * c * E;
+    }
+    return R * sum;
+}
+
+// In-scattered radiance per unit length at x for view direction d (eq. 5.5 without the
+// transmittance): sigma_s sum_j p_HG(g, dot(l_j, -d)) E_j(x).
+vec3 light_inscatter(vec3 x, vec3 d, vec3 sigma_s, float g)
+{
+    vec3 sum = vec3(0.0);
+    for (int j = 0; j < MAX_LIGHTS; j++) {
+        if (j >= lights.count.x)
+            break;
+        vec3 E, l;
+        if (light_at(j, x, E, l))
+            sum += phase_hg(g, dot(l, -d)) * E;
+    }
+    return sigma_s * sum;
+}
+
+// The receiver plane y = height, |x|, |z| <= half_size (thesis fig. 7.4), seen by a ray
+// that has left the scene at x going d. Returns true with its radiance when hit:
+// (albedo / pi) sum_j E_j(hit + (0, voxel_j / 2, 0)) max(0, -l_j.y) + albedo env(0, 1, 0),
+// the last a simple ambient term (the environment's zenith radiance).
+bool light_receiver(vec3 x, vec3 d, out vec3 L)
+{
+    L = vec3(0.0);
+    if (lights.count.y == 0 || d.y >= 0.0)
+        return false;
+    float height = lights.receiver.x, half_size = lights.receiver.y;
+    float t = (height - x.y) / d.y;
+    if (t < 0.0)
+        return false;
+    vec3 hit = x + t * d;
+    if (abs(hit.x) > half_size || abs(hit.z) > half_size)
+        return false;
+    vec3 albedo = lights.receiver_albedo.rgb;
+    vec3 sum = vec3(0.0);
+    for (int j = 0; j < MAX_LIGHTS; j++) {
+        if (j >= lights.count.x)
+            break;
+        vec3 E, l;
+        vec3 at = vec3(hit.x, height + 0.5 * lights.lights[j].grid_min.w, hit.z);
+        if (light_at(j, at, E, l))
+            sum += E * max(0.0, -l.y);
+    }
+    L = albedo / LIGHT_PI * sum + albedo * environment_radiance(vec3(0.0, 1.0, 0.0));
+    return true;
+}
