@@ -141,7 +141,7 @@ void cli_irradiance_summary(char *buf, size_t size, const struct refract_irradia
         const struct refract_light_status *l = &s->lights[i];
 
         used = append(buf, size, used, "%s%s %s", i > 0 ? ", " : "", l->name, l->state);
-        if (!is_settled(l) && l->progress >= 0) {
+        if (!is_settled(l) && !is_state(l, "queued") && l->progress >= 0) {
             int pct = (int)(100.0 * (l->progress > 1 ? 1 : l->progress));
 
             if (step > 0)

@@ -30,7 +30,8 @@ double cli_irradiance_fraction(const struct refract_irradiance *s);
 /* "[##########----------]  50%" with bar_width characters between the brackets. */
 void cli_progress_bar(char *buf, size_t size, double fraction, int bar_width);
 
-/* One line for a status: "sun computing 45% (12034 patches), bulb ready". With step
+/* One line for a status: "sun computing 45% (12034 patches), bulb queued, spot ready"
+ * (a queued light shows no percentage: it has not started). With step
  * > 0 the percentages are rounded down to multiples of step percent, so that a log
  * gets a new line every step percent and not on every read. */
 void cli_irradiance_summary(char *buf, size_t size, const struct refract_irradiance *s, int step);

@@ -106,8 +106,7 @@ static const struct refract_light_status *find_status(const struct refract_irrad
  * the light's simulation failed the code refractd named for it (gpu_error when none).
  * Other lights that failed get a note but do not fail this command: they were not set.
  */
-static int report_outcome(const char *scene, const char *name, const struct refract_irradiance *s,
-                          bool waited)
+static int report_outcome(const char *scene, const char *name, const struct refract_irradiance *s)
 {
     const struct refract_light_status *l = find_status(s, name);
     char ms[32];
@@ -135,7 +134,7 @@ static int report_outcome(const char *scene, const char *name, const struct refr
                         "light %s: the irradiance simulation failed: %s", name,
                         l->message[0] != '\0' ? l->message : "(refractd gave no message)");
     cli_format_ms(ms, sizeof(ms), l->compute_ms);
-    if (strcmp(l->state, "ready") == 0 && s->http_status == 200 && !waited)
+    if (strcmp(l->state, "ready") == 0 && s->http_status == 200)
         fprintf(stderr, "light %s set; irradiance ready (from the cache)\n", name);
     else if (strcmp(l->state, "ready") == 0)
         fprintf(stderr, "light %s set; irradiance ready (computed in %s)\n", name, ms);
@@ -254,7 +253,7 @@ static int run_set(struct cli *cli, int argc, char **argv)
     if (code == REFRACT_E_OK)
         code = cli_print_json(status.json);
     if (code == REFRACT_E_OK)
-        code = report_outcome(p.pos[0], p.pos[1], &status, !opts[OPT_NO_WAIT].given);
+        code = report_outcome(p.pos[0], p.pos[1], &status);
     refract_irradiance_free(&status);
     cJSON_free(light);
     return code;
