@@ -175,7 +175,8 @@ static int build_light(struct cli *cli, const char *scene, const char *name,
 
 /* Waits for the scene's irradiance (unless it is settled already); *status is replaced
  * by the final one. */
-static int wait_for_volumes(struct cli *cli, const char *scene, struct refract_irradiance *status)
+static int wait_for_volumes(struct cli *cli, const char *scene, const char *name,
+                            struct refract_irradiance *status)
 {
     struct cli_progress progress;
     struct refract_wait_options opts = {
@@ -194,7 +195,9 @@ static int wait_for_volumes(struct cli *cli, const char *scene, struct refract_i
     cli_progress_finish(&progress);
     if (code != REFRACT_E_OK) {
         refract_irradiance_free(&final);
-        return cli_call_failed(cli, code);
+        /* The light is stored either way; say so, or a script would set it again. */
+        return cli_fail(code, "light %s is set, but waiting for its irradiance failed: %s", name,
+                        refract_errmsg(cli->client));
     }
     final.http_status = status->http_status; /* what the PUT said, for the report */
     refract_irradiance_free(status);
@@ -249,7 +252,7 @@ static int run_set(struct cli *cli, int argc, char **argv)
             code = cli_call_failed(cli, code);
     }
     if (code == REFRACT_E_OK && !opts[OPT_NO_WAIT].given)
-        code = wait_for_volumes(cli, p.pos[0], &status);
+        code = wait_for_volumes(cli, p.pos[0], p.pos[1], &status);
     if (code == REFRACT_E_OK)
         code = cli_print_json(status.json);
     if (code == REFRACT_E_OK)

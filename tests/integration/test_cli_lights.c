@@ -314,6 +314,8 @@ static void a_wait_gives_up_after_the_timeout(struct test_daemon *d)
         run_cli(d, (const char *[]){"light", "set", slow, "sun", "--type", "directional",
                                     "--direction", "0,-1,0.2", "--timeout", "1", NULL});
     if (r.status == REFRACT_E_TIMEOUT) {
+        CHECK_CONTAINS(r.err, "refract: light sun is set, but waiting for its irradiance "
+                              "failed: ");
         CHECK_CONTAINS(r.err, "irradiance not ready after 1.0 s (sun ");
         CHECK_STR(r.out, "");
     } else {
