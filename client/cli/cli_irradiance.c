@@ -242,6 +242,9 @@ void cli_progress_update(struct cli_progress *p, const struct refract_irradiance
     snprintf(line, sizeof(line), "%s  %s", bar, summary);
     if ((int)strlen(line) > p->width - 1)
         line[p->width - 1] = '\0';
+    if (p->drawn && strcmp(line, p->last) == 0)
+        return; /* unchanged: redrawing would only flicker */
+    snprintf(p->last, sizeof(p->last), "%s", line);
     fprintf(p->f, "\r%s\033[K", line);
     fflush(p->f);
     p->drawn = true;

@@ -46,7 +46,7 @@ struct cli_progress {
     bool tty;       /* redraw one line in place; otherwise print a line per change */
     int width;      /* the terminal's columns (tty only) */
     bool drawn;     /* a bar is on the current line (tty) */
-    char last[512]; /* the last line printed (not tty), so repeats are left out */
+    char last[512]; /* the last line shown, so repeats are left out */
 };
 
 /* Starts a progress display on f; tty and width as the caller found them. */

@@ -737,7 +737,7 @@ static void print_progress(FILE *f, const void *arg)
     struct refract_light_status l = {.name = "sun", .state = "queued", .progress = 0};
     struct refract_irradiance s = {.needed = 1, .light_count = 1, .lights = &l};
     struct cli_progress p;
-    static const double steps[] = {0.0, 0.02, 0.05, 0.31, 0.33, 1.0};
+    static const double steps[] = {0.0, 0.02, 0.05, 0.31, 0.31, 0.33, 1.0};
 
     cli_progress_init(&p, f, pc->tty, pc->width);
     cli_progress_update(&p, &s);
@@ -768,6 +768,11 @@ static void progress_redraws_a_bar_on_terminals_and_logs_changes_elsewhere(void)
     CHECK_CONTAINS(bar, "\r[#######-----------------]  31%  sun computing 31\033[K");
     CHECK_CONTAINS(bar, "\r[########################] 100%  sun ready\033[K\n");
     CHECK(strchr(bar, '\n') == bar + strlen(bar) - 1); /* one line, ended once */
+    /* queued, 0%, 2%, 5%, 31%, 33%, 100%: the second 31% is the same line, not redrawn. */
+    size_t redraws = 0;
+    for (const char *c = bar; (c = strchr(c, '\r')) != NULL; c++)
+        redraws++;
+    CHECK_INT(redraws, 7);
     free(lines);
     free(bar);
 }
