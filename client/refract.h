@@ -203,10 +203,8 @@ int refract_light_put(refract_client *c, const char *scene_id, const char *name,
 int refract_lights_put(refract_client *c, const char *scene_id, const char *lights_json,
                        struct refract_irradiance *status_out);
 
-/* The scene's lights -> *json_out, a new string {"lights": [...]}. Reads
- * GET /v1/scenes/{id}/lights; where refractd has no such route (HTTP 404 not_found or
- * 405 method_not_allowed), it reads the "lights" of the scene's stored document
- * (GET /v1/scenes/{id}), which refractd keeps up to date when lights change. */
+/* GET /v1/scenes/{id}/lights -> *json_out, a new string {"scene", "lights": [...]} with
+ * every light's defaults written out. */
 int refract_lights_get(refract_client *c, const char *scene_id, char **json_out);
 
 /* GET /v1/scenes/{id}/irradiance -> *out (overwritten; release it with

@@ -5,7 +5,6 @@
  * with escaped segments, exchange through refract_call_json_status(), and read an
  * irradiance status reply into struct refract_irradiance (refract_status.c).
  */
-#include <cjson/cJSON.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -127,45 +126,9 @@ int refract_lights_put(refract_client *c, const char *scene_id, const char *ligh
     return code;
 }
 
-/* Makes {"lights": <the "lights" of the scene reply's "document">} from a
- * GET /v1/scenes/{id} reply; a document without lights has none. */
-static int lights_of_document(refract_client *c, const char *scene_reply, char **json_out)
-{
-    cJSON *root = cJSON_ParseWithLengthOpts(scene_reply, strlen(scene_reply), NULL, 0);
-    const cJSON *doc = cJSON_GetObjectItemCaseSensitive(root, "document");
-    const cJSON *lights = cJSON_GetObjectItemCaseSensitive(doc, "lights");
-    cJSON *out = cJSON_CreateObject();
-    cJSON *copy = NULL;
-    int code = REFRACT_E_OK;
-
-    if (!cJSON_IsObject(doc)) {
-        code = refract_fail(c, REFRACT_E_PROTOCOL,
-                            "GET /v1/scenes/{id}: refractd's reply has no "
-                            "\"document\" object to read the lights from");
-    } else if (lights != NULL && !cJSON_IsArray(lights)) {
-        code = refract_fail(c, REFRACT_E_PROTOCOL,
-                            "GET /v1/scenes/{id}: the scene document's "
-                            "\"lights\" is not an array");
-    } else {
-        copy = lights != NULL ? cJSON_Duplicate(lights, 1) : cJSON_CreateArray();
-        if (out == NULL || copy == NULL || !cJSON_AddItemToObject(out, "lights", copy)) {
-            cJSON_Delete(copy);
-            code = refract_out_of_memory(c, "copying the scene's lights");
-        } else {
-            *json_out = cJSON_PrintUnformatted(out);
-            if (*json_out == NULL)
-                code = refract_out_of_memory(c, "copying the scene's lights");
-        }
-    }
-    cJSON_Delete(out);
-    cJSON_Delete(root);
-    return code;
-}
-
 int refract_lights_get(refract_client *c, const char *scene_id, char **json_out)
 {
-    char *path = NULL;
-    char *scene = NULL;
+    char *path;
     int code;
 
     if (refract_begin(c, json_out) != REFRACT_E_OK)
@@ -180,14 +143,6 @@ int refract_lights_get(refract_client *c, const char *scene_id, char **json_out)
         return refract_out_of_memory(c, "building the request path");
     code = refract_call_json(c, "GET", path, NULL, 0, NULL, json_out);
     free(path);
-    if (code != REFRACT_E_NOT_FOUND && code != REFRACT_E_METHOD_NOT_ALLOWED)
-        return code;
-    /* No such route on this refractd: the scene's document carries the lights. */
-    refract_clear_error(c);
-    code = refract_scene_get(c, scene_id, &scene);
-    if (code == REFRACT_E_OK)
-        code = lights_of_document(c, scene, json_out);
-    free(scene);
     return code;
 }
 
