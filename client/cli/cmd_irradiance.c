@@ -19,14 +19,14 @@
     "       refract irradiance get ID LIGHT -o FILE.exr\n"                                         \
     "\n"                                                                                           \
     "status shows, for each light of scene ID, the state of its irradiance volume\n"               \
-    "(ready, queued, computing, stale, failed, not_needed), the simulation's progress\n"           \
-    "and live wavefront patches, the GPU and host memory the volume takes, its compute\n"          \
-    "time, and which volume renders use now (current, previous, none). --json prints\n"            \
-    "refractd's reply instead of the table.\n"                                                     \
+    "(ready, queued, computing, stale, failed, not_needed), the simulation's\n"                    \
+    "progress and live wavefront patches, the GPU and host memory the volume takes,\n"             \
+    "its compute time, and which volume renders use now (current, previous, none).\n"              \
+    "--json prints refractd's reply instead of the table.\n"                                       \
     "\n"                                                                                           \
-    "get writes LIGHT's irradiance volume to FILE (- = stdout) as OpenEXR: the z slices\n"         \
-    "stacked vertically, z = 0 at the top; channels R, G, B (irradiance) and dir.X,\n"             \
-    "dir.Y, dir.Z, dir.W (light direction); see docs/api.md.\n"                                    \
+    "get writes LIGHT's irradiance volume to FILE (- = stdout) as OpenEXR: the z\n"                \
+    "slices stacked vertically, z = 0 at the top; channels R, G, B (irradiance) and\n"             \
+    "dir.X, dir.Y, dir.Z, dir.W (light direction); see docs/api.md.\n"                             \
     "\n"                                                                                           \
     "Examples:\n"                                                                                  \
     "  refract irradiance status \"$ID\"\n"                                                        \

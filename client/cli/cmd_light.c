@@ -21,18 +21,18 @@
 #define LIGHT_WAIT_DEFAULT_MS 120000L
 
 #define LIGHT_USAGE                                                                                \
-    "usage: refract light set ID NAME [--type directional|point|spot] [--direction X,Y,Z]\n"       \
-    "                         [--position X,Y,Z] [--angle DEG] [--color R,G,B]\n"                  \
-    "                         [--intensity I] [--wait|--no-wait]\n"                                \
+    "usage: refract light set ID NAME [--type directional|point|spot]\n"                           \
+    "           [--direction X,Y,Z] [--position X,Y,Z] [--angle DEG]\n"                            \
+    "           [--color R,G,B] [--intensity I] [--wait|--no-wait]\n"                              \
     "       refract light list ID\n"                                                               \
     "\n"                                                                                           \
-    "set adds the light NAME to scene ID, or changes the light of that name: the flags\n"          \
-    "given replace those values and the others are kept. refractd then looks up the\n"             \
-    "light's irradiance volume in its cache, or computes it. By default set waits until\n"         \
-    "the volume is ready, with a progress bar on stderr (plain progress lines when\n"              \
-    "stderr is not a terminal), for at most --timeout seconds (default 120); --no-wait\n"          \
-    "returns as soon as refractd has the light. Either way it prints the irradiance\n"             \
-    "status as JSON on stdout. list prints the scene's lights as JSON.\n"                          \
+    "set adds the light NAME to scene ID, or changes the light of that name: the\n"                \
+    "flags given replace those values and the others are kept. refractd then looks\n"              \
+    "up the light's irradiance volume in its cache, or computes it. By default set\n"              \
+    "waits until the volume is ready, with a progress bar on stderr (plain progress\n"             \
+    "lines when stderr is not a terminal), for at most --timeout seconds (default\n"               \
+    "120); --no-wait returns as soon as refractd has the light. Either way it prints\n"            \
+    "the irradiance status as JSON on stdout. list prints the scene's lights as JSON.\n"           \
     "\n"                                                                                           \
     "  --type T           directional (a plane wavefront), point, or spot (a cone)\n"              \
     "  --direction X,Y,Z  directional, spot: the way the light travels (world space)\n"            \
