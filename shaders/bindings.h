@@ -91,18 +91,18 @@
 /* ==== end light simulator ==== */
 
 /* ---- lights (view renderer: tevs2007 eqs. 5.4-5.8; docs/tracing.md "Light") ---- */
-#define MAX_LIGHTS 4              /* = SCENE_MAX_LIGHTS (static_assert in render.c) */
-#define BIND_UBO_LIGHTS 6         /* march_lights: lights, receiver, per-object BRDFs */
-#define UNIT_SCATTERING 7         /* sampler3D atlas: rgb = sigma_s per world unit, a = g */
-#define UNIT_IRRADIANCE0 8        /* sampler3D x MAX_LIGHTS: rgb = E of light j (unit light) */
-#define UNIT_LIGHT_DIR0 12        /* sampler3D x MAX_LIGHTS: xyz = light direction of light j */
-#define LIGHT_MODE_OFF 0          /* the light contributes nothing (no volume yet) */
-#define LIGHT_MODE_VOLUME 1       /* E, l from the light's irradiance and direction volumes */
-#define LIGHT_MODE_DIRECT 2       /* unshadowed direct light (scenes without light simulation) */
-#define LIGHT_KIND_DIRECTIONAL 0  /* = SCENE_LIGHT_DIRECTIONAL */
-#define LIGHT_KIND_POINT 1        /* = SCENE_LIGHT_POINT */
-#define LIGHT_KIND_SPOT 2         /* = SCENE_LIGHT_SPOT */
-#define BRDF_NONE 0               /* = SCENE_BRDF_NONE ... */
+#define MAX_LIGHTS 4             /* = SCENE_MAX_LIGHTS (static_assert in render.c) */
+#define BIND_UBO_LIGHTS 6        /* march_lights: lights, receiver, per-object BRDFs */
+#define UNIT_SCATTERING 7        /* sampler3D atlas: rgb = sigma_s per world unit, a = g */
+#define UNIT_IRRADIANCE0 8       /* sampler3D x MAX_LIGHTS: rgb = E of light j (unit light) */
+#define UNIT_LIGHT_DIR0 12       /* sampler3D x MAX_LIGHTS: xyz = light direction of light j */
+#define LIGHT_MODE_OFF 0         /* the light contributes nothing (no volume yet) */
+#define LIGHT_MODE_VOLUME 1      /* E, l from the light's irradiance and direction volumes */
+#define LIGHT_MODE_DIRECT 2      /* unshadowed direct light (scenes without light simulation) */
+#define LIGHT_KIND_DIRECTIONAL 0 /* = SCENE_LIGHT_DIRECTIONAL */
+#define LIGHT_KIND_POINT 1       /* = SCENE_LIGHT_POINT */
+#define LIGHT_KIND_SPOT 2        /* = SCENE_LIGHT_SPOT */
+#define BRDF_NONE 0              /* = SCENE_BRDF_NONE ... */
 #define BRDF_LAMBERT 1
 #define BRDF_PHONG 2
 #define BRDF_GGX 3

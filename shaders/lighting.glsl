@@ -46,6 +46,28 @@ vec3 brdf_eval(int obj, vec3 v, vec3 l_in, vec3 n)
     return color * D * g_i * g_o / (4.0 * cos_i * cos_o);
 }
 
+vec4 light_sample_irradiance(int j, vec3 u)
+{
+    if (j == 0)
+        return textureLod(irradiance_volume0, u, 0.0);
+    if (j == 1)
+        return textureLod(irradiance_volume1, u, 0.0);
+    if (j == 2)
+        return textureLod(irradiance_volume2, u, 0.0);
+    return textureLod(irradiance_volume3, u, 0.0);
+}
+
+vec4 light_sample_direction(int j, vec3 u)
+{
+    if (j == 0)
+        return textureLod(light_direction_volume0, u, 0.0);
+    if (j == 1)
+        return textureLod(light_direction_volume1, u, 0.0);
+    if (j == 2)
+        return textureLod(light_direction_volume2, u, 0.0);
+    return textureLod(light_direction_volume3, u, 0.0);
+}
+
 // Irradiance E (unit light, times the light's scale) and the direction l the light travels
 // at world point x, for light j. Returns false when the light adds nothing there.
 // Volumes: trilinear at v = (x - bmin) / voxel - 0.5, clamped to the grid's edge; outside
@@ -63,12 +85,12 @@ bool light_at(int j, vec3 x, out vec3 E, out vec3 l)
         vec3 u = (x - lp.grid_min.xyz) / lp.grid_size.xyz;
         if (any(lessThan(u, vec3(0.0))) || any(greaterThan(u, vec3(1.0))))
             return false;
-        vec3 d = textureLod(light_direction_volume[j], u, 0.0).xyz;
+        vec3 d = light_sample_direction(j, u).xyz;
         float dl = length(d);
         if (dl <= 1e-6)
             return false;
         l = d / dl;
-        E = textureLod(irradiance_volume[j], u, 0.0).rgb * lp.scale.rgb;
+        E = light_sample_irradiance(j, u).rgb * lp.scale.rgb;
         return true;
     }
     // Unshadowed direct light: directional E = 1 along its direction; point and spot

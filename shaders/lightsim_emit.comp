@@ -19,7 +19,27 @@ vec3 mean_ray2(vec3 a, vec3 b)
     return normalize(a + b) * (0.5 * (length(a) + length(b)));
 }
 
-void put(uint o, ls_patch q, inout vec3 live, inout vec3 capacity)
+// One child of p: corners a, b, c, d (p00, p10, p11, p01 order), ray vectors, and its
+// share of the power; level + 1, the parent's zone state, no cached centre samples.
+ls_gpu_patch child(ls_gpu_patch p, vec3 a, vec3 b, vec3 c, vec3 d, vec3 wa, vec3 wb, vec3 wc,
+                   vec3 wd, float share)
+{
+    ls_gpu_patch q = p;
+    q.x[0] = vec4(a, 0.0);
+    q.x[1] = vec4(b, 0.0);
+    q.x[2] = vec4(c, 0.0);
+    q.x[3] = vec4(d, 0.0);
+    q.w[0] = vec4(wa, 0.0);
+    q.w[1] = vec4(wb, 0.0);
+    q.w[2] = vec4(wc, 0.0);
+    q.w[3] = vec4(wd, 0.0);
+    q.power = vec4(p.power.rgb * share, 0.0);
+    q.state.x = p.state.x + 1;
+    q.state.w = 0;
+    return q;
+}
+
+void put(uint o, ls_gpu_patch q, inout vec3 live, inout vec3 capacity)
 {
     if (o < uint(ls.limits.y)) {
         patches_out[o] = q;
@@ -40,46 +60,31 @@ void main()
     vec3 live = vec3(0.0), capacity = vec3(0.0);
     if (i < uint(control.counts.x)) {
         uint n = out_count[i], o = out_offset[i];
-        ls_patch p = patches_in[i];
+        ls_gpu_patch p = patches_in[i];
         if (n == 1u) {
             put(o, p, live, capacity);
         } else if (n == 4u) {
+            // Children [p00, m0, mc, m3], [m0, p10, m1, mc], [mc, m1, p11, m2],
+            // [m3, mc, m2, p01], written out corner by corner (no dynamic indexing).
             vec3 x00 = p.x[0].xyz, x10 = p.x[1].xyz, x11 = p.x[2].xyz, x01 = p.x[3].xyz;
             vec3 w00 = p.w[0].xyz, w10 = p.w[1].xyz, w11 = p.w[2].xyz, w01 = p.w[3].xyz;
-            vec3 xm[5], wm[5];
-            xm[0] = 0.5 * (x00 + x10);
-            xm[1] = 0.5 * (x10 + x11);
-            xm[2] = 0.5 * (x11 + x01);
-            xm[3] = 0.5 * (x01 + x00);
-            xm[4] = 0.25 * (x00 + x10 + x11 + x01);
-            wm[0] = mean_ray2(w00, w10);
-            wm[1] = mean_ray2(w10, w11);
-            wm[2] = mean_ray2(w11, w01);
-            wm[3] = mean_ray2(w01, w00);
-            wm[4] = normalize(w00 + w10 + w11 + w01) *
-                    (0.25 * (length(w00) + length(w10) + length(w11) + length(w01)));
-            // Children [p00, m0, mc, m3], [m0, p10, m1, mc], [mc, m1, p11, m2],
-            // [m3, mc, m2, p01]: corner k of child j is node cx[j][k] of this table.
-            vec3 nx[9] = vec3[9](x00, x10, x11, x01, xm[0], xm[1], xm[2], xm[3], xm[4]);
-            vec3 nw[9] = vec3[9](w00, w10, w11, w01, wm[0], wm[1], wm[2], wm[3], wm[4]);
-            const int cx[16] = int[16](0, 4, 8, 7, 4, 1, 5, 8, 8, 5, 2, 6, 7, 8, 6, 3);
-            float area[4];
-            float sum = 0.0;
-            for (int j = 0; j < 4; j++) {
-                area[j] = 0.5 * length(ls_diagonal_cross(nx[cx[4 * j]], nx[cx[4 * j + 1]],
-                                                         nx[cx[4 * j + 2]], nx[cx[4 * j + 3]]));
-                sum += area[j];
-            }
-            for (int j = 0; j < 4; j++) {
-                ls_patch q = p;
-                for (int k = 0; k < 4; k++) {
-                    q.x[k] = vec4(nx[cx[4 * j + k]], 0.0);
-                    q.w[k] = vec4(nw[cx[4 * j + k]], 0.0);
-                }
-                q.power.rgb = sum > 0.0 ? p.power.rgb * (area[j] / sum) : 0.25 * p.power.rgb;
-                q.state.x = p.state.x + 1;
-                put(o + uint(j), q, live, capacity);
-            }
+            vec3 m0 = 0.5 * (x00 + x10), m1 = 0.5 * (x10 + x11);
+            vec3 m2 = 0.5 * (x11 + x01), m3 = 0.5 * (x01 + x00);
+            vec3 mc = 0.25 * (x00 + x10 + x11 + x01);
+            vec3 v0 = mean_ray2(w00, w10), v1 = mean_ray2(w10, w11);
+            vec3 v2 = mean_ray2(w11, w01), v3 = mean_ray2(w01, w00);
+            vec3 vc = normalize(w00 + w10 + w11 + w01) *
+                      (0.25 * (length(w00) + length(w10) + length(w11) + length(w01)));
+            vec4 area = 0.5 * vec4(length(ls_diagonal_cross(x00, m0, mc, m3)),
+                                   length(ls_diagonal_cross(m0, x10, m1, mc)),
+                                   length(ls_diagonal_cross(mc, m1, x11, m2)),
+                                   length(ls_diagonal_cross(m3, mc, m2, x01)));
+            float sum = area.x + area.y + area.z + area.w;
+            vec4 share = sum > 0.0 ? area / sum : vec4(0.25);
+            put(o + 0u, child(p, x00, m0, mc, m3, w00, v0, vc, v3, share.x), live, capacity);
+            put(o + 1u, child(p, m0, x10, m1, mc, v0, w10, v1, vc, share.y), live, capacity);
+            put(o + 2u, child(p, mc, m1, x11, m2, vc, v1, w11, v2, share.z), live, capacity);
+            put(o + 3u, child(p, m3, mc, m2, x01, v3, vc, v2, w01, share.w), live, capacity);
         }
     }
     red[0][lid] = vec4(live, 0.0);

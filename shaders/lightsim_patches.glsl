@@ -3,12 +3,12 @@
 
 layout(std430, binding = BIND_SSBO_LS_PATCHES_IN) buffer ls_patches_in_block
 {
-    ls_patch patches_in[];
+    ls_gpu_patch patches_in[];
 };
 
 layout(std430, binding = BIND_SSBO_LS_PATCHES_OUT) writeonly buffer ls_patches_out_block
 {
-    ls_patch patches_out[];
+    ls_gpu_patch patches_out[];
 };
 
 layout(std430, binding = BIND_SSBO_LS_COUNTS) buffer ls_counts_block

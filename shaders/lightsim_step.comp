@@ -46,7 +46,7 @@ uint voxel_index(ivec3 v)
 
 // Trilinear splat of q (rgb) and q_lum * d into the 8 voxels around m; voxels outside the
 // grid are skipped (docs/lightsim.md step 5, "flux").
-void splat(vec3 m, vec3 q, vec3 d, bool with_irradiance)
+void splat(vec3 m, vec3 q, vec3 d)
 {
     vec3 v = (m - ls.grid_min.xyz) / ls.grid_min.w - 0.5;
     ivec3 i0 = ivec3(floor(v));
@@ -62,19 +62,18 @@ void splat(vec3 m, vec3 q, vec3 d, bool with_irradiance)
         if (wt == 0.0)
             continue;
         uint base = voxel_index(c) * LS_DEPOSIT_STRIDE;
-        if (with_irradiance) {
-            deposit_add(base + 0u, wt * q.r);
-            deposit_add(base + 1u, wt * q.g);
-            deposit_add(base + 2u, wt * q.b);
-        }
+        deposit_add(base + 0u, wt * q.r);
+        deposit_add(base + 1u, wt * q.g);
+        deposit_add(base + 2u, wt * q.b);
         deposit_add(base + 3u, wt * q_lum * d.x);
         deposit_add(base + 4u, wt * q_lum * d.y);
         deposit_add(base + 5u, wt * q_lum * d.z);
     }
 }
 
-// Max mode (thesis sect. 6.2.3): the voxel containing m keeps the largest E_p.
-void deposit_max(vec3 m, vec3 e_p)
+// Max mode (thesis sect. 6.2.3): the voxel containing m keeps the largest E_p; the
+// direction q_lum d is added in that voxel only.
+void deposit_max(vec3 m, vec3 e_p, vec3 q, vec3 d)
 {
     ivec3 c = ivec3(floor((m - ls.grid_min.xyz) / ls.grid_min.w));
     if (any(lessThan(c, ivec3(0))) || any(greaterThanEqual(c, ls.dims.xyz)))
@@ -82,6 +81,10 @@ void deposit_max(vec3 m, vec3 e_p)
     uint base = voxel_index(c) * LS_DEPOSIT_STRIDE;
     for (int ch = 0; ch < 3; ch++)
         atomicMax(deposit_bits[base + uint(ch)], floatBitsToUint(max(e_p[ch], 0.0)));
+    float q_lum = (q.r + q.g + q.b) / 3.0;
+    deposit_add(base + 3u, q_lum * d.x);
+    deposit_add(base + 4u, q_lum * d.y);
+    deposit_add(base + 5u, q_lum * d.z);
 }
 
 // dx/dt = w / n^2, dw/dt = grad n / n (tevs2007 eqs. 4.12/4.13).
@@ -90,6 +93,18 @@ void ray_rate(vec3 x, vec3 w, out vec3 dx, out vec3 dw)
     vec4 s = ls_ior_grad_at(x);
     dx = w / (s.a * s.a);
     dw = s.rgb / s.a;
+}
+
+// Explicit midpoint rule, the same dt for every corner (equitemporal). Called once per
+// corner with constant indices: a loop over p.x[k] would index the patch dynamically,
+// which llvmpipe spills to scratch memory.
+void propagate(inout vec4 x, inout vec4 w, float dt)
+{
+    vec3 k1x, k1w, k2x, k2w;
+    ray_rate(x.xyz, w.xyz, k1x, k1w);
+    ray_rate(x.xyz + 0.5 * dt * k1x, w.xyz + 0.5 * dt * k1w, k2x, k2w);
+    x.xyz += dt * k2x;
+    w.xyz += dt * k2w;
 }
 
 // Per-work-group sums (one global atomic per group and counter).
@@ -106,29 +121,37 @@ void main()
     vec3 acc_out = vec3(0.0), acc_refl = vec3(0.0), acc_abs = vec3(0.0), acc_cull = vec3(0.0);
     uint count = 0u;
     if (i < uint(control.counts.x)) {
-        ls_patch p = patches_in[i];
+        ls_gpu_patch p = patches_in[i];
         float dt = ls.grid_max.w, voxel = ls.grid_min.w;
         vec3 c = 0.25 * (p.x[0].xyz + p.x[1].xyz + p.x[2].xyz + p.x[3].xyz);
         vec3 d = normalize(p.w[0].xyz + p.w[1].xyz + p.w[2].xyz + p.w[3].xyz);
-        // 1. explicit midpoint rule, the same dt for every corner (equitemporal).
-        for (int k = 0; k < 4; k++) {
-            vec3 x = p.x[k].xyz, w = p.w[k].xyz, k1x, k1w, k2x, k2w;
-            ray_rate(x, w, k1x, k1w);
-            ray_rate(x + 0.5 * dt * k1x, w + 0.5 * dt * k1w, k2x, k2w);
-            p.x[k].xyz = x + dt * k2x;
-            p.w[k].xyz = w + dt * k2w;
+        // The samples at the old centre: kept from the previous step when it ended
+        // there (state.w = 1; children have new centres), else taken now.
+        float n0;
+        vec3 sigma0;
+        if (p.state.w != 0) {
+            n0 = p.power.w;
+            sigma0 = vec3(p.x[0].w, p.x[1].w, p.x[2].w);
+        } else {
+            n0 = ls_ior_grad_at(c).a;
+            sigma0 = ls_extinction_at(c).rgb;
         }
+        // 1. propagate the four corners.
+        propagate(p.x[0], p.w[0], dt);
+        propagate(p.x[1], p.w[1], dt);
+        propagate(p.x[2], p.w[2], dt);
+        propagate(p.x[3], p.w[3], dt);
         vec3 c1 = 0.25 * (p.x[0].xyz + p.x[1].xyz + p.x[2].xyz + p.x[3].xyz);
         vec3 d1 = normalize(p.w[0].xyz + p.w[1].xyz + p.w[2].xyz + p.w[3].xyz);
         float ds = length(c1 - c);
         // 2. extinction (trapezoid of sigma_t along the centre's path).
-        vec4 ext0 = ls_extinction_at(c), ext1 = ls_extinction_at(c1);
-        vec3 T = exp(-0.5 * (ext0.rgb + ext1.rgb) * ds);
+        vec4 ext1 = ls_extinction_at(c1);
+        vec3 T = exp(-0.5 * (sigma0 + ext1.rgb) * ds);
         vec3 P = p.power.rgb;
         acc_abs += P * (1.0 - T);
         P *= T;
         // 3. interface zone and Fresnel transmission; the three tests in order.
-        vec4 s0 = ls_ior_grad_at(c), s1 = ls_ior_grad_at(c1);
+        vec4 s1 = ls_ior_grad_at(c1);
         float glen = length(s1.rgb);
         float g = glen * voxel;
         float thr = ls.medium.z;
@@ -142,11 +165,11 @@ void main()
         }
         if (p.state.y != 0 && p.state.z == 0) {
             float n_mid = 0.5 * (p.zone.x + p.zone.y);
-            if ((s0.a >= n_mid) != (s1.a >= n_mid)) {
-                vec3 N = glen > 0.0 ? s1.rgb / glen : vec3(0.0);
-                float cos_i = abs(dot(d, N));
-                float n_i = s1.a > s0.a ? p.zone.x : p.zone.y;
-                float n_t = s1.a > s0.a ? p.zone.y : p.zone.x;
+            if ((n0 >= n_mid) != (s1.a >= n_mid)) {
+                vec3 N = glen > 0.0 ? s1.rgb / glen : d;
+                float cos_i = min(1.0, abs(dot(d, N)));
+                float n_i = s1.a > n0 ? p.zone.x : p.zone.y;
+                float n_t = s1.a > n0 ? p.zone.y : p.zone.x;
                 if (n_i * n_i * (1.0 - cos_i * cos_i) < n_t * n_t) {
                     float R = fresnel_unpolarized(cos_i, n_i, n_t);
                     acc_refl += P * R;
@@ -166,17 +189,12 @@ void main()
             vec3 m = 0.5 * (c + c1);
             vec3 q = P * ds / (voxel * voxel * voxel);
             vec3 D1 = ls_diagonal_cross(p.x[0].xyz, p.x[1].xyz, p.x[2].xyz, p.x[3].xyz);
-            if (ls.dims.w == LS_DEPOSIT_MAX) {
-                float A1 = 0.5 * length(D1);
-                deposit_max(m, P / max(A1, 1e-4 * voxel * voxel));
-                splat(m, q, d1, false);
-            } else {
-                splat(m, q, d1, true);
-            }
+            if (ls.dims.w == LS_DEPOSIT_MAX)
+                deposit_max(m, P / max(0.5 * length(D1), 1e-4 * voxel * voxel), q, d1);
+            else
+                splat(m, q, d1);
             // 6. fate, in the order of docs/lightsim.md.
             bool inside = ls_inside_box(c1);
-            if (inside)
-                p.state.w = 1;
             float e_max = max(max(length(p.x[1].xyz - p.x[0].xyz), length(p.x[2].xyz - p.x[1].xyz)),
                               max(length(p.x[3].xyz - p.x[2].xyz), length(p.x[0].xyz - p.x[3].xyz)));
             if (!inside && !ls_ray_meets_box(c1, d1, ls.grid_min.xyz, ls.grid_max.xyz)) {
@@ -184,7 +202,7 @@ void main()
             } else if (max(P.r, max(P.g, P.b)) < ls.cull.x) {
                 acc_cull += P;
                 atomicAdd(ev[1], 1);
-            } else if (ls.cull.y != 0.0 && dot(D1, d1) < 0.0) {
+            } else if (ls.cull.y != 0.0 && !(dot(D1, d1) > 0.0)) {
                 acc_cull += P;
                 atomicAdd(ev[3], 1);
             } else if (e_max > ls.medium.w) {
@@ -199,7 +217,13 @@ void main()
                 count = 1u;
             }
         }
-        patches_in[i] = p;
+        p.power.w = s1.a;
+        p.x[0].w = ext1.r;
+        p.x[1].w = ext1.g;
+        p.x[2].w = ext1.b;
+        p.state.w = 1;
+        if (count != 0u)
+            patches_in[i] = p;
         out_count[i] = count;
     }
     red[0][lid] = vec4(acc_out, 0.0);

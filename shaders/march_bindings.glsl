@@ -39,8 +39,18 @@ layout(binding = UNIT_ENVIRONMENT) uniform sampler2D environment_map;
 // Lights (tevs2007 eqs. 5.4-5.8): the scattering atlas, the lights' irradiance and
 // direction volumes (one texture unit each, MAX_LIGHTS of each) and their parameters.
 layout(binding = UNIT_SCATTERING) uniform sampler3D scattering_atlas;
-layout(binding = UNIT_IRRADIANCE0) uniform sampler3D irradiance_volume[MAX_LIGHTS];
-layout(binding = UNIT_LIGHT_DIR0) uniform sampler3D light_direction_volume[MAX_LIGHTS];
+// One sampler per light rather than a sampler3D array: with the array indexed by the light
+// loop, llvmpipe (Mesa 22.3.6) rendered wrong radiance even with every light's scale 0
+// (tests/gpu/test_render_lights.c found it; not isolated further, so treat it as a driver
+// problem to avoid).
+layout(binding = UNIT_IRRADIANCE0 + 0) uniform sampler3D irradiance_volume0;
+layout(binding = UNIT_IRRADIANCE0 + 1) uniform sampler3D irradiance_volume1;
+layout(binding = UNIT_IRRADIANCE0 + 2) uniform sampler3D irradiance_volume2;
+layout(binding = UNIT_IRRADIANCE0 + 3) uniform sampler3D irradiance_volume3;
+layout(binding = UNIT_LIGHT_DIR0 + 0) uniform sampler3D light_direction_volume0;
+layout(binding = UNIT_LIGHT_DIR0 + 1) uniform sampler3D light_direction_volume1;
+layout(binding = UNIT_LIGHT_DIR0 + 2) uniform sampler3D light_direction_volume2;
+layout(binding = UNIT_LIGHT_DIR0 + 3) uniform sampler3D light_direction_volume3;
 
 layout(std140, binding = BIND_UBO_LIGHTS) uniform march_lights_block
 {

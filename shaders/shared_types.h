@@ -80,7 +80,7 @@ struct trace_hit_out {
 /* ==== light simulator (docs/lightsim.md; server/lightsim/gpu) ==== */
 #ifdef REFRACT_HOST_C
 typedef struct lightsim_params lightsim_params;
-typedef struct ls_patch ls_patch;
+typedef struct ls_gpu_patch ls_gpu_patch;
 typedef struct ls_control ls_control;
 #endif
 
@@ -96,12 +96,13 @@ struct lightsim_params {
 };
 
 /* One wavefront patch (std430; docs/lightsim.md "Patches"): corners p00, p10, p11, p01. */
-struct ls_patch {
-    vec4 x[4];    /* xyz: corner positions (world) */
+struct ls_gpu_patch {
+    vec4 x[4];    /* xyz: corner positions (world); w of x[0..2]: cached sigma_t(c) rgb */
     vec4 w[4];    /* xyz: corner ray vectors n d (tevs2007 eq. 4.8) */
-    vec4 power;   /* rgb: P (unit light) */
+    vec4 power;   /* rgb: P (unit light); w: cached n(c) */
     vec4 zone;    /* x: n_lo, y: n_hi of the interface zone */
-    ivec4 state;  /* x: level; y: in_zone; z: crossed; w: entered */
+    ivec4 state;  /* x: level; y: in_zone; z: crossed; w: 1 = the cached samples are those
+                     at the current centre c (the previous step's c') */
 };
 
 /* Indirect dispatch arguments and counters written on the GPU (std430). */
@@ -125,8 +126,8 @@ struct ls_control {
 struct light_params {
     vec4 position;  /* xyz: world (point, spot); w: LIGHT_KIND_* */
     vec4 direction; /* xyz: unit, the way light travels (directional, spot); w: cos_spot */
-    vec4 scale;     /* rgb: colour * intensity (multiplies the unit-light volume); w: LIGHT_MODE_* */
-    vec4 grid_min;  /* xyz: world bmin of the light grid; w: voxel edge (world units) */
+    vec4 scale;    /* rgb: colour * intensity (multiplies the unit-light volume); w: LIGHT_MODE_* */
+    vec4 grid_min; /* xyz: world bmin of the light grid; w: voxel edge (world units) */
     vec4 grid_size; /* xyz: grid extent dims * voxel (world units); w: unused */
 };
 
@@ -136,10 +137,10 @@ typedef struct light_params light_params;
 
 /* Uniform block BIND_UBO_LIGHTS of render_view.comp. */
 struct march_lights {
-    ivec4 count;             /* x: lights; y: 1 = receiver enabled */
-    vec4 receiver;           /* x: height (world y); y: half size */
-    vec4 receiver_albedo;    /* rgb: Lambertian reflectance */
-    vec4 brdf[MAX_OBJECTS];  /* x: BRDF_*; y: GGX alpha (roughness^2); z: Phong exponent */
+    ivec4 count;                  /* x: lights; y: 1 = receiver enabled */
+    vec4 receiver;                /* x: height (world y); y: half size */
+    vec4 receiver_albedo;         /* rgb: Lambertian reflectance */
+    vec4 brdf[MAX_OBJECTS];       /* x: BRDF_*; y: GGX alpha (roughness^2); z: Phong exponent */
     vec4 brdf_color[MAX_OBJECTS]; /* rgb: colour of the BRDF */
     light_params lights[MAX_LIGHTS];
 };

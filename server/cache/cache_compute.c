@@ -106,6 +106,9 @@ static void chunk_run(struct gpu_work *w, struct gpu *gpu)
             en->finished = true;
             return;
         }
+        pthread_mutex_lock(&c->lock);
+        en->phase = IRR_COMPUTING;
+        pthread_mutex_unlock(&c->lock);
     }
     bool done = false;
     if (lightsim_gpu_advance(en->run, c->desc.chunk_steps, &done, &w->err) != REFRACT_E_OK) {

@@ -45,7 +45,7 @@ static double max3(const double P[3])
 
 /* Step 3: the interface zone and its one Fresnel transmission event. */
 static void interface(const struct ls_step_ctx *c, struct ls_patch *p, const struct ls_sample *s0,
-                      const struct ls_sample *s1, vec3 c1, vec3 d0)
+                      const struct ls_sample *s1, vec3 c1, vec3 w1)
 {
     const struct lightsim_fields *f = c->f;
     double gl = vec3_length(s1->grad);
@@ -61,12 +61,20 @@ static void interface(const struct ls_step_ctx *c, struct ls_patch *p, const str
     if (p->in_zone && !p->crossed) {
         double n_mid = 0.5 * (p->n_lo + p->n_hi);
         if ((s0->n >= n_mid) != (s1->n >= n_mid)) {
-            vec3 N = gl > 0.0 ? vec3_scale(s1->grad, 1.0 / gl) : d0;
-            double cos_i = fmin(1.0, fabs(vec3_dot(d0, N)));
+            vec3 N = gl > 0.0 ? vec3_scale(s1->grad, 1.0 / gl) : vec3_normalize(w1);
             bool rising = s1->n > s0->n;
             double n_i = rising ? p->n_lo : p->n_hi, n_t = rising ? p->n_hi : p->n_lo;
-            /* total internal reflection: the ray equation turns the wavefront round */
-            if (n_i * n_i * (1.0 - cos_i * cos_i) < n_t * n_t) {
+            /* The ray equation changes w = n d only along grad n, so w's tangential part
+             * is the incident side's n_i sin(theta_i) wherever in the smoothed interface
+             * the crossing is seen (Snell's invariant, tevs2007 sect. 5.2). */
+            double w_t = vec3_length(vec3_cross(w1, N));
+            /* w_t >= n_t: total internal reflection, the ray equation turns the wavefront
+             * round. w_t >= n_i: the wavefront cannot have come from the n_i side (there
+             * |w| = n_i); it is one that turned round inside the smoothed zone and comes
+             * back (or creeps along it): no surface is crossed. */
+            if (w_t < n_t && w_t < n_i) {
+                double sin_i = fmin(1.0, w_t / n_i);
+                double cos_i = sqrt(1.0 - sin_i * sin_i);
                 double R = fresnel_unpolarized(cos_i, n_i, n_t);
                 add3(c->st->flux_reflected, p->P, R);
                 for (int ch = 0; ch < 3; ch++)
@@ -185,7 +193,8 @@ enum ls_fate ls_patch_step(const struct ls_step_ctx *c, struct ls_patch *p,
     }
 
     /* 3. interface */
-    interface(c, p, &s0, &s1, g1.c, g0.d);
+    vec3 w1 = vec3_scale(vec3_add(vec3_add(p->w[0], p->w[1]), vec3_add(p->w[2], p->w[3])), 0.25);
+    interface(c, p, &s0, &s1, g1.c, w1);
 
     /* 4. opaque */
     if (s1.coverage >= 0.5) {

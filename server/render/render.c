@@ -216,26 +216,13 @@ static void fill_camera(struct march_params *mp, const struct scene_camera *c)
     mp->image = (ivec4){c->width, c->height, 0, 0};
 }
 
-/* Whether the scene needs irradiance volumes: some object scatters or a receiver is
- * enabled (tevs2007 sect. 1.2). Same rule as scene_needs_light_simulation (scene.h), decided
- * here from the struct until the scene module defines that function. */
-static bool needs_light_simulation(const struct scene *s)
-{
-    if (s->receiver.enabled)
-        return true;
-    for (size_t i = 0; i < s->object_count; i++)
-        if (scene_channel_used(&s->objects[i], SCENE_CH_SCATTERING))
-            return true;
-    return false;
-}
-
 /* The lights block: per light its mode (volume, unshadowed direct light in scenes without
  * light simulation, or nothing), pose, scale and grid; the receiver; the BRDFs. */
 static void fill_lights(struct march_lights *ml, const struct scene *s,
                         const struct render_view_request *req)
 {
     memset(ml, 0, sizeof *ml);
-    bool needs_sim = needs_light_simulation(s);
+    bool needs_sim = scene_needs_light_simulation(s);
     int count = req->light_count < MAX_LIGHTS ? req->light_count : MAX_LIGHTS;
     if (count < 0 || req->lights == NULL)
         count = 0;

@@ -45,18 +45,18 @@ struct render_scene_source {
 };
 
 struct render_scene_status {
-    size_t gpu_bytes;   /* atlases + environment */
-    double build_ms;    /* time of the last build (field evaluation + GPU precomputation) */
-    bool built_now;     /* this call built it */
+    size_t gpu_bytes; /* atlases + environment */
+    double build_ms;  /* time of the last build (field evaluation + GPU precomputation) */
+    bool built_now;   /* this call built it */
 };
 
 /* One light as the view renderer sees it (tevs2007 eqs. 5.4-5.8). The irradiance volume
  * is borrowed from the irradiance cache for the call (GPU thread). */
 struct render_light {
     enum scene_light_kind kind;
-    vec3 position, direction; /* world; direction unit, the way light travels */
-    double cos_spot;          /* spot: cos of the cone half angle */
-    double scale[3];          /* colour * intensity: multiplies the unit-light volume */
+    vec3 position, direction;            /* world; direction unit, the way light travels */
+    double cos_spot;                     /* spot: cos of the cone half angle */
+    double scale[3];                     /* colour * intensity: multiplies the unit-light volume */
     const struct irradiance_gpu *volume; /* NULL: no irradiance for this light (yet) */
 };
 
@@ -66,7 +66,8 @@ struct render_view_request {
     /* Lights with their irradiance volumes (may be 0). A light whose volume is NULL
      * contributes nothing: the renderer never invents light it has not simulated, except
      * in scenes that need no light simulation (scene_needs_light_simulation false), where
-     * boundary reflections L_r use the unshadowed direct light (docs/rendering.md). */
+     * boundary reflections L_r use the unshadowed direct light (docs/tracing.md "Light"). At
+     * most SCENE_MAX_LIGHTS are used; the rest are ignored. */
     const struct render_light *lights;
     int light_count;
 };
@@ -108,8 +109,8 @@ size_t render_cache_bytes(const struct render *r);
 
 /* Renders a view: linear radiance per pixel. */
 enum refract_code render_view(struct render *r, const struct render_scene_source *src,
-                              const struct render_view_request *req,
-                              struct render_view_result *out, struct err *e);
+                              const struct render_view_request *req, struct render_view_result *out,
+                              struct err *e);
 
 /* Traces `count` rays with the view renderer's march (trace_rays.comp). hits has count
  * entries. */

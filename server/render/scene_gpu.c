@@ -251,6 +251,12 @@ static enum refract_code build_scattering(struct build_ctx *b, size_t i, struct 
         for (size_t v = 0; v < voxels; v++)
             b->host[v * 4 + 3] = 0.0f;
     }
+    /* The atlas is RGBA16F: sigma_s beyond the largest half float (the scene allows 1e5)
+     * would become infinite; 65504 per world unit is opaque within 1e-4 units anyway. */
+    for (size_t v = 0; v < voxels; v++)
+        for (int c = 0; c < 3; c++)
+            if (b->host[v * 4 + c] > 65504.0f)
+                b->host[v * 4 + c] = 65504.0f;
     return gpu_volume_upload(&b->sg->scattering, 0, 0, b->sg->objects[i].atlas_z,
                              obj->resolution[0], obj->resolution[1], obj->resolution[2], 4, b->host,
                              e);

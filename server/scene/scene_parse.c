@@ -280,7 +280,7 @@ static enum refract_code parse_transform(const cJSON *obj, const char *path, str
 }
 
 /* How many channels other than `except` the object uses. */
-static int any_but(const struct scene_object *o, enum scene_channel except)
+static int channels_used_except(const struct scene_object *o, enum scene_channel except)
 {
     int n = 0;
     for (int ch = 0; ch < SCENE_CH_COUNT; ch++)
@@ -292,13 +292,11 @@ static enum refract_code parse_channels(const cJSON *obj, const char *path,
                                         const struct scene_parse_ctx *ctx, struct scene_object *o,
                                         struct err *e)
 {
-    bool any = false;
     for (int ch = 0; ch < SCENE_CH_COUNT; ch++) {
         const char *key = scene_channel_name((enum scene_channel)ch);
         const cJSON *item = member(obj, key);
         if (item == NULL)
             continue;
-        any = true;
         char p[256];
         enum refract_code rc = scene_parse_field(item, jr_path(p, sizeof p, path, key),
                                                  (enum scene_channel)ch, ctx, &o->fields[ch], e);
@@ -307,13 +305,12 @@ static enum refract_code parse_channels(const cJSON *obj, const char *path,
     }
     /* Anisotropy only shapes scattering, so alone it would describe nothing. A smoke
      * object may consist of scattering only. */
-    bool scatters = o->fields[SCENE_CH_SCATTERING].count > 0;
-    if (!any || (!scatters && any_but(o, SCENE_CH_ANISOTROPY) == 0))
+    if (channels_used_except(o, SCENE_CH_ANISOTROPY) == 0)
         return err_set(e, REFRACT_E_MISSING_FIELD,
                        "%s: an object needs at least one of ior, attenuation, emission, opaque, "
                        "scattering",
                        path);
-    if (!scatters && o->fields[SCENE_CH_ANISOTROPY].count > 0)
+    if (!scene_channel_used(o, SCENE_CH_SCATTERING) && scene_channel_used(o, SCENE_CH_ANISOTROPY))
         return err_set(e, REFRACT_E_INVALID_FIELD,
                        "%s.anisotropy: has no effect without scattering; add a \"scattering\" "
                        "field or remove \"anisotropy\"",
@@ -436,8 +433,6 @@ static enum refract_code parse_document(const cJSON *root, const struct scene_li
         rc = parse_camera(root, lim, &s->camera, e);
     if (rc == REFRACT_E_OK)
         rc = parse_render(root, lim, &s->render, e);
-    if (rc != REFRACT_E_OK)
-        return rc;
     if (rc == REFRACT_E_OK)
         rc = scene_parse_lights(member(root, "lights"), s, e);
     if (rc == REFRACT_E_OK)

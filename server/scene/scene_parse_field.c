@@ -2,15 +2,15 @@
  * scene_parse_field.c - one channel of one object: a FIELD is a VALUE, a LAYER object,
  * or an array of them (docs/scenes.md, "Fields and layers").
  *
- * A VALUE is a number (ior; grey for the RGB channels) or, for attenuation, emission
- * and opaque, an array of 3 numbers. An array of numbers only is therefore one RGB
- * VALUE in those channels, and any other array is a list of layers. A LAYER object has
- * exactly one of the keys "shape", "profile", "volume", which decides the keys it may
- * carry.
+ * A VALUE is a number (ior and anisotropy; grey for the RGB channels) or, for
+ * attenuation, emission, opaque and scattering, an array of 3 numbers. An array of numbers
+ * only is therefore one RGB VALUE in those channels, and any other array is a list of
+ * layers. A LAYER object has exactly one of the keys "shape", "profile", "volume", which
+ * decides the keys it may carry.
  *
- * Values are stored as the 4 floats that scene_field_eval writes per voxel: (n, 0, 0,
- * 0) for ior, (r, g, b, 0) for attenuation and emission and (r, g, b, 1) for opaque, so
- * that the layering rule is one blend for every channel.
+ * Values are stored as 4 doubles: (n, 0, 0, 0) for ior, (g, 0, 0, 0) for anisotropy (both
+ * evaluate to 1 float per voxel), (r, g, b, 0) for attenuation, emission and scattering and
+ * (r, g, b, 1) for opaque, so that the layering rule is one blend for every channel.
  *
  * Lathe polygons are checked here (simple, non-degenerate), which is O(points^2); with
  * the default max_profile_points of 1024 that is half a million segment tests, a few

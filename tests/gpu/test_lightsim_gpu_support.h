@@ -19,15 +19,16 @@
 typedef void (*test_field_fn)(vec3 x, const void *ctx, double *n, double ext[4]);
 
 /* A cubic grid of `res` voxels per axis centred at the origin, `voxel` world units each. */
-static void test_fields_make(struct lightsim_fields *f, const int dims[3], double voxel,
-                             double ambient, test_field_fn fn, const void *ctx)
+static inline void test_fields_make(struct lightsim_fields *f, const int dims[3], double voxel,
+                                    double ambient, test_field_fn fn, const void *ctx)
 {
     memset(f, 0, sizeof *f);
     f->grid.dims[0] = dims[0];
     f->grid.dims[1] = dims[1];
     f->grid.dims[2] = dims[2];
     f->grid.voxel = voxel;
-    f->grid.bmin = vec3_make(-0.5 * dims[0] * voxel, -0.5 * dims[1] * voxel, -0.5 * dims[2] * voxel);
+    f->grid.bmin =
+        vec3_make(-0.5 * dims[0] * voxel, -0.5 * dims[1] * voxel, -0.5 * dims[2] * voxel);
     f->ambient_ior = ambient;
     f->boundary_threshold = 0.02;
     f->probe_distance = 3 * voxel + 2 * voxel; /* sigma = 1 voxel of smoothing */
@@ -55,13 +56,14 @@ static void test_fields_make(struct lightsim_fields *f, const int dims[3], doubl
                     size_t vl = ((size_t)lo[2] * dims[1] + lo[1]) * dims[0] + lo[0];
                     size_t vh = ((size_t)hi[2] * dims[1] + hi[1]) * dims[0] + hi[0];
                     f->ior_grad[4 * v + a] =
-                        span > 0 ? (f->ior_grad[4 * vh + 3] - f->ior_grad[4 * vl + 3]) / (span * voxel)
-                                 : 0;
+                        span > 0
+                            ? (f->ior_grad[4 * vh + 3] - f->ior_grad[4 * vl + 3]) / (span * voxel)
+                            : 0;
                 }
             }
 }
 
-static void test_fields_free(struct lightsim_fields *f)
+static inline void test_fields_free(struct lightsim_fields *f)
 {
     free(f->ior_grad);
     free(f->extinction);
@@ -69,7 +71,7 @@ static void test_fields_free(struct lightsim_fields *f)
 }
 
 /* Settings for tests: the scene defaults with the closed forms' needs. */
-static struct scene_lightsim test_lightsim_settings(int initial_patches)
+static inline struct scene_lightsim test_lightsim_settings(int initial_patches)
 {
     struct scene_lightsim s = {.resolution = 32,
                                .step_voxels = 0.5,
@@ -84,7 +86,7 @@ static struct scene_lightsim test_lightsim_settings(int initial_patches)
     return s;
 }
 
-static struct gpu *test_start_gpu(const char *name)
+static inline struct gpu *test_start_gpu(const char *name)
 {
     struct gpu_desc desc = {.context = {.device = GPU_DEVICE_AUTO, .device_index = -1}};
     struct err e = {0};
@@ -102,14 +104,14 @@ struct test_gpu_run {
     const struct lightsim_fields *fields;
     struct scene_light light;
     struct scene_lightsim set;
-    int chunk;                  /* steps per advance */
+    int chunk; /* steps per advance */
     struct irradiance_volume out;
     size_t peak_bytes;
-    double ms;                  /* wall time of the run, glFinish included */
+    double ms; /* wall time of the run, glFinish included */
     int chunks;
 };
 
-static void test_gpu_run_work(struct gpu_work *w, struct gpu *gpu)
+static inline void test_gpu_run_work(struct gpu_work *w, struct gpu *gpu)
 {
     struct test_gpu_run *t = w->user;
     if (lightsim_gpu_init(gpu, &w->err) != REFRACT_E_OK)
@@ -133,7 +135,7 @@ static void test_gpu_run_work(struct gpu_work *w, struct gpu *gpu)
     lightsim_gpu_run_destroy(run);
 }
 
-static enum refract_code test_gpu_simulate(struct gpu *g, struct test_gpu_run *t)
+static inline enum refract_code test_gpu_simulate(struct gpu *g, struct test_gpu_run *t)
 {
     t->work.priority = GPU_PRIORITY_LIGHTSIM;
     t->work.label = "lightsim test run";
@@ -147,14 +149,14 @@ static enum refract_code test_gpu_simulate(struct gpu *g, struct test_gpu_run *t
     return rc;
 }
 
-static struct scene_light test_directional(double x, double y, double z)
+static inline struct scene_light test_directional(double x, double y, double z)
 {
     struct scene_light l = {.kind = SCENE_LIGHT_DIRECTIONAL, .color = {1, 1, 1}, .intensity = 1};
     l.direction = vec3_normalize(vec3_make(x, y, z));
     return l;
 }
 
-static struct scene_light test_point(double x, double y, double z)
+static inline struct scene_light test_point(double x, double y, double z)
 {
     struct scene_light l = {.kind = SCENE_LIGHT_POINT, .color = {1, 1, 1}, .intensity = 1};
     l.position = vec3_make(x, y, z);
@@ -163,7 +165,7 @@ static struct scene_light test_point(double x, double y, double z)
 }
 
 /* flux_in - (out + reflected + absorbed + culled + live), relative to flux_in, channel r. */
-static double test_bookkeeping_residual(const struct lightsim_stats *s, int ch)
+static inline double test_bookkeeping_residual(const struct lightsim_stats *s, int ch)
 {
     double sum = s->flux_out[ch] + s->flux_reflected[ch] + s->flux_absorbed[ch] +
                  s->flux_culled[ch] + s->flux_live[ch];

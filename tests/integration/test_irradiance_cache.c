@@ -6,7 +6,11 @@
  *   - creating the scene starts the recompute at once: queued/computing, then ready;
  *   - a PUT of the same pose (other intensity) is a hit: 200, nothing computed;
  *   - quantisation: a turn well below --light-direction-tolerance keeps the key (200), a
- *     turn well above it makes a new one (202, then ready);
+ *     turn well above it makes a new one (202, then ready); likewise a point light's
+ *     moves against --light-position-tolerance (0.01 here), and a second light's
+ *     changes leave the first one's volume alone;
+ *   - progress is observable during a recompute (0 < progress < 1 with live patches,
+ *     never decreasing);
  *   - colour and intensity are not in the key and scale the render linearly;
  *   - a render issued during a recompute answers promptly, flagged stale, and the status
  *     says "using": "previous"; after the recompute it is flagged ready;
@@ -18,6 +22,7 @@
  *   - a scene that needs no light simulation reports not_needed and renders say so.
  */
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -179,6 +184,30 @@ static void stale_render_during_recompute(struct test_daemon *d, const char *id)
               "during the recompute: %s", text);
     free(text);
     cJSON_Delete(st);
+    /* Progress is observable while it computes: poll as fast as the API answers. */
+    bool seen_progress = false;
+    double last_progress = 0;
+    for (int i = 0; i < 100000; i++) {
+        st = irr_status(d, id);
+        sun = irr_light(st, "sun");
+        double progress = irr_num(sun, "progress");
+        bool ready = strcmp(irr_str(sun, "state"), "ready") == 0;
+        if (!ready && progress > 0 && progress < 1 && irr_num(sun, "patches_live") > 0) {
+            seen_progress = true;
+            CHECK(progress >= last_progress); /* the swept fraction never shrinks */
+            last_progress = progress;
+        }
+        double ms = irr_num(sun, "compute_ms");
+        cJSON_Delete(st);
+        if (ready) {
+            /* On a GPU fast enough to finish between two polls nothing can be seen. */
+            if (ms > 150)
+                CHECK_MSG(seen_progress, "a %.0f ms recompute showed no progress", ms);
+            printf("recompute %.1f ms; progress seen: %s (last %.3f)\n", ms,
+                   seen_progress ? "yes" : "no", last_progress);
+            break;
+        }
+    }
     cJSON_Delete(irr_wait_ready(d, id, 30));
     render_sum(d, id, sum, irr, sizeof irr, NULL);
     CHECK_STR(irr, "ready");
@@ -275,6 +304,31 @@ static void exr_download(struct test_daemon *d, const char *id)
     free(a.body);
 }
 
+/* A point light: positions are rounded to --light-position-tolerance (here 0.01). */
+static void point_light_positions(struct test_daemon *d, const char *id)
+{
+    char path[128], k0[17], k1[17], k2[17];
+    snprintf(path, sizeof path, "/v1/scenes/%s/lights/bulb", id);
+    static const char *const poses[] = {
+        "{\"type\": \"point\", \"position\": [0, 2, 0]}",
+        "{\"type\": \"point\", \"position\": [0.002, 2, -0.001], \"intensity\": 7}",
+        "{\"type\": \"point\", \"position\": [0.05, 2, 0]}"};
+    char *keys[] = {k0, k1, k2};
+    long want[] = {202, 200, 202};
+    for (int i = 0; i < 3; i++) {
+        struct irr_answer a = irr_http(d, "PUT", path, poses[i]);
+        CHECK_INT(a.status, want[i]);
+        cJSON *root = cJSON_Parse(a.body ? a.body : "");
+        snprintf(keys[i], 17, "%s", irr_str(irr_light(root, "bulb"), "key"));
+        CHECK_STR(irr_str(irr_light(root, "sun"), "state"), "ready"); /* the sun is untouched */
+        cJSON_Delete(root);
+        free(a.body);
+        cJSON_Delete(irr_wait_ready(d, id, 30));
+    }
+    CHECK_STR(k1, k0);
+    CHECK(strcmp(k2, k0) != 0);
+}
+
 static void not_needed(struct test_daemon *d)
 {
     static const char scene[] =
@@ -300,7 +354,8 @@ static void not_needed(struct test_daemon *d)
 int main(void)
 {
     struct test_daemon d;
-    const char *args[] = {"--lightsim-chunk-steps", "1", NULL};
+    const char *args[] = {"--lightsim-chunk-steps", "1", "--light-position-tolerance", "0.01",
+                          NULL};
     if (!test_daemon_start(&d, args))
         test_setup_failed("test_irradiance_cache", d.why);
     char *scene = beam_scene(sun_down);
@@ -314,6 +369,7 @@ int main(void)
         stale_render_during_recompute(&d, id);
         supersession(&d, id);
         exr_download(&d, id);
+        point_light_positions(&d, id);
     }
     not_needed(&d);
     CHECK_INT(test_daemon_stop(&d), 0);

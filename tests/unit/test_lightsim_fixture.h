@@ -16,7 +16,7 @@
 #include "scene/scene.h"
 #include "test.h"
 
-static struct scene *fx_scene(const char *json)
+static inline struct scene *fx_scene(const char *json)
 {
     struct scene *s = NULL;
     struct err e = {0};
@@ -28,7 +28,7 @@ static struct scene *fx_scene(const char *json)
 }
 
 /* docs/scenes.md defaults, but coarse: tests run in seconds. */
-static struct scene_lightsim fx_settings(int resolution, int initial_patches)
+static inline struct scene_lightsim fx_settings(int resolution, int initial_patches)
 {
     return (struct scene_lightsim){
         .resolution = resolution,
@@ -44,7 +44,7 @@ static struct scene_lightsim fx_settings(int resolution, int initial_patches)
     };
 }
 
-static struct scene_light fx_directional(vec3 d)
+static inline struct scene_light fx_directional(vec3 d)
 {
     return (struct scene_light){.kind = SCENE_LIGHT_DIRECTIONAL,
                                 .direction = vec3_normalize(d),
@@ -52,13 +52,13 @@ static struct scene_light fx_directional(vec3 d)
                                 .intensity = 1};
 }
 
-static struct scene_light fx_point(vec3 q)
+static inline struct scene_light fx_point(vec3 q)
 {
     return (struct scene_light){
         .kind = SCENE_LIGHT_POINT, .position = q, .color = {1, 1, 1}, .intensity = 1};
 }
 
-static double fx_seconds(void)
+static inline double fx_seconds(void)
 {
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
@@ -66,8 +66,9 @@ static double fx_seconds(void)
 }
 
 /* Builds the fields of s with s->lightsim = *set and runs light l. */
-static void fx_run(struct scene *s, const struct scene_light *l, const struct scene_lightsim *set,
-                   struct lightsim_fields *f, struct irradiance_volume *v)
+static inline void fx_run(struct scene *s, const struct scene_light *l,
+                          const struct scene_lightsim *set, struct lightsim_fields *f,
+                          struct irradiance_volume *v)
 {
     struct err e = {0};
     s->lightsim = *set;
@@ -81,22 +82,22 @@ static void fx_run(struct scene *s, const struct scene_light *l, const struct sc
     }
 }
 
-static size_t fx_index(const struct light_grid *g, int i, int j, int k)
+static inline size_t fx_index(const struct light_grid *g, int i, int j, int k)
 {
     return (size_t)i + (size_t)g->dims[0] * ((size_t)j + (size_t)g->dims[1] * (size_t)k);
 }
 
-static vec3 fx_centre(const struct light_grid *g, int i, int j, int k)
+static inline vec3 fx_centre(const struct light_grid *g, int i, int j, int k)
 {
     return vec3_add(g->bmin, vec3_scale((vec3){i + 0.5, j + 0.5, k + 0.5}, g->voxel));
 }
 
-static const float *fx_E(const struct irradiance_volume *v, int i, int j, int k)
+static inline const float *fx_E(const struct irradiance_volume *v, int i, int j, int k)
 {
     return v->irradiance + 4 * fx_index(&v->grid, i, j, k);
 }
 
-static void fx_print_stats(const char *what, const struct lightsim_stats *s)
+static inline void fx_print_stats(const char *what, const struct lightsim_stats *s)
 {
     printf("%s: in %.6g out %.6g refl %.6g abs %.6g culled %.6g live %.6g | steps %lld "
            "patch_steps %lld splits %lld initial %d peak %d | culled e%lld l%lld f%lld c%lld\n",

@@ -526,11 +526,23 @@ static const char *fuzz_seed =
     "   {\"profile\": \"linear\", \"gradient\": [0.1, 0, 0]}, {\"volume\": \"v\"}],"
     "  \"attenuation\": {\"shape\": \"text\", \"text\": \"AB\", \"height\": 1, \"depth\": 1,"
     "   \"inside\": [1, 2, 3]}, \"opaque\": {\"shape\": \"sphere\", \"radius\": 1, \"inside\": "
-    "1}}]}";
+    "1},"
+    "  \"scattering\": [0.3, {\"shape\": \"bumpy_sphere\", \"radius\": 0.5, \"bump_amplitude\": "
+    "0.1, \"bump_frequency\": 4, \"inside\": [1, 2, 3]}], \"anisotropy\": 0.3,"
+    "  \"brdf\": {\"type\": \"phong\", \"color\": [1, 1, 1], \"roughness\": 0.2, \"exponent\": "
+    "50}}],"
+    " \"lights\": [{\"name\": \"sun\", \"type\": \"directional\", \"direction\": [0, -1, 0]},"
+    "  {\"type\": \"point\", \"position\": [0, 2, 0], \"color\": 2, \"intensity\": 3},"
+    "  {\"type\": \"spot\", \"position\": [0, 2, 0], \"direction\": [0, -1, 0], \"angle_deg\": "
+    "20}],"
+    " \"receiver\": {\"height\": -1, \"half_size\": 2, \"albedo\": [0.5, 0.5, 0.5]},"
+    " \"lightsim\": {\"resolution\": 16, \"deposit\": \"max\", \"cull_flipped\": true}}";
 
 static void survives_every_truncation_of_a_valid_document(void)
 {
     size_t n = strlen(fuzz_seed);
+    struct scene *seed = parse_ok(fuzz_seed); /* the seed itself is valid */
+    scene_destroy(seed);
     parse_anything(fuzz_seed, n);
     for (size_t len = 0; len < n; len++) {
         /* A private copy of exactly len bytes, so reading past it is caught by ASan. */

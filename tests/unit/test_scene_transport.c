@@ -164,6 +164,29 @@ static const struct hash_case other_transport[] = {
      "{\"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", "
      "{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 8, "
      "\"scattering\": {\"volume\": \"smoke\"}, \"transform\": {\"translate\": [2, 0, 0]}}]}"},
+    {"a volume layer's scale",
+     "{\"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", "
+     "{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 8, "
+     "\"scattering\": {\"volume\": \"smoke\", \"scale\": 2}, \"transform\": {\"translate\": [2, 0, 0]}}]}"},
+    {"a volume layer's offset",
+     "{\"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", "
+     "{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 8, "
+     "\"scattering\": {\"volume\": \"smoke\", \"offset\": 0.1}, \"transform\": {\"translate\": [2, 0, 0]}}]}"},
+    {"a GRIN profile",
+     "{\"receiver\": {\"height\": -1}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+     "\"resolution\": 16, \"ior\": {\"profile\": \"luneburg\", \"radius\": 0.5}}, " SMOKE "]}"},
+    {"a GRIN profile's radius",
+     "{\"receiver\": {\"height\": -1}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+     "\"resolution\": 16, \"ior\": {\"profile\": \"luneburg\", \"radius\": 0.6}}, " SMOKE "]}"},
+    {"a lathe",
+     "{\"receiver\": {\"height\": -1}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+     "\"resolution\": 16, \"ior\": {\"shape\": \"lathe\", \"profile\": [[0, 0], [0.5, 0], [0.5, 0.5], [0, 0.5]], \"inside\": 1.5}}, " SMOKE "]}"},
+    {"a lathe's point",
+     "{\"receiver\": {\"height\": -1}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+     "\"resolution\": 16, \"ior\": {\"shape\": \"lathe\", \"profile\": [[0, 0], [0.5, 0], [0.5, 0.6], [0, 0.5]], \"inside\": 1.5}}, " SMOKE "]}"},
+    {"a text shape's string",
+     "{\"receiver\": {\"height\": -1}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+     "\"resolution\": 16, \"ior\": {\"shape\": \"text\", \"text\": \"AB\", \"height\": 0.3, \"depth\": 0.2, \"inside\": 1.5}}, " SMOKE "]}"},
     {"bumpy_sphere frequency",
      "{\"receiver\": {\"height\": -1}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
      "\"resolution\": 16, \"ior\": {\"shape\": \"bumpy_sphere\", \"radius\": 0.5, \"bump_frequency\": 5, \"inside\": 1.5}}, " SMOKE "]}"},

@@ -15,7 +15,7 @@
 #include "lightsim_gpu_programs.h"
 #include "lightsim_gpu_wavefront.h"
 
-_Static_assert(sizeof(ls_patch) == 176, "ls_patch must match std430");
+_Static_assert(sizeof(ls_gpu_patch) == 176, "ls_gpu_patch must match std430");
 _Static_assert(sizeof(ls_control) == 80, "ls_control must match std430");
 _Static_assert(sizeof(lightsim_params) == 96, "lightsim_params must match std140");
 
@@ -27,7 +27,7 @@ struct lightsim_gpu_run {
     struct gpu_volume ior_grad, extinction;
     struct irradiance_gpu out; /* made when the run ends */
     bool have_out;
-    int current;               /* LIST_A or LIST_B: the live list */
+    int current; /* LIST_A or LIST_B: the live list */
     struct light_grid grid;
     long long max_steps, steps_issued;
     double dt, t_sweep;
@@ -69,8 +69,8 @@ static enum refract_code upload_fields(struct lightsim_gpu_run *r, const struct 
     return rc;
 }
 
-static lightsim_params make_params(const struct lightsim_fields *f, const struct scene_lightsim *set,
-                                   double dt, double energy_cut)
+static lightsim_params make_params(const struct lightsim_fields *f,
+                                   const struct scene_lightsim *set, double dt, double energy_cut)
 {
     const struct light_grid *g = &f->grid;
     lightsim_params p;
@@ -86,6 +86,17 @@ static lightsim_params make_params(const struct lightsim_fields *f, const struct
     p.cull = (vec4){(float)energy_cut, set->cull_flipped ? 1.0f : 0.0f, 0, 0};
     p.limits = (ivec4){set->max_level, set->max_patches, 0, 0};
     return p;
+}
+
+static enum refract_code finish(struct lightsim_gpu_run *r, const struct lightsim_gpu_programs *p,
+                                struct err *e);
+
+static int longest_axis(const struct light_grid *g)
+{
+    int m = g->dims[0];
+    for (int a = 1; a < 3; a++)
+        m = g->dims[a] > m ? g->dims[a] : m;
+    return m;
 }
 
 static void bind_all(const struct lightsim_gpu_run *r)
@@ -107,8 +118,7 @@ static void bind_all(const struct lightsim_gpu_run *r)
 }
 
 enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fields *f,
-                                     const struct scene_light *l,
-                                     const struct scene_lightsim *set,
+                                     const struct scene_light *l, const struct scene_lightsim *set,
                                      struct lightsim_gpu_run **out, struct err *e)
 {
     *out = NULL;
@@ -130,8 +140,7 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
         free(r);
         return rc;
     }
-    vec3 centre;
-    double rho = lightsim_grid_rho(&f->grid, &centre);
+    double rho = lightsim_grid_rho(&f->grid);
     double n_max = lightsim_fields_n_max(f);
     r->dt = set->step_voxels * f->grid.voxel;
     r->max_steps = (long long)ceil(4 * n_max * rho * 2 / r->dt) + 16;
@@ -151,8 +160,8 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
         size_t bytes;
         const void *data;
     } bufs[BUFFER_COUNT] = {
-        [LIST_A] = {"lightsim patches A", cap * sizeof(ls_patch), NULL},
-        [LIST_B] = {"lightsim patches B", cap * sizeof(ls_patch), NULL},
+        [LIST_A] = {"lightsim patches A", cap * sizeof(ls_gpu_patch), NULL},
+        [LIST_B] = {"lightsim patches B", cap * sizeof(ls_gpu_patch), NULL},
         [COUNTS] = {"lightsim counts", cap * sizeof(uint32_t), NULL},
         [OFFSETS] = {"lightsim offsets", cap * sizeof(uint32_t), NULL},
         [BLOCK_SUMS] = {"lightsim block sums", blocks * sizeof(uint32_t), NULL},
@@ -161,6 +170,16 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
         [TOTALS] = {"lightsim totals", LS_TOT_COUNT * sizeof(double), NULL},
         [DEPOSIT] = {"lightsim deposit", voxels * LS_DEPOSIT_STRIDE * sizeof(float), NULL},
     };
+    GLint64 max_block = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
+    for (int i = 0; i < BUFFER_COUNT; i++)
+        if (max_block > 0 && bufs[i].bytes > (size_t)max_block)
+            rc = err_set(e, REFRACT_E_LIMIT_EXCEEDED,
+                         "lightsim: the %s buffer would need %zu bytes, more than this GPU's "
+                         "largest storage block (%lld bytes); lower lightsim.resolution (now %d "
+                         "voxels on the longest axis) or lightsim.max_patches (now %d)",
+                         bufs[i].label, bufs[i].bytes, (long long)max_block, longest_axis(&f->grid),
+                         set->max_patches);
     for (int i = 0; i < BUFFER_COUNT && rc == REFRACT_E_OK; i++)
         rc = gpu_buffer_create(bufs[i].label, bufs[i].bytes, bufs[i].data, &r->buf[i], e);
     if (rc == REFRACT_E_OK)
@@ -174,8 +193,8 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
                 glClearNamedBufferData(r->buf[i].buf, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT,
                                        &zero);
         if (w.count > 0)
-            glNamedBufferSubData(r->buf[LIST_A].buf, 0, (GLsizeiptr)(w.count * sizeof(ls_patch)),
-                                 w.patches);
+            glNamedBufferSubData(r->buf[LIST_A].buf, 0,
+                                 (GLsizeiptr)(w.count * sizeof(ls_gpu_patch)), w.patches);
         rc = gpu_check("starting a light simulation", e);
     }
     if (rc == REFRACT_E_OK) {
@@ -195,11 +214,13 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
         s->progress = s->done ? 1 : 0;
     }
     lightsim_wavefront_free(&w);
+    r->peak_bytes = lightsim_gpu_run_bytes(r);
+    if (rc == REFRACT_E_OK && r->stats.done) /* nothing aimed at the domain: dark volumes */
+        rc = finish(r, lightsim_gpu_programs(), e);
     if (rc != REFRACT_E_OK) {
         lightsim_gpu_run_destroy(r);
         return rc;
     }
-    r->peak_bytes = lightsim_gpu_run_bytes(r);
     *out = r;
     return REFRACT_E_OK;
 }

@@ -40,23 +40,27 @@ void lightsim_gpu_shutdown(void);
 struct lightsim_gpu_run;
 
 /* Starts a run: uploads the fields (borrowed for the call only) and the initial
- * wavefront (built on the host in double precision, lightsim_gpu_wavefront.h).
- * INVALID_FIELD for max_patches outside 1..LS_MAX_PATCHES, GPU_OUT_OF_MEMORY,
- * OUT_OF_MEMORY. */
+ * wavefront (built on the host in double precision, lightsim_gpu_wavefront.h). A light
+ * that sends nothing into the domain gives a run that is done at once, with dark volumes.
+ * INVALID_FIELD for max_patches outside 1..LS_MAX_PATCHES, LIMIT_EXCEEDED when a buffer
+ * would exceed the GPU's largest storage block (lower the resolution), GPU_OUT_OF_MEMORY,
+ * OUT_OF_MEMORY. Compiles the programs if lightsim_gpu_init has not. */
 enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fields *f,
-                                     const struct scene_light *l,
-                                     const struct scene_lightsim *set,
+                                     const struct scene_light *l, const struct scene_lightsim *set,
                                      struct lightsim_gpu_run **out, struct err *e);
-/* Advances at most max_steps time steps; *done is set when the run has ended. Reads back
- * only the live count and the flux counters at the end of the chunk. */
+/* Advances at most max_steps time steps (<= 0: until the end); *done is set when the run
+ * has ended, and then the result volumes exist. Reads back only the live count and the
+ * flux counters at the end of the chunk. */
 enum refract_code lightsim_gpu_advance(struct lightsim_gpu_run *run, int max_steps, bool *done,
                                        struct err *e);
 /* Statistics as of the last advance (docs/lightsim.md "Energy bookkeeping"). */
 void lightsim_gpu_stats(const struct lightsim_gpu_run *run, struct lightsim_stats *out);
-/* Reads the result volumes back to the host (new buffers: irradiance_volume_free). */
+/* Reads the result volumes back to the host (new buffers: irradiance_volume_free).
+ * CONFLICT before the run is done or after lightsim_gpu_take_textures. */
 enum refract_code lightsim_gpu_read(struct lightsim_gpu_run *run, struct irradiance_volume *out,
                                     struct err *e);
-/* Moves the result textures out of the run (they become the caller's). */
+/* Moves the result textures out of the run (they become the caller's: irradiance_gpu_free).
+ * CONFLICT before the run is done or when already taken. */
 enum refract_code lightsim_gpu_take_textures(struct lightsim_gpu_run *run,
                                              struct irradiance_gpu *out, struct err *e);
 /* Bytes of GPU memory the run holds now (patch lists, fields, outputs). */

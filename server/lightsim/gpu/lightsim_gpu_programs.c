@@ -31,7 +31,8 @@ enum refract_code lightsim_gpu_init(struct gpu *gpu, struct err *e)
     } table[] = {
         {&programs.step, "lightsim step", "lightsim_step.comp", NULL},
         {&programs.emit, "lightsim emit", "lightsim_emit.comp", NULL},
-        {&programs.scan[0], "lightsim scan blocks", "lightsim_scan.comp", "#define LS_SCAN_STAGE 0"},
+        {&programs.scan[0], "lightsim scan blocks", "lightsim_scan.comp",
+         "#define LS_SCAN_STAGE 0"},
         {&programs.scan[1], "lightsim scan sums", "lightsim_scan.comp", "#define LS_SCAN_STAGE 1"},
         {&programs.scan[2], "lightsim scan add", "lightsim_scan.comp", "#define LS_SCAN_STAGE 2"},
         {&programs.args, "lightsim args", "lightsim_args.comp", NULL},
