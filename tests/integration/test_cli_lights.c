@@ -10,7 +10,10 @@
  *   - a render right after `light set --no-wait` says which irradiance it used, with a
  *     note when it was stale or missing;
  *   - the exit codes of refractd's refusals (2, 6), of a scene that needs no light
- *     simulation (0), and of a wait that runs out of time (14).
+ *     simulation (0), and of a wait that runs out of time (14);
+ *   - the librefract calls underneath, called directly where the CLI does not reach:
+ *     refract_lights_put (no command replaces all lights), refract_irradiance_wait's
+ *     callback and interval, refract_irradiance_get_exr's image, argument errors.
  */
 #include <fcntl.h>
 #include <stdio.h>
@@ -325,6 +328,79 @@ static void a_wait_gives_up_after_the_timeout(struct test_daemon *d)
     cli_run_free(&r);
 }
 
+struct wait_count {
+    int calls;
+    bool last_settled;
+};
+
+static void count_progress(const struct refract_irradiance *status, void *user)
+{
+    struct wait_count *w = user;
+    w->calls++;
+    w->last_settled = refract_irradiance_settled(status);
+}
+
+static void librefract_calls(struct test_daemon *d, const char *id)
+{
+    refract_client *c = d->client;
+    struct refract_irradiance status;
+
+    /* Replace all lights by one new pose: a miss (202) that the wait sees through. */
+    CHECK_INT(refract_lights_put(c, id,
+                                 "{\"lights\": [{\"name\": \"sun\", \"type\": \"directional\","
+                                 " \"direction\": [-0.3, -1, 0]}]}",
+                                 &status),
+              REFRACT_E_OK);
+    CHECK_INT(status.http_status, 202);
+    CHECK_INT(status.light_count, 1);
+    CHECK(status.json != NULL && strstr(status.json, "\"transport_hash\"") != NULL);
+    refract_irradiance_free(&status);
+
+    struct wait_count w = {0};
+    struct refract_wait_options opts = {
+        .timeout_ms = 120000, .interval_ms = 1, .progress = count_progress, .user = &w};
+    CHECK_INT(refract_irradiance_wait(c, id, &opts, &status), REFRACT_E_OK);
+    CHECK(refract_irradiance_settled(&status));
+    CHECK_STR(status.light_count == 1 ? status.lights[0].state : "", "ready");
+    CHECK(w.calls >= 1 && w.last_settled);
+    refract_irradiance_free(&status);
+
+    /* The same pose again: a hit, 200, every light ready at once. */
+    CHECK_INT(refract_lights_put(c, id,
+                                 "{\"lights\": [{\"name\": \"sun\", \"type\": \"directional\","
+                                 " \"direction\": [-0.3, -1, 0], \"intensity\": 2}]}",
+                                 &status),
+              REFRACT_E_OK);
+    CHECK_INT(status.http_status, 200);
+    CHECK(refract_irradiance_settled(&status));
+    refract_irradiance_free(&status);
+
+    struct refract_image img;
+    CHECK_INT(refract_irradiance_get_exr(c, id, "sun", &img), REFRACT_E_OK);
+    CHECK_STR(img.content_type, "image/x-exr");
+    CHECK_STR(img.irradiance, "ready");
+    CHECK(img.len > 4 && memcmp(img.bytes, "\x76\x2f\x31\x01", 4) == 0);
+    refract_image_free(&img);
+
+    /* refractd's refusal arrives as its code and message. */
+    CHECK_INT(refract_light_put(c, id, "sun", "{\"type\": \"laser\"}", &status),
+              REFRACT_E_INVALID_FIELD);
+    CHECK(strstr(refract_errmsg(c), "type") != NULL);
+    CHECK(status.json == NULL && status.lights == NULL);
+
+    /* Wrong arguments are the caller's mistake, found before anything is sent. */
+    CHECK_INT(refract_light_put(c, id, "", "{}", NULL), REFRACT_E_USAGE);
+    CHECK(strstr(refract_errmsg(c), "light name is empty") != NULL);
+    CHECK_INT(refract_lights_put(c, id, NULL, NULL), REFRACT_E_USAGE);
+    CHECK_INT(refract_irradiance_status(c, id, NULL), REFRACT_E_USAGE);
+    CHECK_INT(refract_irradiance_get_exr(c, NULL, "sun", &img), REFRACT_E_USAGE);
+    CHECK_INT(
+        refract_irradiance_wait(c, id, &(struct refract_wait_options){.timeout_ms = -1}, NULL),
+        REFRACT_E_USAGE);
+    CHECK_INT(refract_irradiance_parse(c, "{\"lights\": 3}", &status), REFRACT_E_PROTOCOL);
+    CHECK(strstr(refract_errmsg(c), "lights: expected an array") != NULL);
+}
+
 int main(void)
 {
     if (getenv("REFRACT_CLI") == NULL || access(getenv("REFRACT_CLI"), X_OK) != 0)
@@ -342,6 +418,7 @@ int main(void)
     irradiance_status_and_get(&d, id);
     render_after_no_wait_says_what_it_used(&d, id);
     refusals_and_unneeded_simulation(&d, id);
+    librefract_calls(&d, id);
     a_wait_gives_up_after_the_timeout(&d);
 
     CHECK_INT(test_daemon_stop(&d), 0);
