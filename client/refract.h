@@ -70,6 +70,7 @@ struct refract_response {
     char content_type[128]; /* Content-Type header, "" if absent */
     double render_ms;       /* X-Render-Time-Ms header, -1 if absent */
     char renderer[256];     /* X-Renderer header, "" if absent */
+    char irradiance[32];    /* X-Refract-Irradiance header, "" if absent */
 };
 void refract_response_free(struct refract_response *r);
 
@@ -118,6 +119,10 @@ struct refract_image {
     char content_type[64]; /* image/png, image/jpeg or image/x-exr */
     double render_ms;      /* GPU time reported by refractd (X-Render-Time-Ms) */
     char renderer[256];    /* GL_RENDERER reported by refractd (X-Renderer) */
+    /* X-Refract-Irradiance: "ready", "stale" (some light used the volume of its previous
+     * pose: a recompute is under way), "missing" (some light had no volume yet and was
+     * left out), "not-needed" (the scene has no light-dependent terms); "" if absent. */
+    char irradiance[32];
 };
 void refract_image_free(struct refract_image *img);
 
@@ -130,6 +135,111 @@ int refract_render(refract_client *c, const char *scene_id, const char *request_
 /* POST /v1/scenes/{id}/trace with a trace request JSON -> *json_out. */
 int refract_trace(refract_client *c, const char *scene_id, const char *request_json,
                   char **json_out);
+
+/*
+ * Lights and their irradiance volumes (docs/lightsim.md, docs/api.md).
+ *
+ * A light is a JSON object {"name", "type": "directional"|"point"|"spot", "direction",
+ * "position", "angle_deg", "color", "intensity"}. Changing lights makes refractd look up
+ * each light's irradiance volume in its cache by scene transport and light pose; a miss
+ * starts a recompute on the GPU in the background. The status of every light's volume
+ * is read into a struct refract_irradiance.
+ */
+
+/* Room for a light name and its NUL. */
+#define REFRACT_NAME_SIZE 64
+
+/* One light's irradiance volume, as GET /v1/scenes/{id}/irradiance describes it. Numbers
+ * that the reply does not carry are -1; strings it does not carry are "". */
+struct refract_light_status {
+    char name[REFRACT_NAME_SIZE];
+    /* "ready", "queued", "computing", "stale" (the current pose has no volume yet; renders
+     * use the previous one), "failed" or "not_needed", as refractd sent it */
+    char state[16];
+    double progress;        /* 0..1: the fraction of the volume the wavefront swept */
+    long long patches_live; /* wavefront patches alive in the simulation */
+    char key[24];           /* the cache key, 16 hex digits */
+    long long gpu_bytes;    /* GPU memory the volume takes */
+    long long host_bytes;   /* host memory the volume takes */
+    double compute_ms;      /* how long the simulation took (or has taken so far) */
+    char using_volume[16];  /* JSON "using": which volume renders use now: "current",
+                               "previous" or "none" */
+    char message[512];      /* "failed": why */
+    int code;               /* "failed": the REFRACT_E_* code of a "code" member when the
+                               reply has one and the table knows it, else 0 */
+};
+
+/* The irradiance status of a scene. */
+struct refract_irradiance {
+    char *json;       /* the reply as refractd sent it; owned */
+    long http_status; /* 200 or 202 for a light change; 200 for a status read */
+    char scene[REFRACT_ID_SIZE];
+    int needed;              /* 0 when the scene needs no light simulation at all */
+    char transport_hash[24]; /* 16 hex digits */
+    size_t light_count;
+    struct refract_light_status *lights; /* owned; light_count of them */
+};
+/* Releases what out owns and zeroes it; NULL is a no-op. */
+void refract_irradiance_free(struct refract_irradiance *status);
+
+/* Reads an irradiance status JSON document (the reply of the calls below) into out
+ * (overwritten; release it with refract_irradiance_free()). Returns REFRACT_E_PROTOCOL,
+ * with a message naming the member, when json is not such a document. */
+int refract_irradiance_parse(refract_client *c, const char *json, struct refract_irradiance *out);
+
+/* 1 when no light's volume is still to come: every light is "ready", "failed" or
+ * "not_needed" (a scene without lights is settled); else 0. */
+int refract_irradiance_settled(const struct refract_irradiance *status);
+
+/* PUT /v1/scenes/{id}/lights/{name} with one light object (light_json): adds the light
+ * or replaces the one of that name. status_out (optional, may be NULL) receives the
+ * irradiance status of the reply: http_status 200 when every light's volume was ready
+ * (cache hits), 202 when a recompute started. */
+int refract_light_put(refract_client *c, const char *scene_id, const char *name,
+                      const char *light_json, struct refract_irradiance *status_out);
+
+/* PUT /v1/scenes/{id}/lights with {"lights": [...]}: replaces all lights of the scene.
+ * status_out as for refract_light_put(). */
+int refract_lights_put(refract_client *c, const char *scene_id, const char *lights_json,
+                       struct refract_irradiance *status_out);
+
+/* GET /v1/scenes/{id}/lights -> *json_out, a new string {"scene", "lights": [...]} with
+ * every light's defaults written out. */
+int refract_lights_get(refract_client *c, const char *scene_id, char **json_out);
+
+/* GET /v1/scenes/{id}/irradiance -> *out (overwritten; release it with
+ * refract_irradiance_free()). */
+int refract_irradiance_status(refract_client *c, const char *scene_id,
+                              struct refract_irradiance *out);
+
+/* GET /v1/scenes/{id}/irradiance/{light}.exr: the light's irradiance volume as an
+ * OpenEXR file (layout in docs/api.md) in out (overwritten; on success release it with
+ * refract_image_free()): content_type "image/x-exr", and irradiance "stale" when the
+ * light's current pose has no volume yet and this is the previous pose's. A reply that
+ * is not an OpenEXR file gives REFRACT_E_PROTOCOL. */
+int refract_irradiance_get_exr(refract_client *c, const char *scene_id, const char *light,
+                               struct refract_image *out);
+
+/* Called by refract_irradiance_wait() with every status it reads, the first included. */
+typedef void (*refract_progress_fn)(const struct refract_irradiance *status, void *user);
+
+struct refract_wait_options {
+    long timeout_ms;  /* give up after this long with REFRACT_E_TIMEOUT; 0 = never */
+    long interval_ms; /* between two reads of the status; clamped to 100..250; 0 = 200 */
+    refract_progress_fn progress; /* optional */
+    void *user;                   /* passed to progress */
+};
+
+/* Polls GET /v1/scenes/{id}/irradiance until the status is settled (see
+ * refract_irradiance_settled()) and returns REFRACT_E_OK; the final status goes to
+ * final_out (optional, may be NULL; release it with refract_irradiance_free()). A light
+ * that "failed" ends the wait too: the caller reads its state and message. After
+ * timeout_ms without settling, returns REFRACT_E_TIMEOUT with a message naming the
+ * lights still to come (final_out then holds the last status read). opts NULL means
+ * the defaults: no timeout, 200 ms, no callback. */
+int refract_irradiance_wait(refract_client *c, const char *scene_id,
+                            const struct refract_wait_options *opts,
+                            struct refract_irradiance *final_out);
 
 #ifdef __cplusplus
 }

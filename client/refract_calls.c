@@ -7,6 +7,8 @@
  * code, and hands the reply body to the caller without copying it. A JSON reply is
  * parsed once to make sure it is JSON, so a caller never receives an HTML error page
  * from a proxy as if refractd had sent it. This file never touches libcurl directly.
+ * The helpers every call uses (refract_begin, refract_call_json, ...) are declared in
+ * refract_internal.h, because refract_lights.c builds its calls the same way.
  */
 #include <cjson/cJSON.h>
 #include <stdarg.h>
@@ -18,10 +20,7 @@
 #include "refract_internal.h"
 #include "refract_url.h"
 
-/* Returns a new string made from fmt, or NULL when out of memory; free() it. */
-static char *path_printf(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-
-static char *path_printf(const char *fmt, ...)
+char *refract_path_printf(const char *fmt, ...)
 {
     va_list ap;
     int n;
@@ -41,13 +40,12 @@ static char *path_printf(const char *fmt, ...)
     return out;
 }
 
-static int out_of_memory(refract_client *c, const char *what)
+int refract_out_of_memory(refract_client *c, const char *what)
 {
     return refract_fail(c, REFRACT_E_OUT_OF_MEMORY, "out of memory while %s", what);
 }
 
-/* Checks a scene id or volume name argument: present and not empty. */
-static int check_segment(refract_client *c, const char *call, const char *what, const char *value)
+int refract_check_segment(refract_client *c, const char *call, const char *what, const char *value)
 {
     if (value == NULL || value[0] == '\0')
         return refract_fail(c, REFRACT_E_USAGE, "%s: the %s is %s", call, what,
@@ -55,27 +53,24 @@ static int check_segment(refract_client *c, const char *call, const char *what, 
     return REFRACT_E_OK;
 }
 
-/* Returns a new path "/v1/scenes/<escaped id><suffix>", or NULL when out of memory. */
-static char *scene_path(const char *scene_id, const char *suffix)
+char *refract_scene_path(const char *scene_id, const char *suffix)
 {
     char *id = refract_url_escape_dup(scene_id);
-    char *path = id != NULL ? path_printf("/v1/scenes/%s%s", id, suffix) : NULL;
+    char *path = id != NULL ? refract_path_printf("/v1/scenes/%s%s", id, suffix) : NULL;
 
     free(id);
     return path;
 }
 
-/*
- * The common tail of every JSON call: exchange, check the status, check that a non-empty
- * reply is JSON, and hand the body to *json_out (when json_out is not NULL) or free it.
- * Borrows body until return.
- */
-static int call_json(refract_client *c, const char *method, const char *path, const void *body,
-                     size_t body_len, const char *content_type, char **json_out)
+int refract_call_json_status(refract_client *c, const char *method, const char *path,
+                             const void *body, size_t body_len, const char *content_type,
+                             char **json_out, long *http_status)
 {
     struct refract_response r;
     int code = refract_http_exchange(c, method, path, body, body_len, content_type, &r);
 
+    if (http_status != NULL)
+        *http_status = code == REFRACT_E_OK ? r.status : 0;
     if (code != REFRACT_E_OK)
         return code;
     code = refract_http_check(c, method, path, &r);
@@ -97,8 +92,13 @@ static int call_json(refract_client *c, const char *method, const char *path, co
     return code;
 }
 
-/* Starts a typed call: c must exist; its message is cleared; *json_out is NULLed. */
-static int begin(refract_client *c, char **json_out)
+int refract_call_json(refract_client *c, const char *method, const char *path, const void *body,
+                      size_t body_len, const char *content_type, char **json_out)
+{
+    return refract_call_json_status(c, method, path, body, body_len, content_type, json_out, NULL);
+}
+
+int refract_begin(refract_client *c, char **json_out)
 {
     if (json_out != NULL)
         *json_out = NULL;
@@ -110,20 +110,20 @@ static int begin(refract_client *c, char **json_out)
 
 int refract_health(refract_client *c, char **json_out)
 {
-    if (begin(c, json_out) != REFRACT_E_OK)
+    if (refract_begin(c, json_out) != REFRACT_E_OK)
         return REFRACT_E_USAGE;
     if (json_out == NULL)
         return refract_fail(c, REFRACT_E_USAGE, "refract_health: json_out is NULL");
-    return call_json(c, "GET", "/v1/health", NULL, 0, NULL, json_out);
+    return refract_call_json(c, "GET", "/v1/health", NULL, 0, NULL, json_out);
 }
 
 int refract_scene_list(refract_client *c, char **json_out)
 {
-    if (begin(c, json_out) != REFRACT_E_OK)
+    if (refract_begin(c, json_out) != REFRACT_E_OK)
         return REFRACT_E_USAGE;
     if (json_out == NULL)
         return refract_fail(c, REFRACT_E_USAGE, "refract_scene_list: json_out is NULL");
-    return call_json(c, "GET", "/v1/scenes", NULL, 0, NULL, json_out);
+    return refract_call_json(c, "GET", "/v1/scenes", NULL, 0, NULL, json_out);
 }
 
 /* Copies the "id" of a POST /v1/scenes reply into id_out. */
@@ -157,14 +157,14 @@ int refract_scene_create(refract_client *c, const char *scene_json, size_t len, 
     char *reply = NULL;
     int code;
 
-    if (begin(c, NULL) != REFRACT_E_OK)
+    if (refract_begin(c, NULL) != REFRACT_E_OK)
         return REFRACT_E_USAGE;
     if (scene_json == NULL || id_out == NULL || id_size == 0)
         return refract_fail(c, REFRACT_E_USAGE,
                             "refract_scene_create: scene_json and id_out "
                             "must not be NULL and id_size must not be 0");
     id_out[0] = '\0';
-    code = call_json(c, "POST", "/v1/scenes", scene_json, len, "application/json", &reply);
+    code = refract_call_json(c, "POST", "/v1/scenes", scene_json, len, "application/json", &reply);
     if (code == REFRACT_E_OK)
         code = copy_new_id(c, reply != NULL ? reply : "", id_out, id_size);
     free(reply);
@@ -176,17 +176,17 @@ int refract_scene_get(refract_client *c, const char *scene_id, char **json_out)
     char *path;
     int code;
 
-    if (begin(c, json_out) != REFRACT_E_OK)
+    if (refract_begin(c, json_out) != REFRACT_E_OK)
         return REFRACT_E_USAGE;
     if (json_out == NULL)
         return refract_fail(c, REFRACT_E_USAGE, "refract_scene_get: json_out is NULL");
-    code = check_segment(c, "refract_scene_get", "scene id", scene_id);
+    code = refract_check_segment(c, "refract_scene_get", "scene id", scene_id);
     if (code != REFRACT_E_OK)
         return code;
-    path = scene_path(scene_id, "");
+    path = refract_scene_path(scene_id, "");
     if (path == NULL)
-        return out_of_memory(c, "building the request path");
-    code = call_json(c, "GET", path, NULL, 0, NULL, json_out);
+        return refract_out_of_memory(c, "building the request path");
+    code = refract_call_json(c, "GET", path, NULL, 0, NULL, json_out);
     free(path);
     return code;
 }
@@ -196,15 +196,15 @@ int refract_scene_delete(refract_client *c, const char *scene_id)
     char *path;
     int code;
 
-    if (begin(c, NULL) != REFRACT_E_OK)
+    if (refract_begin(c, NULL) != REFRACT_E_OK)
         return REFRACT_E_USAGE;
-    code = check_segment(c, "refract_scene_delete", "scene id", scene_id);
+    code = refract_check_segment(c, "refract_scene_delete", "scene id", scene_id);
     if (code != REFRACT_E_OK)
         return code;
-    path = scene_path(scene_id, "");
+    path = refract_scene_path(scene_id, "");
     if (path == NULL)
-        return out_of_memory(c, "building the request path");
-    code = call_json(c, "DELETE", path, NULL, 0, NULL, NULL);
+        return refract_out_of_memory(c, "building the request path");
+    code = refract_call_json(c, "DELETE", path, NULL, 0, NULL, NULL);
     free(path);
     return code;
 }
@@ -284,11 +284,11 @@ int refract_volume_upload(refract_client *c, const char *scene_id, const char *n
     size_t count = 0;
     int code;
 
-    if (begin(c, json_out) != REFRACT_E_OK)
+    if (refract_begin(c, json_out) != REFRACT_E_OK)
         return REFRACT_E_USAGE;
-    code = check_segment(c, call, "scene id", scene_id);
+    code = refract_check_segment(c, call, "scene id", scene_id);
     if (code == REFRACT_E_OK)
-        code = check_segment(c, call, "volume name", name);
+        code = refract_check_segment(c, call, "volume name", name);
     if (code == REFRACT_E_OK)
         code = volume_count(c, dims, components, &count);
     if (code == REFRACT_E_OK && data == NULL)
@@ -299,16 +299,16 @@ int refract_volume_upload(refract_client *c, const char *scene_id, const char *n
     esc_id = refract_url_escape_dup(scene_id);
     esc_name = refract_url_escape_dup(name);
     if (esc_id != NULL && esc_name != NULL)
-        path = path_printf("/v1/scenes/%s/volumes/%s?dims=%d,%d,%d&components=%d", esc_id, esc_name,
-                           dims[0], dims[1], dims[2], components);
+        path = refract_path_printf("/v1/scenes/%s/volumes/%s?dims=%d,%d,%d&components=%d", esc_id,
+                                   esc_name, dims[0], dims[1], dims[2], components);
     /* The wire format is little-endian float32; only a big-endian host needs a copy. */
     if (!host_is_little_endian())
         swapped = floats_to_le(data, count);
     if (path == NULL || (!host_is_little_endian() && swapped == NULL))
-        code = out_of_memory(c, "preparing the volume upload");
+        code = refract_out_of_memory(c, "preparing the volume upload");
     else
-        code = call_json(c, "PUT", path, swapped != NULL ? swapped : (const void *)data, count * 4,
-                         "application/octet-stream", json_out);
+        code = refract_call_json(c, "PUT", path, swapped != NULL ? swapped : (const void *)data,
+                                 count * 4, "application/octet-stream", json_out);
     free(swapped);
     free(path);
     free(esc_name);
@@ -322,9 +322,9 @@ int refract_environment_upload(refract_client *c, const char *scene_id, const vo
     char *path;
     int code;
 
-    if (begin(c, json_out) != REFRACT_E_OK)
+    if (refract_begin(c, json_out) != REFRACT_E_OK)
         return REFRACT_E_USAGE;
-    code = check_segment(c, "refract_environment_upload", "scene id", scene_id);
+    code = refract_check_segment(c, "refract_environment_upload", "scene id", scene_id);
     if (code != REFRACT_E_OK)
         return code;
     if (bytes == NULL && len > 0)
@@ -332,11 +332,11 @@ int refract_environment_upload(refract_client *c, const char *scene_id, const vo
                             "refract_environment_upload: bytes is NULL "
                             "but len is %zu",
                             len);
-    path = scene_path(scene_id, "/environment");
+    path = refract_scene_path(scene_id, "/environment");
     if (path == NULL)
-        return out_of_memory(c, "building the request path");
-    code = call_json(c, "PUT", path, bytes != NULL ? bytes : "", len, "application/octet-stream",
-                     json_out);
+        return refract_out_of_memory(c, "building the request path");
+    code = refract_call_json(c, "PUT", path, bytes != NULL ? bytes : "", len,
+                             "application/octet-stream", json_out);
     free(path);
     return code;
 }
@@ -350,8 +350,7 @@ void refract_image_free(struct refract_image *img)
     img->render_ms = -1.0;
 }
 
-/* Copies src into dst (dst_size bytes), cutting it if needed; dst is NUL-terminated. */
-static void copy_string(char *dst, size_t dst_size, const char *src)
+void refract_copy_string(char *dst, size_t dst_size, const char *src)
 {
     size_t n = strnlen(src, dst_size - 1);
 
@@ -371,8 +370,9 @@ static int take_image(refract_client *c, const char *path, struct refract_respon
     out->bytes = r->body; /* ownership moves to the caller */
     out->len = r->body_len;
     r->body = NULL;
-    copy_string(out->content_type, sizeof(out->content_type), r->content_type);
-    copy_string(out->renderer, sizeof(out->renderer), r->renderer);
+    refract_copy_string(out->content_type, sizeof(out->content_type), r->content_type);
+    refract_copy_string(out->renderer, sizeof(out->renderer), r->renderer);
+    refract_copy_string(out->irradiance, sizeof(out->irradiance), r->irradiance);
     out->render_ms = r->render_ms;
     return REFRACT_E_OK;
 }
@@ -389,16 +389,16 @@ int refract_render(refract_client *c, const char *scene_id, const char *request_
         memset(out, 0, sizeof(*out)); /* the contract allows an uninitialised out */
         out->render_ms = -1.0;
     }
-    if (begin(c, NULL) != REFRACT_E_OK)
+    if (refract_begin(c, NULL) != REFRACT_E_OK)
         return REFRACT_E_USAGE;
     if (out == NULL)
         return refract_fail(c, REFRACT_E_USAGE, "refract_render: out is NULL");
-    code = check_segment(c, "refract_render", "scene id", scene_id);
+    code = refract_check_segment(c, "refract_render", "scene id", scene_id);
     if (code != REFRACT_E_OK)
         return code;
-    path = scene_path(scene_id, "/render");
+    path = refract_scene_path(scene_id, "/render");
     if (path == NULL)
-        return out_of_memory(c, "building the request path");
+        return refract_out_of_memory(c, "building the request path");
     code = refract_http_exchange(c, "POST", path, body, strlen(body), "application/json", &r);
     if (code == REFRACT_E_OK)
         code = refract_http_check(c, "POST", path, &r);
@@ -415,20 +415,20 @@ int refract_trace(refract_client *c, const char *scene_id, const char *request_j
     char *path;
     int code;
 
-    if (begin(c, json_out) != REFRACT_E_OK)
+    if (refract_begin(c, json_out) != REFRACT_E_OK)
         return REFRACT_E_USAGE;
     if (json_out == NULL || request_json == NULL)
         return refract_fail(c, REFRACT_E_USAGE,
                             "refract_trace: request_json and json_out "
                             "must not be NULL");
-    code = check_segment(c, "refract_trace", "scene id", scene_id);
+    code = refract_check_segment(c, "refract_trace", "scene id", scene_id);
     if (code != REFRACT_E_OK)
         return code;
-    path = scene_path(scene_id, "/trace");
+    path = refract_scene_path(scene_id, "/trace");
     if (path == NULL)
-        return out_of_memory(c, "building the request path");
-    code = call_json(c, "POST", path, request_json, strlen(request_json), "application/json",
-                     json_out);
+        return refract_out_of_memory(c, "building the request path");
+    code = refract_call_json(c, "POST", path, request_json, strlen(request_json),
+                             "application/json", json_out);
     free(path);
     return code;
 }

@@ -4,7 +4,8 @@
  *
  * An exchange resets the easy handle (curl_easy_reset keeps live connections, so the
  * keep-alive connection survives), sets every option it needs, performs, and collects
- * the body and three reply headers: Content-Type, X-Render-Time-Ms and X-Renderer.
+ * the body and four reply headers: Content-Type, X-Render-Time-Ms, X-Renderer and
+ * X-Refract-Irradiance.
  * Failures are mapped onto the shared code table here, and only here:
  *
  *   no connection (refused, unresolvable, connect timeout)  REFRACT_E_CONNECT_FAILED
@@ -108,6 +109,7 @@ static size_t on_header(char *data, size_t size, size_t nitems, void *userp)
     if (n >= 5 && memcmp(data, "HTTP/", 5) == 0) {
         r->content_type[0] = '\0';
         r->renderer[0] = '\0';
+        r->irradiance[0] = '\0';
         r->render_ms = -1.0;
         return n;
     }
@@ -117,6 +119,9 @@ static size_t on_header(char *data, size_t size, size_t nitems, void *userp)
     len = header_value(data, n, "X-Renderer", &value);
     if (len >= 0)
         copy_value(r->renderer, sizeof(r->renderer), value, len);
+    len = header_value(data, n, "X-Refract-Irradiance", &value);
+    if (len >= 0)
+        copy_value(r->irradiance, sizeof(r->irradiance), value, len);
     len = header_value(data, n, "X-Render-Time-Ms", &value);
     if (len >= 0) {
         char number[64];

@@ -1,12 +1,15 @@
 /*
  * refract_internal.h - what librefract's own files share; not installed, not public API.
  *
- * The library is four files of one concept each:
+ * The library is files of one concept each:
  *   refract_client.c  the handle: create/destroy, options, refract_free
  *   refract_error.c   the code table (strerror, code names) and the per-client message
  *   refract_http.c    the curl transport: one exchange, reply headers, error replies
- *   refract_calls.c   the typed calls built on the transport
- * plus refract_url.c (pure string work, no curl), which the CLI's unit test also compiles.
+ *   refract_calls.c   the typed calls built on the transport, and their shared helpers
+ *   refract_lights.c  the calls of lights and irradiance volumes (issue 3)
+ *   refract_wait.c    waiting for irradiance volumes, polling their status
+ * plus refract_url.c and refract_status.c (pure string and JSON work, no curl), which the
+ * CLI's unit test also compiles.
  *
  * Names here carry the refract_ prefix of the library but are not declared in refract.h;
  * nothing outside the .c files in client/ may call them.
@@ -66,5 +69,32 @@ int refract_http_exchange(refract_client *c, const char *method, const char *pat
  * the body is not a refractd error. method and path only name the request in messages. */
 int refract_http_check(refract_client *c, const char *method, const char *path,
                        const struct refract_response *r);
+
+/* refract_calls.c: the steps every typed call shares */
+
+/* Starts a typed call: c must exist; its message is cleared; *json_out is NULLed (when
+ * json_out is not NULL). Returns REFRACT_E_USAGE for a NULL c. */
+int refract_begin(refract_client *c, char **json_out);
+/* Checks a scene id, volume or light name argument: present and not empty. call and what
+ * name it in the message ("refract_light_put", "light name"). */
+int refract_check_segment(refract_client *c, const char *call, const char *what, const char *value);
+/* Returns a new string made from fmt, or NULL when out of memory; free() it. */
+char *refract_path_printf(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+/* Returns a new path "/v1/scenes/<escaped id><suffix>", or NULL when out of memory. */
+char *refract_scene_path(const char *scene_id, const char *suffix);
+/* Sets c's message to "out of memory while <what>"; returns REFRACT_E_OUT_OF_MEMORY. */
+int refract_out_of_memory(refract_client *c, const char *what);
+/* The common tail of every JSON call: exchange, check the status, check that a non-empty
+ * reply is JSON, and hand the body to *json_out (when json_out is not NULL) or free it.
+ * Borrows body until return. */
+int refract_call_json(refract_client *c, const char *method, const char *path, const void *body,
+                      size_t body_len, const char *content_type, char **json_out);
+/* refract_call_json() that also gives the reply's HTTP status (200 or 202, say) through
+ * *http_status (when not NULL; 0 when no reply came). */
+int refract_call_json_status(refract_client *c, const char *method, const char *path,
+                             const void *body, size_t body_len, const char *content_type,
+                             char **json_out, long *http_status);
+/* Copies src into dst (dst_size bytes), cutting it if needed; dst is NUL-terminated. */
+void refract_copy_string(char *dst, size_t dst_size, const char *src);
 
 #endif

@@ -13,7 +13,10 @@
 #include "bindings.h"
 #include "core/log.h"
 
-enum opt_kind { OPT_INT, OPT_SIZE, OPT_STRING, OPT_FLAG, OPT_GPU, OPT_LOG, OPT_CONFIG };
+enum opt_kind { OPT_INT, OPT_SIZE, OPT_REAL, OPT_STRING, OPT_FLAG, OPT_GPU, OPT_LOG, OPT_CONFIG };
+
+/* OPT_REAL values must lie in (0, REAL_MAX]: tolerances. */
+#define REAL_MAX 1.0
 
 struct option_def {
     const char *name;
@@ -58,6 +61,16 @@ static const struct option_def options[] = {
     {"max-scenes", OPT_INT, 1, 1000000, "N", "scenes held (default 64)"},
     {"gpu-scene-budget", OPT_SIZE, 1 << 20, 1ll << 40, "BYTES",
      "GPU memory for cached scenes before LRU eviction (default 2G)"},
+    {"irradiance-gpu-budget", OPT_SIZE, 1, 1ll << 40, "BYTES",
+     "GPU memory for cached irradiance volumes before LRU eviction (default 1G)"},
+    {"irradiance-host-budget", OPT_SIZE, 1, 1ll << 40, "BYTES",
+     "host memory for cached irradiance volumes (they stay on disk; default 2G)"},
+    {"light-position-tolerance", OPT_REAL, 0, 0, "UNITS",
+     "light moves below this (world units) reuse the cached irradiance (default 0.001)"},
+    {"light-direction-tolerance", OPT_REAL, 0, 0, "RAD",
+     "light turns below this (radians) reuse the cached irradiance (default 0.001)"},
+    {"lightsim-chunk-steps", OPT_INT, 1, 100000, "N",
+     "wavefront steps per GPU work item of a light simulation (default 16)"},
     {"log-level", OPT_LOG, 0, 0, "debug|info|warn|error", "log verbosity (default info)"},
     {"config", OPT_CONFIG, 0, 0, "FILE", "read 'key value' lines with these option names"},
     {"help", OPT_FLAG, 0, 0, NULL, "print this help"},
@@ -81,6 +94,11 @@ void config_defaults(struct config *c)
     c->gpu.context.device_index = -1;
     c->gpu.max_queued = 256;
     c->gpu_scene_budget_bytes = (size_t)2 << 30;
+    c->irradiance.gpu_budget_bytes = (size_t)1 << 30;
+    c->irradiance.host_budget_bytes = (size_t)2 << 30;
+    c->irradiance.position_tolerance = 1e-3;
+    c->irradiance.direction_tolerance = 1e-3;
+    c->irradiance.chunk_steps = 16;
     c->max_scenes = 64;
     c->max_env_pixels = 64ll << 20;
     c->http.max_image_pixels = 4096LL * 4096;
@@ -177,6 +195,12 @@ static void store_int(struct config *c, const char *name, long long v)
         c->max_env_pixels = v;
     else if (!strcmp(name, "gpu-scene-budget"))
         c->gpu_scene_budget_bytes = (size_t)v;
+    else if (!strcmp(name, "irradiance-gpu-budget"))
+        c->irradiance.gpu_budget_bytes = (size_t)v;
+    else if (!strcmp(name, "irradiance-host-budget"))
+        c->irradiance.host_budget_bytes = (size_t)v;
+    else if (!strcmp(name, "lightsim-chunk-steps"))
+        c->irradiance.chunk_steps = (int)v;
 }
 
 static enum refract_code config_parse_file(struct config *c, const char *path, struct err *e);
@@ -202,6 +226,19 @@ static enum refract_code apply(struct config *c, const struct option_def *o, con
                            o->kind == OPT_SIZE ? "a size (K/M/G suffix allowed)" : "an integer",
                            o->min, o->max);
         store_int(c, o->name, v);
+        return REFRACT_E_OK;
+    }
+    case OPT_REAL: {
+        errno = 0;
+        char *end = NULL;
+        double v = strtod(value, &end);
+        if (end == value || *end != '\0' || errno != 0 || !(v > 0) || v > REAL_MAX)
+            return err_set(e, REFRACT_E_USAGE, "--%s %s: expected a number in (0, %g]", o->name,
+                           value, REAL_MAX);
+        if (!strcmp(o->name, "light-position-tolerance"))
+            c->irradiance.position_tolerance = v;
+        else
+            c->irradiance.direction_tolerance = v;
         return REFRACT_E_OK;
     }
     case OPT_STRING:

@@ -12,6 +12,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "cache/irradiance_cache.h"
 #include "core/err.h"
 #include "gpu/queue.h"
 #include "http/http.h"
@@ -21,6 +22,7 @@ struct config {
     struct http_config http;
     struct gpu_desc gpu;
     size_t gpu_scene_budget_bytes;
+    struct irradiance_cache_desc irradiance; /* data_dir is set from data_dir at start-up */
     char data_dir[512];
     char scene_dir[512];  /* "" = none */
     char shader_dir[512]; /* "" = embedded */

@@ -2,7 +2,8 @@
  * main.c - refractd's start-up and orderly shutdown, and nothing else.
  *
  * Start-up: flags -> the GPU thread (EGL context, shaders compiled: a bad shader stops
- * start-up here) -> the renderer on that thread -> the data directory -> demo scenes ->
+ * start-up here) -> the renderer on that thread -> the data directory -> the irradiance
+ * cache (indexes <data>/irradiance) -> demo scenes ->
  * the HTTP server -> background builds of every scene's GPU data. Then the main thread
  * waits for SIGINT or SIGTERM.
  *
@@ -13,7 +14,8 @@
  *      GPU thread, then the context is destroyed. The gpu struct stays valid: resumed
  *      handlers still read its renderer string, late submits get "shutting_down";
  *   3. wait (briefly) until the resumed requests have been answered, stop the HTTP daemon;
- *   4. free the gpu struct, close the store.
+ *   4. free the gpu struct; stop the irradiance cache's worker (it finishes writing
+ *      computed volumes to the data directory); close the store.
  */
 #include <dirent.h>
 #include <pthread.h>
@@ -22,9 +24,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cache/irradiance_cache.h"
 #include "config.h"
 #include "core/log.h"
 #include "http/http.h"
+#include "lightsim/gpu/lightsim_gpu.h"
 #include "render/render.h"
 #include "store/store.h"
 
@@ -37,13 +41,26 @@ struct render_create_work {
 static void render_create_run(struct gpu_work *w, struct gpu *gpu)
 {
     struct render_create_work *rc = w->user;
+    /* The light simulator's programs too, so a shader error stops start-up. */
+    if (lightsim_gpu_init(gpu, &w->err) != REFRACT_E_OK)
+        return;
     rc->render = render_create(gpu, &rc->desc, &w->err);
 }
 
-static void render_destroy_run(struct gpu_work *w, struct gpu *gpu)
+/* The GPU thread's final item: the irradiance cache's runs and textures, then the
+ * renderer's GL objects. */
+struct final_work {
+    struct render *render;
+    struct irradiance_cache *irradiance;
+};
+
+static void final_run(struct gpu_work *w, struct gpu *gpu)
 {
     (void)gpu;
-    render_destroy(w->user);
+    struct final_work *f = w->user;
+    irradiance_cache_release_gpu(f->irradiance);
+    lightsim_gpu_shutdown();
+    render_destroy(f->render);
 }
 
 /* Loads *.json of dir as scenes named by their file stem. */
@@ -142,19 +159,31 @@ static int run(const struct config *cfg)
                                .max_scenes = cfg->max_scenes,
                                .max_env_pixels = cfg->max_env_pixels};
     struct store *store = store_open(&sdesc, &e);
-    struct gpu_work final = {.run = render_destroy_run, .user = rcw.render};
+    struct final_work fw = {.render = rcw.render};
+    struct gpu_work final = {.run = final_run, .user = &fw};
     if (store == NULL) {
         log_error("main", "%s", e.msg);
         gpu_destroy(gpu, &final);
         return 1;
     }
+    struct irradiance_cache_desc idesc = cfg->irradiance;
+    idesc.data_dir = cfg->data_dir;
+    fw.irradiance = irradiance_cache_create(&idesc, gpu, &e);
+    if (fw.irradiance == NULL) {
+        log_error("main", "irradiance cache: %s", e.msg);
+        gpu_destroy(gpu, &final);
+        store_close(store);
+        return 1;
+    }
     if (cfg->scene_dir[0])
         load_scene_dir(store, cfg->scene_dir);
-    struct http_app app = {.store = store, .gpu = gpu, .render = rcw.render};
+    struct http_app app = {
+        .store = store, .gpu = gpu, .render = rcw.render, .irradiance = fw.irradiance};
     struct http_server *http = http_server_start(&cfg->http, &app, &e);
     if (http == NULL) {
         log_error("main", "%s", e.msg);
         gpu_destroy(gpu, &final);
+        irradiance_cache_destroy(fw.irradiance);
         store_close(store);
         return 1;
     }
@@ -174,6 +203,7 @@ static int run(const struct config *cfg)
         log_warn("main", "requests still in progress after 3 s; closing them");
     http_server_stop(http);
     gpu_destroy(gpu, NULL);
+    irradiance_cache_destroy(fw.irradiance); /* finishes writing volumes to disk */
     store_close(store);
     log_info("main", "stopped");
     return 0;

@@ -43,6 +43,8 @@ extern const struct cli_command cli_cmd_volume;
 extern const struct cli_command cli_cmd_env;
 extern const struct cli_command cli_cmd_render;
 extern const struct cli_command cli_cmd_trace;
+extern const struct cli_command cli_cmd_light;
+extern const struct cli_command cli_cmd_irradiance;
 
 /* cli_help.c */
 

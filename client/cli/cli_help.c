@@ -11,8 +11,8 @@
 #include "cli.h"
 
 const struct cli_command *const cli_commands[] = {
-    &cli_cmd_health, &cli_cmd_scene, &cli_cmd_volume, &cli_cmd_env, &cli_cmd_render,
-    &cli_cmd_trace,  NULL,
+    &cli_cmd_health, &cli_cmd_scene, &cli_cmd_volume,     &cli_cmd_env, &cli_cmd_render,
+    &cli_cmd_trace,  &cli_cmd_light, &cli_cmd_irradiance, NULL,
 };
 
 const struct cli_command *cli_find_command(const char *name)
@@ -51,7 +51,8 @@ void cli_print_help(FILE *f)
           "Global options (before or after the command):\n"
           "  --url URL          refractd's address (default: $REFRACT_URL, else\n"
           "                     " REFRACT_DEFAULT_URL ")\n"
-          "  --timeout SECONDS  give up on a request after this long (default 120;\n"
+          "  --timeout SECONDS  give up on a request, or on light set's wait for an\n"
+          "                     irradiance volume, after this long (default 120;\n"
           "                     0 = never)\n"
           "  -h, --help         show this help; after a command, that command's help\n"
           "  --version          show the versions of refract and libcurl\n"

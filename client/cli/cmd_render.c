@@ -21,7 +21,9 @@
     "usage: refract render ID -o FILE [options]\n"                                                 \
     "\n"                                                                                           \
     "Renders a view of scene ID and writes the image to FILE (- = stdout). Prints\n"               \
-    "\"wrote FILE (WxH, FORMAT, N bytes, render R ms on RENDERER)\" to stderr.\n"                  \
+    "\"wrote FILE (WxH, FORMAT, N bytes, render R ms on RENDERER, irradiance I)\" to\n"            \
+    "stderr, and a note when some light's irradiance was stale or missing (see\n"                  \
+    "refract light set).\n"                                                                        \
     "\n"                                                                                           \
     "  -o, --output FILE      where to write the image (required)\n"                               \
     "  --width W, --height H  image size in pixels\n"                                              \
@@ -212,7 +214,8 @@ static int build_request(const struct cli_opt *opts, char **text)
     return code;
 }
 
-/* Prints "wrote FILE (WxH, FORMAT, N bytes, render R ms on RENDERER)" to stderr. */
+/* Prints "wrote FILE (WxH, FORMAT, N bytes, render R ms on RENDERER, irradiance I)" to
+ * stderr; the last part only when refractd sent X-Refract-Irradiance. */
 static void report(const char *path, const struct refract_image *img)
 {
     const char *format = cli_format_from_content_type(img->content_type);
@@ -225,10 +228,34 @@ static void report(const char *path, const struct refract_image *img)
         snprintf(size, sizeof(size), "%ldx%ld", width, height);
     if (img->render_ms >= 0)
         snprintf(time, sizeof(time), "render %.1f ms", img->render_ms);
-    fprintf(stderr, "wrote %s (%s, %s, %zu bytes, %s on %s)\n",
+    char irradiance[64] = "";
+
+    /* Which irradiance the light-dependent terms used, when refractd says (issue 3). */
+    if (img->irradiance[0] != '\0')
+        snprintf(irradiance, sizeof(irradiance), ", irradiance %s", img->irradiance);
+    fprintf(stderr, "wrote %s (%s, %s, %zu bytes, %s on %s%s)\n",
             strcmp(path, "-") == 0 ? "<stdout>" : path, size,
             format != NULL ? format : img->content_type, img->len, time,
-            img->renderer[0] != '\0' ? img->renderer : "an unknown renderer");
+            img->renderer[0] != '\0' ? img->renderer : "an unknown renderer", irradiance);
+}
+
+/* A note on stderr when the image lacks some light's current irradiance: the exit status
+ * stays 0, because the image is what refractd could render now, and a script that wants
+ * the final image waits with `refract light set` (which waits by default) first. */
+static void note_irradiance(const char *scene, const struct refract_image *img)
+{
+    if (strcmp(img->irradiance, "stale") == 0)
+        fprintf(stderr,
+                "refract: note: a light's irradiance is being recomputed for its new pose; "
+                "this image used the previous pose's volume (X-Refract-Irradiance: stale). "
+                "'refract irradiance status %s' shows the progress\n",
+                scene);
+    else if (strcmp(img->irradiance, "missing") == 0)
+        fprintf(stderr,
+                "refract: note: a light has no irradiance volume yet, so this image was "
+                "rendered without its light-dependent terms (X-Refract-Irradiance: missing). "
+                "'refract irradiance status %s' shows the progress\n",
+                scene);
 }
 
 static int run_render(struct cli *cli, int argc, char **argv)
@@ -273,8 +300,10 @@ static int run_render(struct cli *cli, int argc, char **argv)
     }
     if (code == REFRACT_E_OK)
         code = cli_write_file(opts[OPT_OUTPUT].value, img.bytes, img.len);
-    if (code == REFRACT_E_OK)
+    if (code == REFRACT_E_OK) {
         report(opts[OPT_OUTPUT].value, &img);
+        note_irradiance(p.pos[0], &img);
+    }
     refract_image_free(&img);
     cJSON_free(request);
     return code;

@@ -5,30 +5,21 @@
  * version, and hand a job to the GPU thread (http_suspend_for_gpu). The GPU thread runs
  * render_view / render_trace; back on an HTTP thread the result is encoded (tone mapping
  * and PNG/JPEG, or linear EXR) or written as JSON.
+ *
+ * A render first asks the irradiance cache for its lights' volumes (HTTP thread: queues
+ * what is missing, reads back what is on disk), then, on the GPU thread, gathers the best
+ * volume of each light: the current pose's, else the previous pose's while the new one is
+ * computed. It never waits for a recompute; X-Refract-Irradiance says what it used.
  */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "../cache/irradiance_cache.h"
 #include "../core/ray_status.h"
 #include "../io/io_image.h"
 #include "http_internal.h"
-
-/* The source description of a version for the renderer. */
-static struct render_scene_source scene_source(struct store_scene *v)
-{
-    return (struct render_scene_source){
-        .id = v->id,
-        .generation = v->generation,
-        .scene = v->scene,
-        .lookup = store_volume_lookup,
-        .lookup_ctx = v,
-        .env_rgba = v->env ? v->env->rgba : NULL,
-        .env_width = v->env ? v->env->width : 0,
-        .env_height = v->env ? v->env->height : 0,
-    };
-}
 
 /* After a build on the request path, record it like a background build would. */
 static void note_build(const struct http_app *app, const struct store_scene *v,
@@ -36,9 +27,8 @@ static void note_build(const struct http_app *app, const struct store_scene *v,
 {
     if (!rs->built_now)
         return;
-    struct store_gpu_status st = {.generation = v->generation,
-                                  .gpu_bytes = rs->gpu_bytes,
-                                  .build_ms = rs->build_ms};
+    struct store_gpu_status st = {
+        .generation = v->generation, .gpu_bytes = rs->gpu_bytes, .build_ms = rs->build_ms};
     snprintf(st.state, sizeof st.state, "ready");
     store_gpu_status_set(app->store, v->id, &st);
 }
@@ -49,6 +39,8 @@ struct render_job {
     struct store_scene *version; /* owned reference */
     struct http_render_request request;
     struct render_view_result result;
+    struct render_light lights[SCENE_MAX_LIGHTS];
+    const char *irradiance; /* X-Refract-Irradiance: ready|stale|missing|not-needed */
 };
 
 static void render_job_free(void *p)
@@ -64,7 +56,13 @@ static void render_run(struct gpu_work *w, struct gpu *gpu)
     (void)gpu;
     struct http_request *req = w->user;
     struct render_job *job = req->job;
-    struct render_scene_source src = scene_source(job->version);
+    struct render_scene_source src = http_scene_source(job->version);
+    struct irradiance_source isrc;
+    http_irradiance_source(job->version, &isrc);
+    int count = 0;
+    job->irradiance = irradiance_cache_gather(req->app->irradiance, &isrc, job->lights, &count);
+    job->request.view.lights = job->lights;
+    job->request.view.light_count = count;
     if (render_view(req->app->render, &src, &job->request.view, &job->result, &w->err) ==
         REFRACT_E_OK)
         note_build(req->app, job->version, &job->result.scene);
@@ -114,14 +112,21 @@ static enum MHD_Result render_answer(struct http_request *req)
     snprintf(total_ms, sizeof total_ms, "%.3f", gpu_time_ms() - req->started_ms);
     snprintf(encode_ms, sizeof encode_ms, "%.3f", gpu_time_ms() - t0);
     snprintf(size, sizeof size, "%dx%d", job->result.width, job->result.height);
-    snprintf(generation, sizeof generation, "%llu",
-             (unsigned long long)job->version->generation);
-    const char *headers[] = {"X-Render-Time-Ms", gpu_ms,
-                             "X-Request-Time-Ms", total_ms,
-                             "X-Encode-Time-Ms", encode_ms,
-                             "X-Renderer", gpu_info(req->app->gpu)->renderer,
-                             "X-Image-Size", size,
-                             "X-Scene-Generation", generation,
+    snprintf(generation, sizeof generation, "%llu", (unsigned long long)job->version->generation);
+    const char *headers[] = {"X-Render-Time-Ms",
+                             gpu_ms,
+                             "X-Request-Time-Ms",
+                             total_ms,
+                             "X-Encode-Time-Ms",
+                             encode_ms,
+                             "X-Renderer",
+                             gpu_info(req->app->gpu)->renderer,
+                             "X-Image-Size",
+                             size,
+                             "X-Scene-Generation",
+                             generation,
+                             "X-Refract-Irradiance",
+                             job->irradiance ? job->irradiance : "missing",
                              NULL};
     return http_respond_bytes(req, MHD_HTTP_OK, bytes, len, content_type, headers);
 }
@@ -144,6 +149,9 @@ enum MHD_Result http_handle_render(struct http_request *req)
     if (http_parse_render_request(req->body, req->body_len, v->scene, req->cfg, &job->request,
                                   &e) != REFRACT_E_OK)
         return http_respond_err(req, &e);
+    struct irradiance_source isrc;
+    http_irradiance_source(v, &isrc);
+    irradiance_cache_request(req->app->irradiance, &isrc, false);
     req->work.label = "render";
     req->work.run = render_run;
     return http_suspend_for_gpu(req, render_answer);
@@ -174,7 +182,7 @@ static void trace_run(struct gpu_work *w, struct gpu *gpu)
     (void)gpu;
     struct http_request *req = w->user;
     struct trace_job *job = req->job;
-    struct render_scene_source src = scene_source(job->version);
+    struct render_scene_source src = http_scene_source(job->version);
     render_trace(req->app->render, &src, &job->settings, job->rays, job->count, job->hits,
                  &job->gpu_ms, &w->err);
 }

@@ -7,6 +7,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "../cache/irradiance_cache.h"
 #include "../core/log.h"
 #include "../gpu/resources.h"
 #include "http_internal.h"
@@ -51,6 +52,18 @@ enum MHD_Result http_handle_health(struct http_request *req)
     cJSON_AddNumberToObject(lim, "max_json_bytes", (double)c->max_json_bytes);
     cJSON_AddNumberToObject(lim, "max_upload_bytes", (double)c->max_upload_bytes);
     cJSON_AddNumberToObject(lim, "request_timeout_ms", c->request_timeout_ms);
+    const struct irradiance_cache_desc *ic = irradiance_cache_settings(req->app->irradiance);
+    struct irradiance_cache_counters k;
+    irradiance_cache_counters(req->app->irradiance, &k);
+    cJSON *irr = cJSON_AddObjectToObject(root, "irradiance");
+    cJSON_AddNumberToObject(irr, "gpu_budget_bytes", (double)ic->gpu_budget_bytes);
+    cJSON_AddNumberToObject(irr, "host_budget_bytes", (double)ic->host_budget_bytes);
+    cJSON_AddNumberToObject(irr, "position_tolerance", ic->position_tolerance);
+    cJSON_AddNumberToObject(irr, "direction_tolerance", ic->direction_tolerance);
+    cJSON_AddNumberToObject(irr, "chunk_steps", ic->chunk_steps);
+    cJSON_AddNumberToObject(irr, "entries", k.entries);
+    cJSON_AddNumberToObject(irr, "gpu_bytes", (double)k.gpu_bytes);
+    cJSON_AddNumberToObject(irr, "host_bytes", (double)k.host_bytes);
     return http_respond_json(req, MHD_HTTP_OK, root);
 }
 
@@ -74,16 +87,7 @@ static void prepare_run(struct gpu_work *w, struct gpu *gpu)
     store_scene_release(current);
     if (stale)
         return;
-    struct render_scene_source src = {
-        .id = v->id,
-        .generation = v->generation,
-        .scene = v->scene,
-        .lookup = store_volume_lookup,
-        .lookup_ctx = v,
-        .env_rgba = v->env ? v->env->rgba : NULL,
-        .env_width = v->env ? v->env->width : 0,
-        .env_height = v->env ? v->env->height : 0,
-    };
+    struct render_scene_source src = http_scene_source(v);
     struct render_scene_status rs;
     struct err e = {0};
     if (render_scene_prepare(job->app->render, &src, &rs, &e) == REFRACT_E_OK) {
@@ -107,6 +111,9 @@ static void prepare_done(struct gpu_work *w)
 
 void http_prepare_scene(const struct http_app *app, struct store_scene *version)
 {
+    struct irradiance_source isrc;
+    http_irradiance_source(version, &isrc);
+    irradiance_cache_request(app->irradiance, &isrc, false);
     struct prepare_job *job = calloc(1, sizeof *job);
     if (job == NULL)
         return;
@@ -288,5 +295,6 @@ enum MHD_Result http_handle_scene_delete(struct http_request *req)
     if (store_scene_delete(req->app->store, req->params[0], &e) != REFRACT_E_OK)
         return http_respond_err(req, &e);
     forget_scene(req->app, req->params[0]);
+    irradiance_cache_forget_scene(req->app->irradiance, req->params[0]);
     return http_respond_empty(req, MHD_HTTP_NO_CONTENT);
 }

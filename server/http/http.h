@@ -39,12 +39,14 @@ struct http_config {
 };
 
 struct http_server;
+struct irradiance_cache;
 
 /* Where the server gets its state. All borrowed. */
 struct http_app {
     struct store *store;
     struct gpu *gpu;
     struct render *render; /* used on the GPU thread only */
+    struct irradiance_cache *irradiance;
 };
 
 /* Starts listening. Returns a new server (stop with http_server_stop) or NULL with e
@@ -63,7 +65,9 @@ bool http_server_wait_idle(struct http_server *s, int timeout_ms);
 void http_server_stop(struct http_server *s);
 
 /* Queues a background build of a scene's GPU data (maintenance priority) and records the
- * outcome in the store's GPU status. Used after create/upload and at start-up. */
+ * outcome in the store's GPU status, and asks the irradiance cache for the volumes of the
+ * scene's lights (which starts their recompute when they are not cached). Used after
+ * create/upload/lights changes and at start-up. */
 void http_prepare_scene(const struct http_app *app, struct store_scene *version);
 
 /* The route table, for the contract test (tests/integration/test_openapi_contract.c). */

@@ -121,6 +121,21 @@ enum MHD_Result http_handle_volume_put(struct http_request *req);
 enum MHD_Result http_handle_environment_put(struct http_request *req);
 enum MHD_Result http_handle_render(struct http_request *req);
 enum MHD_Result http_handle_trace(struct http_request *req);
+enum MHD_Result http_handle_lights_get(struct http_request *req);
+enum MHD_Result http_handle_lights_put(struct http_request *req);
+enum MHD_Result http_handle_light_put(struct http_request *req);
+enum MHD_Result http_handle_irradiance_get(struct http_request *req);
+enum MHD_Result http_handle_irradiance_exr(struct http_request *req);
+
+/* ---- irradiance (h_irradiance.c) ---- */
+struct irradiance_source;
+/* What the irradiance cache needs of a version (borrowed for as long as v). */
+void http_irradiance_source(struct store_scene *v, struct irradiance_source *out);
+/* The irradiance status body (docs/api.md) of a version. */
+cJSON *http_irradiance_status(const struct http_app *app, struct store_scene *v);
+/* The renderer's description of a version (render_scene_source.generation is the
+ * version's data_generation: a lights change does not rebuild the scene's GPU data). */
+struct render_scene_source http_scene_source(struct store_scene *v);
 
 /* Looks up the scene named by the first path parameter; answers 404 and returns NULL when
  * it does not exist. Returns a new reference. */

@@ -18,6 +18,11 @@ static const struct http_route routes[] = {
     {"PUT", "/v1/scenes/{id}/environment", http_handle_environment_put, HTTP_BODY_UPLOAD},
     {"POST", "/v1/scenes/{id}/render", http_handle_render, HTTP_BODY_JSON},
     {"POST", "/v1/scenes/{id}/trace", http_handle_trace, HTTP_BODY_JSON},
+    {"GET", "/v1/scenes/{id}/lights", http_handle_lights_get, HTTP_BODY_NONE},
+    {"PUT", "/v1/scenes/{id}/lights", http_handle_lights_put, HTTP_BODY_JSON},
+    {"PUT", "/v1/scenes/{id}/lights/{name}", http_handle_light_put, HTTP_BODY_JSON},
+    {"GET", "/v1/scenes/{id}/irradiance", http_handle_irradiance_get, HTTP_BODY_NONE},
+    {"GET", "/v1/scenes/{id}/irradiance/{light}.exr", http_handle_irradiance_exr, HTTP_BODY_NONE},
 };
 
 #define ROUTE_COUNT (sizeof routes / sizeof routes[0])
@@ -33,7 +38,8 @@ size_t http_routes(const struct http_route_info **out)
     return ROUTE_COUNT;
 }
 
-/* Matches url against pattern segment by segment; {x} captures one non-empty segment. */
+/* Matches url against pattern segment by segment; {x} captures one non-empty segment, or
+ * the part of it before a literal suffix ({light}.exr captures "sun" of "sun.exr"). */
 static bool match(const char *pattern, const char *url, char params[][HTTP_PARAM_MAX],
                   int *param_count)
 {
@@ -44,7 +50,16 @@ static bool match(const char *pattern, const char *url, char params[][HTTP_PARAM
             const char *close = strchr(p, '}');
             const char *seg_end = strchr(u, '/');
             size_t len = seg_end ? (size_t)(seg_end - u) : strlen(u);
-            if (close == NULL || len == 0 || len >= HTTP_PARAM_MAX || n >= HTTP_MAX_PARAMS)
+            if (close == NULL)
+                return false;
+            const char *suffix_end = strchr(close + 1, '/');
+            size_t suffix = suffix_end ? (size_t)(suffix_end - close - 1) : strlen(close + 1);
+            if (suffix > 0) {
+                if (len <= suffix || memcmp(u + len - suffix, close + 1, suffix) != 0)
+                    return false;
+                len -= suffix;
+            }
+            if (len == 0 || len >= HTTP_PARAM_MAX || n >= HTTP_MAX_PARAMS)
                 return false;
             memcpy(params[n], u, len);
             params[n][len] = '\0';

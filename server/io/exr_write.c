@@ -2,7 +2,7 @@
  * exr_write.c - io_encode_exr: linear RGBA float -> an OpenEXR file in memory, with
  * OpenEXR's C API (OpenEXRCore).
  *
- * The file is one scanline part, channels A, B, G, R as 32-bit FLOAT (EXR stores
+ * The file is one scanline part, channels (A, B, G, R for a frame) as 32-bit FLOAT (EXR stores
  * channels sorted by name; the library sorts them and the encode pipeline reads each
  * one from its offset in our interleaved RGBA pixels), ZIP compression (16 lines per
  * chunk), INCREASING_Y line order, dataWindow = displayWindow = (0,0)-(w-1,h-1). EXR's
@@ -17,12 +17,16 @@
  * core. Chunks are compressed on the calling thread, one after another; OpenEXR can
  * encode chunks on several threads, which this does not do yet.
  *
- * Not here: reading EXR (oiio_image.cpp decodes every format), half floats, tiles,
- * multi-part files, metadata beyond the required attributes.
+ * io_encode_exr_channels writes any set of named float channels (the irradiance volumes'
+ * R, G, B, dir.X..dir.W) and string header attributes; io_encode_exr is its RGBA case.
+ *
+ * Not here: reading (exr_read.c), half floats, tiles, multi-part files.
  */
+#include "io_exr.h"
 #include "io_image.h"
 
 #include <openexr.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -100,40 +104,63 @@ static enum refract_code exr_fail(struct exr_membuf *mb, exr_result_t rv, const 
     return mb->e ? mb->e->code : REFRACT_E_INTERNAL;
 }
 
-/* Declares the one scanline part: required attributes and the four channels. */
-static exr_result_t define_part(exr_context_t ctxt, int width, int height)
+/* The interleaved image being written: nch named channels per pixel. */
+struct exr_layout {
+    const float *pixels;
+    int width, height, nch;
+    const char *const *names;
+};
+
+/* Index of a channel name in the layout, or -1. */
+static int channel_index(const struct exr_layout *lo, const char *name)
+{
+    for (int c = 0; c < lo->nch; c++) {
+        if (strcmp(lo->names[c], name) == 0)
+            return c;
+    }
+    return -1;
+}
+
+/* Declares the one scanline part: required attributes, the channels and the string
+ * attributes (name, value pairs). Colour channels (R, G, B) are perceptually
+ * logarithmic; everything else is linear data. */
+static exr_result_t define_part(exr_context_t ctxt, const struct exr_layout *lo,
+                                const char *const *attrs)
 {
     int part = 0;
     exr_result_t rv = exr_add_part(ctxt, "rgba", EXR_STORAGE_SCANLINE, &part);
     if (rv == EXR_ERR_SUCCESS)
-        rv = exr_initialize_required_attr_simple(ctxt, part, width, height, EXR_COMPRESSION_ZIP);
-    static const char *const names[] = {"R", "G", "B", "A"};
-    for (int c = 0; c < 4 && rv == EXR_ERR_SUCCESS; c++)
-        rv = exr_add_channel(ctxt, part, names[c], EXR_PIXEL_FLOAT,
-                             c < 3 ? EXR_PERCEPTUALLY_LOGARITHMIC : EXR_PERCEPTUALLY_LINEAR, 1, 1);
+        rv = exr_initialize_required_attr_simple(ctxt, part, lo->width, lo->height,
+                                                 EXR_COMPRESSION_ZIP);
+    for (int c = 0; c < lo->nch && rv == EXR_ERR_SUCCESS; c++) {
+        const char *n = lo->names[c];
+        bool colour = strlen(n) == 1 && strchr("RGB", n[0]) != NULL;
+        rv = exr_add_channel(ctxt, part, n, EXR_PIXEL_FLOAT,
+                             colour ? EXR_PERCEPTUALLY_LOGARITHMIC : EXR_PERCEPTUALLY_LINEAR, 1, 1);
+    }
+    for (int a = 0; attrs && attrs[a] && rv == EXR_ERR_SUCCESS; a += 2)
+        rv = exr_attr_set_string(ctxt, part, attrs[a], attrs[a + 1]);
     return rv;
 }
 
-/* Points each of the pipeline's channels (in the file's order, A B G R) at its
+/* Points each of the pipeline's channels (in the file's order, sorted by name) at its
  * component of the chunk's first pixel in our interleaved buffer. */
-static void bind_channels(exr_encode_pipeline_t *pipe, const float *rgba, int width, int y)
+static void bind_channels(exr_encode_pipeline_t *pipe, const struct exr_layout *lo, int y)
 {
-    const float *row = rgba + (size_t)y * (size_t)width * 4;
+    const float *row = lo->pixels + (size_t)y * (size_t)lo->width * (size_t)lo->nch;
     for (int c = 0; c < pipe->channel_count; c++) {
         exr_coding_channel_info_t *ch = &pipe->channels[c];
-        static const char order[] = "RGBA";
-        const char *at = strchr(order, ch->channel_name[0]);
-        int comp = at != NULL && *at != '\0' ? (int)(at - order) : 3;
+        int comp = channel_index(lo, ch->channel_name);
         ch->user_bytes_per_element = 4;
         ch->user_data_type = EXR_PIXEL_FLOAT;
-        ch->user_pixel_stride = 4 * (int32_t)sizeof(float);
-        ch->user_line_stride = 4 * (int32_t)sizeof(float) * width;
-        ch->encode_from_ptr = (const uint8_t *)(row + comp);
+        ch->user_pixel_stride = lo->nch * (int32_t)sizeof(float);
+        ch->user_line_stride = lo->nch * (int32_t)sizeof(float) * lo->width;
+        ch->encode_from_ptr = (const uint8_t *)(row + (comp < 0 ? 0 : comp));
     }
 }
 
 /* Encodes and writes every chunk of the part, top to bottom. */
-static enum refract_code write_chunks(exr_context_t ctxt, const float *rgba, int width, int height,
+static enum refract_code write_chunks(exr_context_t ctxt, const struct exr_layout *lo,
                                       struct exr_membuf *mb)
 {
     int32_t lines_per_chunk = 0;
@@ -144,7 +171,7 @@ static enum refract_code write_chunks(exr_context_t ctxt, const float *rgba, int
     exr_encode_pipeline_t pipe = EXR_ENCODE_PIPELINE_INITIALIZER;
     int have_pipe = 0;
     enum refract_code code = REFRACT_E_OK;
-    for (int y = 0; y < height && code == REFRACT_E_OK; y += lines_per_chunk) {
+    for (int y = 0; y < lo->height && code == REFRACT_E_OK; y += lines_per_chunk) {
         exr_chunk_info_t cinfo;
         rv = exr_write_scanline_chunk_info(ctxt, 0, y, &cinfo);
         if (rv != EXR_ERR_SUCCESS) {
@@ -158,7 +185,7 @@ static enum refract_code write_chunks(exr_context_t ctxt, const float *rgba, int
             rv = exr_encoding_update(ctxt, 0, &cinfo, &pipe);
         }
         if (rv == EXR_ERR_SUCCESS) {
-            bind_channels(&pipe, rgba, width, y);
+            bind_channels(&pipe, lo, y);
             if (y == 0)
                 rv = exr_encoding_choose_default_routines(ctxt, 0, &pipe);
         }
@@ -172,10 +199,11 @@ static enum refract_code write_chunks(exr_context_t ctxt, const float *rgba, int
     return code;
 }
 
-/* Contract in io_image.h. Errors: REFRACT_E_INVALID_FIELD for a size OpenEXR cannot
+/* Contract in io_exr.h. Errors: REFRACT_E_INVALID_FIELD for a size OpenEXR cannot
  * hold, REFRACT_E_OUT_OF_MEMORY, REFRACT_E_INTERNAL with OpenEXR's message. */
-enum refract_code io_encode_exr(const float *rgba, int width, int height, void **out_bytes,
-                                size_t *out_len, struct err *e)
+enum refract_code io_encode_exr_channels(const float *pixels, int width, int height, int nch,
+                                         const char *const *names, const char *const *attrs,
+                                         void **out_bytes, size_t *out_len, struct err *e)
 {
     *out_bytes = NULL;
     *out_len = 0;
@@ -204,13 +232,15 @@ enum refract_code io_encode_exr(const float *rgba, int width, int height, void *
     }
 
     enum refract_code code = REFRACT_E_OK;
-    rv = define_part(ctxt, width, height);
+    struct exr_layout lo = {
+        .pixels = pixels, .width = width, .height = height, .nch = nch, .names = names};
+    rv = define_part(ctxt, &lo, attrs);
     if (rv == EXR_ERR_SUCCESS)
         rv = exr_write_header(ctxt);
     if (rv != EXR_ERR_SUCCESS)
         code = exr_fail(&mb, rv, "writing the header");
     if (code == REFRACT_E_OK)
-        code = write_chunks(ctxt, rgba, width, height, &mb);
+        code = write_chunks(ctxt, &lo, &mb);
     /* exr_finish writes the chunk offset table, so its result matters. */
     rv = exr_finish(&ctxt);
     if (code == REFRACT_E_OK && rv != EXR_ERR_SUCCESS)
@@ -225,4 +255,11 @@ enum refract_code io_encode_exr(const float *rgba, int width, int height, void *
     *out_bytes = mb.bytes;
     *out_len = mb.len;
     return REFRACT_E_OK;
+}
+
+enum refract_code io_encode_exr(const float *rgba, int width, int height, void **out_bytes,
+                                size_t *out_len, struct err *e)
+{
+    static const char *const names[] = {"R", "G", "B", "A"};
+    return io_encode_exr_channels(rgba, width, height, 4, names, NULL, out_bytes, out_len, e);
 }

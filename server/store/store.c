@@ -97,6 +97,7 @@ static struct store_scene *version_new(struct store *s, const char *id,
     atomic_init(&v->refs, 1);
     snprintf(v->id, sizeof v->id, "%s", id);
     v->generation = atomic_fetch_add(&s->next_generation, 1);
+    v->data_generation = v->generation;
     v->created_unix = (int64_t)time(NULL);
     if (base == NULL)
         return v;
@@ -296,6 +297,58 @@ enum refract_code store_scene_create(struct store *s, const char *id, const char
         slot->has_status = false;
     }
     pthread_mutex_unlock(&s->lock);
+    return rc;
+}
+
+enum refract_code store_scene_set_lights(struct store *s, const char *id, const char *json,
+                                         size_t len, struct store_scene **out, struct err *e)
+{
+    if (out)
+        *out = NULL;
+    struct scene *parsed = NULL;
+    enum refract_code rc = scene_parse(json, len, &s->desc.limits, &parsed, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    char *copy = malloc(len + 1);
+    if (copy == NULL) {
+        scene_destroy(parsed);
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory storing the lights");
+    }
+    memcpy(copy, json, len);
+    copy[len] = '\0';
+    pthread_mutex_lock(&s->lock);
+    struct slot *slot = find_slot(s, id);
+    struct store_scene *v = slot ? version_new(s, id, slot->current) : NULL;
+    if (slot == NULL)
+        rc = err_set(e, REFRACT_E_SCENE_NOT_FOUND,
+                     "no scene with id \"%s\"; GET /v1/scenes lists the scenes", id);
+    else if (v == NULL)
+        rc = err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory storing the lights");
+    if (rc == REFRACT_E_OK) {
+        char path[4200];
+        snprintf(path, sizeof path, "%s/scenes/%s/scene.json", s->data_dir, id);
+        rc = store_write_atomic(path, json, len, e);
+    }
+    if (rc == REFRACT_E_OK) {
+        free(v->json);
+        scene_destroy(v->scene);
+        v->json = copy;
+        v->json_len = len;
+        v->scene = parsed;
+        copy = NULL;
+        parsed = NULL;
+        v->data_generation = slot->current->data_generation;
+        if (out) {
+            atomic_fetch_add(&v->refs, 1);
+            *out = v;
+        }
+        rc = install_locked(s, v, e); /* never fails for an existing slot */
+        v = NULL;
+    }
+    pthread_mutex_unlock(&s->lock);
+    store_scene_release(v);
+    scene_destroy(parsed);
+    free(copy);
     return rc;
 }
 

@@ -53,9 +53,14 @@ struct store_scene {
     atomic_int refs;
     char id[STORE_ID_MAX];
     uint64_t generation; /* unique per version across the store's lifetime */
-    char *json;          /* the document as received; owned */
+    /* The generation of the last change to what the GPU scene data is built from (the
+     * document's objects or an upload). A lights-only change (store_scene_set_lights)
+     * makes a new version with the same data_generation, so the renderer's scene cache,
+     * keyed on it, is not rebuilt. */
+    uint64_t data_generation;
+    char *json; /* the document as received; owned */
     size_t json_len;
-    struct scene *scene; /* owned */
+    struct scene *scene;           /* owned */
     struct store_volume **volumes; /* owned references */
     size_t volume_count;
     struct store_env *env; /* owned reference or NULL */
@@ -64,7 +69,7 @@ struct store_scene {
 
 /* What the GPU thread last reported about a scene's build. */
 struct store_gpu_status {
-    char state[16];  /* "pending", "ready", "failed" */
+    char state[16]; /* "pending", "ready", "failed" */
     uint64_t generation;
     size_t gpu_bytes;
     double build_ms;
@@ -72,10 +77,10 @@ struct store_gpu_status {
 };
 
 struct store_desc {
-    const char *data_dir;         /* created if missing */
-    struct scene_limits limits;   /* for parsing documents */
-    int max_scenes;               /* 0 = 64 */
-    long long max_env_pixels;     /* 0 = 64M */
+    const char *data_dir;       /* created if missing */
+    struct scene_limits limits; /* for parsing documents */
+    int max_scenes;             /* 0 = 64 */
+    long long max_env_pixels;   /* 0 = 64M */
 };
 
 struct store;
@@ -88,8 +93,14 @@ void store_close(struct store *s);
 
 /* Validates and stores a new scene. id may be NULL (a random id is made) or a name of
  * [a-z0-9_-], 1..63 chars (then an existing scene with that id is replaced). */
-enum refract_code store_scene_create(struct store *s, const char *id, const char *json,
-                                     size_t len, struct store_scene **out, struct err *e);
+enum refract_code store_scene_create(struct store *s, const char *id, const char *json, size_t len,
+                                     struct store_scene **out, struct err *e);
+/* Replaces the document of an existing scene by `json` (a copy of its document with a
+ * different "lights" array: the caller promises nothing else changed), validating it
+ * completely. Makes a new version that keeps the uploads and the data_generation, and
+ * persists the document. SCENE_NOT_FOUND, the parse errors, STORAGE. */
+enum refract_code store_scene_set_lights(struct store *s, const char *id, const char *json,
+                                         size_t len, struct store_scene **out, struct err *e);
 /* New reference to the current version, or NULL when unknown. */
 struct store_scene *store_scene_get(struct store *s, const char *id);
 void store_scene_release(struct store_scene *sc);
@@ -104,8 +115,8 @@ void store_list_free(struct store_scene **list, size_t count);
  * failure too). Makes a new version; *out (may be NULL) gets a reference to the stored
  * volume. */
 enum refract_code store_volume_put(struct store *s, const char *id, const char *name,
-                                   const int dims[3], int components, float *data,
-                                   size_t count, struct store_volume **out, struct err *e);
+                                   const int dims[3], int components, float *data, size_t count,
+                                   struct store_volume **out, struct err *e);
 void store_volume_release(struct store_volume *v);
 
 /* Decodes and stores the environment image of scene `id` (bytes as uploaded). */

@@ -6,7 +6,9 @@
  * Covered here: PUT /v1/scenes/{id}/volumes/{name} (query, size, values, limits, media
  * type, names), PUT /v1/scenes/{id}/environment (undecodable images), POST
  * /v1/scenes/{id}/render (syntax, fields, ranges, limits, the camera, missing uploads) and
- * POST /v1/scenes/{id}/trace (the rays). A failed upload must leave what was stored
+ * POST /v1/scenes/{id}/trace (the rays), PUT /v1/scenes/{id}/lights and .../lights/{name}
+ * (syntax, the body's shape, every light field through the scene parser's JSON paths; a
+ * failed change leaves the lights as they were). A failed upload must leave what was stored
  * before untouched ("never lost data"). test_bad_input_scenes.c covers routing and the
  * scene resource; test_bad_input_fuzz.c sends random and mutated documents.
  *
@@ -487,6 +489,114 @@ static void bad_trace_requests_get_their_errors(struct test_daemon *d, const cha
 
 /* ---- after all of it ------------------------------------------------------------------------- */
 
+#define LIGHT_BODY(x) "{\"lights\": [" x "]}"
+static const struct json_error_case lights_cases[] = {
+    {__LINE__, "", 400, "invalid_json", {"empty", "\"lights\""}},
+    {__LINE__, "{\"lights\": [", 400, "invalid_json", {"invalid JSON at byte 11", "truncated"}},
+    {__LINE__, "{\"lights\": []} []", 400, "invalid_json", {"unexpected text after"}},
+    {__LINE__, "[]", 400, "invalid_field", {"(root): expected an object"}},
+    {__LINE__, "{}", 400, "missing_field", {"lights: required"}},
+    {__LINE__,
+     "{\"light\": []}",
+     400,
+     "unknown_field",
+     {"unknown field \"light\"", "allowed: lights"}},
+    {__LINE__, "{\"lights\": {}}", 400, "invalid_field", {"lights: must be an array"}},
+    {__LINE__, LIGHT_BODY("1"), 400, "invalid_field", {"lights[0]"}},
+    {__LINE__,
+     LIGHT_BODY("{\"type\": \"laser\"}"),
+     400,
+     "invalid_field",
+     {"lights[0].type", "\"laser\""}},
+    {__LINE__,
+     LIGHT_BODY("{\"type\": \"directional\", \"direction\": [0, 0, 0]}"),
+     400,
+     "invalid_field",
+     {"lights[0].direction", "non-zero"}},
+    {__LINE__,
+     LIGHT_BODY("{\"type\": \"point\", \"position\": [0, 1, 1e999]}"),
+     400,
+     "invalid_field",
+     {"lights[0].position[2]", "finite"}},
+    {__LINE__,
+     LIGHT_BODY("{\"type\": \"point\", \"position\": [0, 1]}"),
+     400,
+     "invalid_field",
+     {"lights[0].position"}},
+    {__LINE__,
+     LIGHT_BODY("{\"type\": \"spot\", \"position\": [0, 1, 0], \"direction\": [0, -1, 0], "
+                "\"angle_deg\": 95}"),
+     400,
+     "invalid_field",
+     {"lights[0].angle_deg", "1..89"}},
+    {__LINE__,
+     LIGHT_BODY("{\"type\": \"point\", \"position\": [0, 1, 0], \"intensity\": -1}"),
+     400,
+     "invalid_field",
+     {"lights[0].intensity", "-1"}},
+    {__LINE__,
+     LIGHT_BODY("{\"type\": \"point\", \"position\": [0, 1, 0], \"colour\": [1, 1, 1]}"),
+     400,
+     "unknown_field",
+     {"lights[0]", "\"colour\""}},
+    {__LINE__,
+     LIGHT_BODY(
+         "{\"name\": \"a\", \"type\": \"point\", \"position\": [0, 1, 0]}, {\"name\": \"a\", "
+         "\"type\": \"point\", \"position\": [0, 2, 0]}"),
+     400,
+     "invalid_field",
+     {"lights[1].name", "unique"}},
+    {__LINE__,
+     LIGHT_BODY(
+         "{\"type\": \"point\", \"position\": [0, 1, 0]}, {\"type\": \"point\", \"position\": "
+         "[0, 1, 0]}, {\"type\": \"point\", \"position\": [0, 1, 0]}, {\"type\": \"point\", "
+         "\"position\": [0, 1, 0]}, {\"type\": \"point\", \"position\": [0, 1, 0]}"),
+     400,
+     "invalid_field",
+     {"lights", "0..4"}},
+};
+
+static const struct json_error_case light_cases[] = {
+    {__LINE__, "", 400, "invalid_json", {"empty", "one light object"}},
+    {__LINE__, "{\"type\": ", 400, "invalid_json", {"truncated"}},
+    {__LINE__, "[]", 400, "invalid_field", {"(root): expected an object"}},
+    {__LINE__,
+     "{\"name\": \"moon\", \"type\": \"point\", \"position\": [0, 1, 0]}",
+     400,
+     "invalid_field",
+     {"name: must be the light's name in the URL (\"sun\")"}},
+    {__LINE__,
+     "{\"name\": 3, \"type\": \"point\", \"position\": [0, 1, 0]}",
+     400,
+     "invalid_field",
+     {"name: must be"}},
+    {__LINE__, "{\"type\": \"point\"}", 400, "missing_field", {"position"}},
+    {__LINE__,
+     "{\"type\": \"point\", \"position\": [0, 1e400, 0]}",
+     400,
+     "invalid_field",
+     {"position[1]", "finite"}},
+};
+
+static void bad_lights_requests_get_their_errors(struct test_daemon *d, const char *id)
+{
+    section("PUT /v1/scenes/{id}/lights");
+    char p[300];
+    EXPECT_ERROR(d, "PUT", "/v1/scenes/nope/lights", "{\"lights\": []}", 404, "scene_not_found",
+                 "\"nope\"");
+    EXPECT_JSON_ERROR_CASES(d, "PUT", path_of(p, sizeof p, id, "/lights"), lights_cases);
+    section("PUT /v1/scenes/{id}/lights/{name}");
+    EXPECT_ERROR(d, "PUT", "/v1/scenes/nope/lights/sun", "{}", 404, "scene_not_found", "\"nope\"");
+    EXPECT_JSON_ERROR_CASES(d, "PUT", path_of(p, sizeof p, id, "/lights/sun"), light_cases);
+    EXPECT_ERROR(d, "PUT", path_of(p, sizeof p, id, "/lights/Sun"),
+                 "{\"type\": \"point\", \"position\": [0, 1, 0]}", 400, "invalid_field", "name",
+                 "\"Sun\"");
+    /* Nothing above changed the lights: the scene still has none. */
+    char *body = EXPECT_STATUS(d, "GET", path_of(p, sizeof p, id, "/lights"), NULL, 200);
+    CHECK(body && strstr(body, "\"lights\":[]") != NULL);
+    free(body);
+}
+
 static void daemon_still_answers_and_renders(struct test_daemon *d, const char *id)
 {
     section("");
@@ -516,6 +626,7 @@ int main(void)
     bad_render_requests_get_their_errors(&d, id);
     missing_uploads_are_conflicts_until_uploaded(&d);
     bad_trace_requests_get_their_errors(&d, id);
+    bad_lights_requests_get_their_errors(&d, id);
     daemon_still_answers_and_renders(&d, id);
     refract_image_free(&png);
     CHECK_INT(test_daemon_stop(&d), 0);

@@ -5,7 +5,10 @@
  *   - health, scene create (file and stdin) / list / show / delete, volume upload,
  *     render -o (PNG and EXR, decoded and sized), trace;
  *   - a missing scene (6), a volume file of the wrong size (17, before sending), a
- *     daemon that is not there (21), a wrong command line (24), a bad scene (2).
+ *     daemon that is not there (21), a wrong command line (24), a bad scene (2);
+ *   - the light and irradiance commands' command-line mistakes, refused before anything
+ *     is sent, and `light list` of a scene without lights (test_cli_lights.c drives
+ *     them against lights with irradiance volumes).
  */
 #include <fcntl.h>
 #include <stdio.h>
@@ -262,6 +265,46 @@ int main(void)
     r = run_cli(&d, "http://127.0.0.1:1", NULL, (const char *[]){"health", NULL});
     CHECK_INT(r.status, REFRACT_E_CONNECT_FAILED);
     CHECK_CONTAINS(r.err, "127.0.0.1:1");
+    cli_run_free(&r);
+
+    /* light and irradiance: mistakes on the command line are usage errors (24) that name
+     * what is wrong, found before anything is sent */
+    static const struct {
+        const char *args[10];
+        const char *says;
+    } usage_cases[] = {
+        {{"light", NULL}, "missing the command (set or list)"},
+        {{"light", "move", NULL}, "unknown light command 'move'"},
+        {{"light", "set", "s", NULL}, "missing the light NAME"},
+        {{"light", "set", "s", "sun", "--type", "lamp", NULL}, "got 'lamp'"},
+        {{"light", "set", "s", "sun", "--type", "directional", "--position", "0,2,0", NULL},
+         "--position does not apply to a directional light"},
+        {{"light", "set", "s", "sun", "--wait", "--no-wait", NULL}, "contradict"},
+        {{"light", "set", "s", "sun", "--color", "1,1", NULL}, "--color: "},
+        {{"light", "set", "s", "sun", "--intensty", "2", NULL}, "did you mean '--intensity'?"},
+        {{"light", "list", NULL}, "missing the scene ID"},
+        {{"irradiance", "status", NULL}, "missing the scene ID"},
+        {{"irradiance", "get", "s", "sun", NULL}, "missing -o FILE"},
+        {{"irradiance", "get", "s", "sun", "-o", "sun.png", NULL}, "name it .exr"},
+    };
+    for (size_t i = 0; i < sizeof usage_cases / sizeof usage_cases[0]; i++) {
+        r = run_cli(&d, "http://127.0.0.1:1", NULL, usage_cases[i].args);
+        CHECK_MSG(r.status == REFRACT_E_USAGE, "refract %s %s: exit %d", usage_cases[i].args[0],
+                  usage_cases[i].args[1] ? usage_cases[i].args[1] : "", r.status);
+        CHECK_CONTAINS(r.err, usage_cases[i].says);
+        CHECK_CONTAINS(r.err, "Run 'refract help ");
+        cli_run_free(&r);
+    }
+    r = run_cli(&d, NULL, NULL, (const char *[]){"help", "light", NULL});
+    CHECK_INT(r.status, 0);
+    CHECK_CONTAINS(r.out, "--no-wait");
+    cli_run_free(&r);
+    r = run_cli(&d, NULL, NULL, (const char *[]){"light", "list", small_id, NULL});
+    CHECK_INT(r.status, 0);
+    CHECK_CONTAINS(r.out, "\"lights\":[]");
+    cli_run_free(&r);
+    r = run_cli(&d, NULL, NULL, (const char *[]){"light", "list", "no_such_scene", NULL});
+    CHECK_INT(r.status, REFRACT_E_SCENE_NOT_FOUND);
     cli_run_free(&r);
 
     /* delete, then it is gone */

@@ -88,7 +88,8 @@ static void config_values_take_effect_and_flags_override_them(void)
     int fd = mkstemp(path);
     CHECK(fd >= 0);
     const char text[] = "# test\nmax-image-dim 100\nmax-rays 7\n  max-steps 3000  \n"
-                        "max-json-bytes 64K\n";
+                        "max-json-bytes 64K\nirradiance-gpu-budget 64M\n"
+                        "light-position-tolerance 0.01\nlightsim-chunk-steps 3\n";
     CHECK(write(fd, text, sizeof text - 1) == (ssize_t)(sizeof text - 1));
     close(fd);
     struct test_daemon d;
@@ -101,6 +102,10 @@ static void config_values_take_effect_and_flags_override_them(void)
         CHECK_CONTAINS(body, "\"max_steps\":3000");
         CHECK_CONTAINS(body, "\"max_json_bytes\":65536");
         CHECK_CONTAINS(body, "\"max_rays\":9"); /* the flag after --config wins */
+        CHECK_CONTAINS(body, "\"gpu_budget_bytes\":67108864");
+        CHECK_CONTAINS(body, "\"position_tolerance\":0.01");
+        CHECK_CONTAINS(body, "\"direction_tolerance\":0.001");
+        CHECK_CONTAINS(body, "\"chunk_steps\":3");
         free(body);
         char id[REFRACT_ID_SIZE];
         CHECK(test_create_scene(&d,
@@ -140,6 +145,14 @@ static void a_bad_config_file_names_file_and_line(void)
     close(fd);
     CHECK_INT(test_run_refractd((const char *[]){"--config", path, NULL}, &out), REFRACT_E_USAGE);
     CHECK_CONTAINS(out, "unknown key \"max-image-dimm\"");
+    free(out);
+
+    fd = open(path, O_WRONLY | O_TRUNC);
+    const char zero[] = "light-direction-tolerance 0\n";
+    CHECK(write(fd, zero, sizeof zero - 1) == (ssize_t)(sizeof zero - 1));
+    close(fd);
+    CHECK_INT(test_run_refractd((const char *[]){"--config", path, NULL}, &out), REFRACT_E_USAGE);
+    CHECK_CONTAINS(out, "light-direction-tolerance 0: expected a number in (0, 1]");
     free(out);
     unlink(path);
 }

@@ -517,14 +517,19 @@ static void request_examples_are_present(const struct contract *c)
 /* ---- (b) and (c): a real refractd ------------------------------------------------------ */
 
 #define VOLUME_NAME "density"
+#define LIGHT_NAME "sun"
 
-/* A small glass sphere whose default view is 64x48, so renders take milliseconds. */
+/* A small glass sphere whose default view is 64x48, so renders take milliseconds; its one
+ * light is the {light} of the irradiance routes (it needs no light simulation, so those
+ * answer without computing anything). */
 static const char *const test_scene =
     "{\"name\": \"contract\", \"camera\": {\"eye\": [0, 1, 3.7], \"width\": 64, \"height\": 48}, "
     "\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 32, "
-    "\"ior\": {\"shape\": \"sphere\", \"radius\": 0.8, \"inside\": 1.5}}]}";
+    "\"ior\": {\"shape\": \"sphere\", \"radius\": 0.8, \"inside\": 1.5}}], "
+    "\"lights\": [{\"name\": \"sun\", \"type\": \"directional\", \"direction\": [0, -1, 0]}]}";
 
-/* Writes tmpl with {id} and {name} filled in. False (test failed) for another parameter. */
+/* Writes tmpl with {id}, {name} and {light} filled in. False (test failed) for another
+ * parameter. */
 static bool fill_path(const char *tmpl, const char *id, char *out, size_t size)
 {
     size_t used = 0;
@@ -540,6 +545,10 @@ static bool fill_path(const char *tmpl, const char *id, char *out, size_t size)
             piece = VOLUME_NAME;
             len = strlen(VOLUME_NAME);
             p += 6;
+        } else if (strncmp(p, "{light}", 7) == 0) {
+            piece = LIGHT_NAME;
+            len = strlen(LIGHT_NAME);
+            p += 7;
         } else if (*p == '{') {
             CHECK_MSG(false, "path %s: unknown parameter at \"%s\"", tmpl, p);
             return false;

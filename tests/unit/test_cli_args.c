@@ -1,11 +1,13 @@
 /*
  * test_cli_args.c - the refract CLI's pure helpers, with no daemon and no network:
  * option scanning, vector/dims/number/timeout parsing, image format from an extension
- * or a Content-Type, volume byte sizes, image sizes read from PNG/JPEG/EXR headers, and
- * librefract's URL joining and path-segment escaping.
+ * or a Content-Type, volume byte sizes, image sizes read from PNG/JPEG/EXR headers,
+ * librefract's URL joining and path-segment escaping; and for lights (issue 3) the flags
+ * of `refract light set` and the light object they make, the reading of an irradiance
+ * status document, and how its table and progress are printed.
  *
  * Unit tests link only the server libraries, so the files under test are compiled
- * into this one directly; none of them uses libcurl or cJSON.
+ * into this one directly; none of them uses libcurl (cJSON comes with refract_scene).
  */
 #include <stdint.h>
 
@@ -13,6 +15,9 @@
 
 #include "../../client/cli/cli_args.c"
 #include "../../client/cli/cli_image.c"
+#include "../../client/cli/cli_irradiance.c"
+#include "../../client/cli/cli_light.c"
+#include "../../client/refract_status.c"
 #include "../../client/refract_url.c"
 
 static void vec3_parses_three_comma_separated_numbers(void)
@@ -352,6 +357,426 @@ static void image_size_refuses_cut_or_foreign_bytes(void)
     CHECK_INT(h, 7);
 }
 
+/* ---- refract light set: flags, type fit, merged light ---------------------------------- */
+
+static bool spec_of(struct cli_light_flags flags, struct cli_light_spec *spec, char *why)
+{
+    why[0] = '\0';
+    return cli_light_spec_parse(&flags, spec, why, 256);
+}
+
+static void light_flags_parse_every_value(void)
+{
+    struct cli_light_spec spec;
+    char why[256];
+
+    CHECK(spec_of((struct cli_light_flags){.type = "Spot",
+                                           .direction = "0,-1,0",
+                                           .position = "0, 2 ,0",
+                                           .angle = "25",
+                                           .color = "1,0.5,0.25",
+                                           .intensity = "3e2"},
+                  &spec, why));
+    CHECK_STR(spec.type, "spot"); /* canonical, whatever the case given */
+    CHECK(spec.has_direction && spec.has_position && spec.has_angle);
+    CHECK(spec.has_color && spec.has_intensity);
+    CHECK_NEAR(spec.direction[1], -1.0, 0);
+    CHECK_NEAR(spec.position[1], 2.0, 0);
+    CHECK_NEAR(spec.angle_deg, 25.0, 0);
+    CHECK_NEAR(spec.color[2], 0.25, 0);
+    CHECK_NEAR(spec.intensity, 300.0, 0);
+    CHECK(spec_of((struct cli_light_flags){0}, &spec, why));
+    CHECK(spec.type == NULL);
+    CHECK(!spec.has_direction && !spec.has_position && !spec.has_angle);
+    CHECK(!spec.has_color && !spec.has_intensity);
+}
+
+static void light_flags_name_the_option_that_is_wrong(void)
+{
+    struct cli_light_spec spec;
+    char why[256];
+
+    CHECK(!spec_of((struct cli_light_flags){.type = "sun"}, &spec, why));
+    CHECK_STR(why, "--type: expected directional, point or spot, got 'sun'");
+    CHECK(!spec_of((struct cli_light_flags){.direction = "0,-1"}, &spec, why));
+    CHECK_CONTAINS(why, "--direction: expected three numbers");
+    CHECK(!spec_of((struct cli_light_flags){.direction = "0,0,0"}, &spec, why));
+    CHECK_CONTAINS(why, "--direction: 0,0,0 points nowhere");
+    CHECK(!spec_of((struct cli_light_flags){.position = "1,2,nan"}, &spec, why));
+    CHECK_CONTAINS(why, "--position: ");
+    CHECK(!spec_of((struct cli_light_flags){.angle = "25deg"}, &spec, why));
+    CHECK_STR(why, "--angle: expected a finite number, got \"25deg\"");
+    CHECK(!spec_of((struct cli_light_flags){.color = "white"}, &spec, why));
+    CHECK_CONTAINS(why, "--color: ");
+    CHECK(!spec_of((struct cli_light_flags){.intensity = ""}, &spec, why));
+    CHECK_CONTAINS(why, "--intensity: ");
+}
+
+static void light_flags_must_fit_the_type(void)
+{
+    struct cli_light_spec pos, dir, angle, all;
+    char why[256];
+
+    spec_of((struct cli_light_flags){.position = "0,2,0"}, &pos, why);
+    spec_of((struct cli_light_flags){.direction = "0,-1,0"}, &dir, why);
+    spec_of((struct cli_light_flags){.angle = "20"}, &angle, why);
+    spec_of((struct cli_light_flags){.position = "0,2,0",
+                                     .direction = "0,-1,0",
+                                     .angle = "20",
+                                     .color = "1,1,1",
+                                     .intensity = "2"},
+            &all, why);
+    CHECK(!cli_light_spec_fits(&pos, "directional", why, sizeof(why)));
+    CHECK_CONTAINS(why, "--position does not apply to a directional light");
+    CHECK(!cli_light_spec_fits(&dir, "point", why, sizeof(why)));
+    CHECK_CONTAINS(why, "--direction does not apply to a point light");
+    CHECK(!cli_light_spec_fits(&angle, "point", why, sizeof(why)));
+    CHECK_CONTAINS(why, "--angle does not apply to a point light");
+    CHECK(!cli_light_spec_fits(&angle, "directional", why, sizeof(why)));
+    CHECK(cli_light_spec_fits(&dir, "directional", why, sizeof(why)));
+    CHECK(cli_light_spec_fits(&pos, "point", why, sizeof(why)));
+    CHECK(cli_light_spec_fits(&all, "spot", why, sizeof(why)));
+    CHECK(cli_light_spec_fits(&all, NULL, why, sizeof(why))); /* refractd decides */
+}
+
+/* Builds `light set NAME` from flags over existing (JSON text or NULL); returns the
+ * light as compact JSON (a new string) or NULL with why filled. */
+static char *built(const char *existing_json, const char *name, struct cli_light_flags flags,
+                   char *why)
+{
+    struct cli_light_spec spec;
+    cJSON *existing = existing_json != NULL ? cJSON_Parse(existing_json) : NULL;
+    cJSON *light;
+    char *text = NULL;
+
+    CHECK(spec_of(flags, &spec, why));
+    light = cli_light_build(existing, name, &spec, why, 256);
+    if (light != NULL)
+        text = cJSON_PrintUnformatted(light);
+    cJSON_Delete(light);
+    cJSON_Delete(existing);
+    return text;
+}
+
+static void light_set_makes_a_new_light_from_the_flags(void)
+{
+    char why[256];
+    char *a = built(
+        NULL, "sun",
+        (struct cli_light_flags){.type = "directional", .direction = "0,-1,0.5", .intensity = "2"},
+        why);
+    char *b = built(NULL, "bulb", (struct cli_light_flags){.position = "0,2,0"}, why);
+
+    CHECK_STR(a, "{\"name\":\"sun\",\"type\":\"directional\",\"direction\":[0,-1,0.5],"
+                 "\"intensity\":2}");
+    CHECK_STR(b, "{\"name\":\"bulb\",\"position\":[0,2,0]}"); /* type: refractd's default */
+    cJSON_free(a);
+    cJSON_free(b);
+}
+
+static void light_set_keeps_what_it_is_not_told(void)
+{
+    const char *bulb = "{\"name\":\"bulb\",\"type\":\"point\",\"position\":[0,2,0],"
+                       "\"color\":[1,0.9,0.8],\"intensity\":5}";
+    char why[256];
+    char *moved = built(bulb, "bulb", (struct cli_light_flags){.position = "1,2,0"}, why);
+
+    CHECK_STR(moved, "{\"name\":\"bulb\",\"type\":\"point\",\"position\":[1,2,0],"
+                     "\"color\":[1,0.9,0.8],\"intensity\":5}");
+    cJSON_free(moved);
+}
+
+static void light_set_drops_members_a_new_type_does_not_have(void)
+{
+    const char *spot = "{\"name\":\"s\",\"type\":\"spot\",\"position\":[0,2,0],"
+                       "\"direction\":[0,-1,0],\"angle_deg\":25,\"color\":[1,0,0],"
+                       "\"future_member\":7}";
+    char why[256];
+    char *dir = built(spot, "s", (struct cli_light_flags){.type = "directional"}, why);
+    char *point = built(spot, "s", (struct cli_light_flags){.type = "point"}, why);
+    char *back = built("{\"name\":\"s\",\"type\":\"point\",\"position\":[0,2,0]}", "s",
+                       (struct cli_light_flags){.type = "spot", .direction = "0,-1,0"}, why);
+
+    CHECK_STR(dir, "{\"name\":\"s\",\"type\":\"directional\",\"direction\":[0,-1,0],"
+                   "\"color\":[1,0,0],\"future_member\":7}");
+    CHECK_STR(point, "{\"name\":\"s\",\"type\":\"point\",\"position\":[0,2,0],"
+                     "\"color\":[1,0,0],\"future_member\":7}");
+    CHECK_STR(back, "{\"name\":\"s\",\"type\":\"spot\",\"position\":[0,2,0],"
+                    "\"direction\":[0,-1,0]}");
+    cJSON_free(dir);
+    cJSON_free(point);
+    cJSON_free(back);
+}
+
+static void light_set_checks_flags_against_the_existing_type(void)
+{
+    char why[256];
+    char *none = built("{\"name\":\"sun\",\"type\":\"directional\",\"direction\":[0,-1,0]}", "sun",
+                       (struct cli_light_flags){.position = "0,3,0"}, why);
+
+    CHECK(none == NULL);
+    CHECK_CONTAINS(why, "--position does not apply to a directional light");
+}
+
+static void light_find_uses_refractds_default_names(void)
+{
+    cJSON *doc = cJSON_Parse("{\"lights\":[{\"name\":\"sun\",\"type\":\"directional\"},"
+                             "{\"type\":\"point\",\"position\":[0,1,0]}]}");
+    const cJSON *second = cli_light_find(doc, "light1");
+
+    CHECK(cli_light_find(doc, "sun") == cJSON_GetArrayItem(cJSON_GetObjectItem(doc, "lights"), 0));
+    CHECK(second == cJSON_GetArrayItem(cJSON_GetObjectItem(doc, "lights"), 1));
+    CHECK(cli_light_find(doc, "light0") == NULL); /* light 0 has a name of its own */
+    CHECK(cli_light_find(doc, "moon") == NULL);
+    CHECK(cli_light_find(NULL, "sun") == NULL);
+    cJSON_Delete(doc);
+}
+
+/* ---- irradiance status: reading and showing it ----------------------------------------- */
+
+static const char status_doc[] =
+    "{\"scene\":\"s1\",\"needed\":true,\"transport_hash\":\"0123456789abcdef\",\"lights\":["
+    "{\"name\":\"sun\",\"state\":\"ready\",\"progress\":1,\"patches_live\":0,"
+    "\"key\":\"fedcba9876543210\",\"gpu_bytes\":2097152,\"host_bytes\":0,\"compute_ms\":850,"
+    "\"using\":\"current\",\"stats\":{\"steps\":120}},"
+    "{\"name\":\"bulb\",\"state\":\"computing\",\"progress\":0.456,\"patches_live\":12034,"
+    "\"using\":\"previous\",\"compute_ms\":1234.5},"
+    "{\"name\":\"spot\",\"state\":\"failed\",\"message\":\"patch list full\","
+    "\"code\":\"gpu_out_of_memory\",\"using\":\"none\"}]}";
+
+static void status_reads_every_member_and_leaves_absent_ones_minus_one(void)
+{
+    struct refract_irradiance s;
+    char why[256] = "";
+
+    CHECK(refract_status_from_json(status_doc, strlen(status_doc), &s, why, sizeof(why)));
+    CHECK_STR(s.scene, "s1");
+    CHECK(s.needed);
+    CHECK_STR(s.transport_hash, "0123456789abcdef");
+    CHECK_INT(s.light_count, 3);
+    if (s.light_count == 3) {
+        CHECK_STR(s.lights[0].name, "sun");
+        CHECK_STR(s.lights[0].state, "ready");
+        CHECK_STR(s.lights[0].key, "fedcba9876543210");
+        CHECK_INT(s.lights[0].gpu_bytes, 2097152);
+        CHECK_INT(s.lights[0].host_bytes, 0);
+        CHECK_NEAR(s.lights[0].compute_ms, 850, 0);
+        CHECK_STR(s.lights[0].using_volume, "current");
+        CHECK_NEAR(s.lights[1].progress, 0.456, 1e-12);
+        CHECK_INT(s.lights[1].patches_live, 12034);
+        CHECK_INT(s.lights[1].gpu_bytes, -1);
+        CHECK_STR(s.lights[1].key, "");
+        CHECK_STR(s.lights[2].message, "patch list full");
+        CHECK_INT(s.lights[2].code, REFRACT_E_GPU_OUT_OF_MEMORY);
+        CHECK_INT(s.lights[1].code, 0);
+        CHECK(s.lights[2].progress < 0);
+    }
+    CHECK(!refract_irradiance_settled(&s)); /* bulb is computing */
+    strcpy(s.lights[1].state, "ready");
+    CHECK(refract_irradiance_settled(&s)); /* ready and failed are both settled */
+    strcpy(s.lights[0].state, "stale");
+    CHECK(!refract_irradiance_settled(&s));
+    strcpy(s.lights[0].state, "a_state_from_the_future");
+    CHECK(!refract_irradiance_settled(&s)); /* unknown: still on its way */
+    refract_irradiance_free(&s);
+    CHECK(s.lights == NULL && s.light_count == 0);
+}
+
+static void status_refuses_documents_without_lights_names_or_states(void)
+{
+    static const struct {
+        const char *doc;
+        const char *why;
+    } bad[] = {
+        {"", "expected a JSON object {\"scene\", \"lights\": [...]}"},
+        {"[1,2]", "expected a JSON object {\"scene\", \"lights\": [...]}"},
+        {"{\"scene\":\"s\"}", "lights: expected an array"},
+        {"{\"lights\":{}}", "lights: expected an array"},
+        {"{\"lights\":[7]}", "lights[0]: expected an object"},
+        {"{\"lights\":[{\"state\":\"ready\"}]}", "lights[0].name: expected a non-empty string"},
+        {"{\"lights\":[{\"name\":\"a\",\"state\":\"ready\"},{\"name\":\"b\"}]}",
+         "lights[1].state: expected a non-empty string"},
+    };
+    struct refract_irradiance s;
+    char why[256];
+
+    for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {
+        why[0] = '\0';
+        CHECK_MSG(!refract_status_from_json(bad[i].doc, strlen(bad[i].doc), &s, why, sizeof(why)),
+                  "accepted %s", bad[i].doc);
+        CHECK_STR(why, bad[i].why);
+        CHECK(s.lights == NULL && s.light_count == 0);
+    }
+    CHECK(refract_status_from_json("{\"lights\":[]}", 13, &s, why, sizeof(why)));
+    CHECK(s.needed);                       /* absent: assume needed, the cautious reading */
+    CHECK(refract_irradiance_settled(&s)); /* no lights: nothing to wait for */
+    refract_irradiance_free(&s);
+}
+
+static void sizes_and_times_read_like_people_write_them(void)
+{
+    char b[32];
+
+    cli_format_bytes(b, sizeof(b), -1);
+    CHECK_STR(b, "-");
+    cli_format_bytes(b, sizeof(b), 0);
+    CHECK_STR(b, "0 B");
+    cli_format_bytes(b, sizeof(b), 1023);
+    CHECK_STR(b, "1023 B");
+    cli_format_bytes(b, sizeof(b), 2048);
+    CHECK_STR(b, "2.0 KiB");
+    cli_format_bytes(b, sizeof(b), 64LL * 64 * 64 * 16); /* a 64^3 RGBA16F + dir volume */
+    CHECK_STR(b, "4.0 MiB");
+    cli_format_bytes(b, sizeof(b), 3LL << 29);
+    CHECK_STR(b, "1.50 GiB");
+    cli_format_ms(b, sizeof(b), -1);
+    CHECK_STR(b, "-");
+    cli_format_ms(b, sizeof(b), 850.4);
+    CHECK_STR(b, "850 ms");
+    cli_format_ms(b, sizeof(b), 12400);
+    CHECK_STR(b, "12.4 s");
+    cli_format_ms(b, sizeof(b), 185000);
+    CHECK_STR(b, "3 min 05 s");
+}
+
+static void progress_is_the_mean_over_lights_that_need_a_volume(void)
+{
+    struct refract_light_status l[4] = {
+        {.name = "a", .state = "ready", .progress = 1},
+        {.name = "b", .state = "computing", .progress = 0.5},
+        {.name = "c", .state = "queued", .progress = 0.9}, /* queued: nothing done yet */
+        {.name = "d", .state = "not_needed", .progress = -1},
+    };
+    struct refract_irradiance s = {.needed = 1, .light_count = 4, .lights = l};
+    struct refract_irradiance none = {.needed = 0, .light_count = 1, .lights = &l[3]};
+    char bar[64];
+
+    CHECK_NEAR(cli_irradiance_fraction(&s), 0.5, 1e-12);
+    CHECK_NEAR(cli_irradiance_fraction(&none), 1.0, 0);
+    cli_progress_bar(bar, sizeof(bar), 0.5, 10);
+    CHECK_STR(bar, "[#####-----]  50%");
+    cli_progress_bar(bar, sizeof(bar), 1.7, 4);
+    CHECK_STR(bar, "[####] 100%");
+    cli_progress_bar(bar, sizeof(bar), -0.2, 4);
+    CHECK_STR(bar, "[----]   0%");
+    cli_progress_bar(bar, 6, 0.25, 10); /* no room for the bar: the number alone */
+    CHECK_STR(bar, " 25%");
+}
+
+static void summary_lines_round_to_steps_for_logs(void)
+{
+    struct refract_light_status l[2] = {
+        {.name = "sun", .state = "ready", .progress = 1, .patches_live = 0},
+        {.name = "bulb", .state = "computing", .progress = 0.456, .patches_live = 12034},
+    };
+    struct refract_irradiance s = {.needed = 1, .light_count = 2, .lights = l};
+    struct refract_irradiance empty = {.needed = 1};
+    char line[256];
+
+    cli_irradiance_summary(line, sizeof(line), &s, 0);
+    CHECK_STR(line, "sun ready, bulb computing 45% (12034 patches)");
+    cli_irradiance_summary(line, sizeof(line), &s, 10);
+    CHECK_STR(line, "sun ready, bulb computing 40%");
+    cli_irradiance_summary(line, 12, &s, 0); /* cut, never overrun */
+    CHECK_STR(line, "sun ready, ");
+    cli_irradiance_summary(line, sizeof(line), &empty, 0);
+    CHECK_STR(line, "no lights");
+}
+
+/* Runs f(stream) into memory and returns what it printed (a new string). */
+static char *printed(void (*print)(FILE *f, const void *arg), const void *arg)
+{
+    char *text = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&text, &len);
+
+    CHECK(f != NULL);
+    if (f == NULL)
+        return strdup("");
+    print(f, arg);
+    fclose(f);
+    return text;
+}
+
+static void print_table(FILE *f, const void *arg)
+{
+    cli_irradiance_table(f, arg);
+}
+
+static void status_table_has_a_row_per_light_and_the_failures_below(void)
+{
+    struct refract_irradiance s;
+    char why[256];
+    char *table;
+
+    CHECK(refract_status_from_json(status_doc, strlen(status_doc), &s, why, sizeof(why)));
+    table = printed(print_table, &s);
+    CHECK_CONTAINS(table, "scene s1: needs light simulation, transport hash 0123456789abcdef, "
+                          "3 lights\n");
+    CHECK_CONTAINS(table, "LIGHT  STATE       PROGRESS   PATCHES     GPU MEM    HOST MEM"
+                          "     COMPUTE  USING\n");
+    CHECK_CONTAINS(table, "sun    ready           100%         0     2.0 MiB         0 B"
+                          "      850 ms  current\n");
+    CHECK_CONTAINS(table, "bulb   computing        46%     12034           -           -"
+                          "       1.2 s  previous\n");
+    CHECK_CONTAINS(table, "spot   failed             -         -           -           -"
+                          "           -  none\n");
+    CHECK_CONTAINS(table, "failed:\n  spot: patch list full\n");
+    free(table);
+    refract_irradiance_free(&s);
+}
+
+struct progress_case {
+    bool tty;
+    int width;
+};
+
+static void print_progress(FILE *f, const void *arg)
+{
+    const struct progress_case *pc = arg;
+    struct refract_light_status l = {.name = "sun", .state = "queued", .progress = 0};
+    struct refract_irradiance s = {.needed = 1, .light_count = 1, .lights = &l};
+    struct cli_progress p;
+    static const double steps[] = {0.0, 0.02, 0.05, 0.31, 0.31, 0.33, 1.0};
+
+    cli_progress_init(&p, f, pc->tty, pc->width);
+    cli_progress_update(&p, &s);
+    strcpy(l.state, "computing");
+    for (size_t i = 0; i < sizeof(steps) / sizeof(steps[0]); i++) {
+        l.progress = steps[i];
+        if (steps[i] == 1.0)
+            strcpy(l.state, "ready");
+        cli_progress_update(&p, &s);
+    }
+    cli_progress_finish(&p);
+}
+
+static void progress_redraws_a_bar_on_terminals_and_logs_changes_elsewhere(void)
+{
+    struct progress_case log = {.tty = false, .width = 0};
+    struct progress_case tty = {.tty = true, .width = 50};
+    char *lines = printed(print_progress, &log);
+    char *bar = printed(print_progress, &tty);
+
+    /* One line per state or 10% step; repeats (2%, 5%, 33%) are left out. */
+    CHECK_STR(lines, "irradiance: sun queued\n"
+                     "irradiance: sun computing 0%\n"
+                     "irradiance: sun computing 30%\n"
+                     "irradiance: sun ready\n");
+    CHECK_CONTAINS(bar, "\r[------------------------]   0%  sun queued\033[K");
+    /* cut at 49 columns: a wrapped line could not be redrawn */
+    CHECK_CONTAINS(bar, "\r[#######-----------------]  31%  sun computing 31\033[K");
+    CHECK_CONTAINS(bar, "\r[########################] 100%  sun ready\033[K\n");
+    CHECK(strchr(bar, '\n') == bar + strlen(bar) - 1); /* one line, ended once */
+    /* queued, 0%, 2%, 5%, 31%, 33%, 100%: the second 31% is the same line, not redrawn. */
+    size_t redraws = 0;
+    for (const char *c = bar; (c = strchr(c, '\r')) != NULL; c++)
+        redraws++;
+    CHECK_INT(redraws, 7);
+    free(lines);
+    free(bar);
+}
+
 int main(void)
 {
     vec3_parses_three_comma_separated_numbers();
@@ -374,5 +799,20 @@ int main(void)
     url_check_accepts_http_and_https_with_a_host();
     image_size_reads_png_jpeg_and_exr_headers();
     image_size_refuses_cut_or_foreign_bytes();
+    light_flags_parse_every_value();
+    light_flags_name_the_option_that_is_wrong();
+    light_flags_must_fit_the_type();
+    light_set_makes_a_new_light_from_the_flags();
+    light_set_keeps_what_it_is_not_told();
+    light_set_drops_members_a_new_type_does_not_have();
+    light_set_checks_flags_against_the_existing_type();
+    light_find_uses_refractds_default_names();
+    status_reads_every_member_and_leaves_absent_ones_minus_one();
+    status_refuses_documents_without_lights_names_or_states();
+    sizes_and_times_read_like_people_write_them();
+    progress_is_the_mean_over_lights_that_need_a_volume();
+    summary_lines_round_to_steps_for_logs();
+    status_table_has_a_row_per_light_and_the_failures_below();
+    progress_redraws_a_bar_on_terminals_and_logs_changes_elsewhere();
     return test_summary("test_cli_args");
 }

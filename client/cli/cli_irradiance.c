@@ -1,0 +1,259 @@
+/*
+ * cli_irradiance.c - the irradiance status as people read it (see cli_irradiance.h).
+ *
+ * The states are refractd's words, printed as they come, so a state this client does not
+ * know still shows. Progress is refractd's "progress" (the fraction of the light
+ * domain the wavefront has swept, docs/lightsim.md), not a time estimate: a simulation
+ * that culls most of its patches early finishes sooner than its sweep suggests.
+ */
+#include "cli_irradiance.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+static bool is_state(const struct refract_light_status *l, const char *state)
+{
+    return strcmp(l->state, state) == 0;
+}
+
+static bool is_settled(const struct refract_light_status *l)
+{
+    return is_state(l, "ready") || is_state(l, "failed") || is_state(l, "not_needed");
+}
+
+void cli_format_bytes(char *buf, size_t size, long long bytes)
+{
+    static const char *const units[] = {"KiB", "MiB", "GiB", "TiB"};
+    double v = (double)bytes;
+    int u = -1;
+
+    if (bytes < 0) {
+        snprintf(buf, size, "-");
+        return;
+    }
+    if (bytes < 1024) {
+        snprintf(buf, size, "%lld B", bytes);
+        return;
+    }
+    while (v >= 1024.0 && u < 3) {
+        v /= 1024.0;
+        u++;
+    }
+    snprintf(buf, size, v < 10.0 && u >= 2 ? "%.2f %s" : "%.1f %s", v, units[u]);
+}
+
+void cli_format_ms(char *buf, size_t size, double ms)
+{
+    if (!(ms >= 0)) {
+        snprintf(buf, size, "-");
+    } else if (ms < 1000.0) {
+        snprintf(buf, size, "%.0f ms", ms);
+    } else if (ms < 60000.0) {
+        snprintf(buf, size, "%.1f s", ms / 1000.0);
+    } else {
+        long s = (long)(ms / 1000.0);
+
+        snprintf(buf, size, "%ld min %02ld s", s / 60, s % 60);
+    }
+}
+
+/* A light's own progress, 0..1. */
+static double light_fraction(const struct refract_light_status *l)
+{
+    if (is_settled(l))
+        return 1.0;
+    if (is_state(l, "queued") || !(l->progress >= 0))
+        return 0.0;
+    return l->progress > 1.0 ? 1.0 : l->progress;
+}
+
+double cli_irradiance_fraction(const struct refract_irradiance *s)
+{
+    double sum = 0;
+    size_t n = 0;
+
+    for (size_t i = 0; i < s->light_count; i++) {
+        if (is_state(&s->lights[i], "not_needed"))
+            continue;
+        sum += light_fraction(&s->lights[i]);
+        n++;
+    }
+    return n > 0 ? sum / (double)n : 1.0;
+}
+
+void cli_progress_bar(char *buf, size_t size, double fraction, int bar_width)
+{
+    int filled;
+    size_t used = 0;
+
+    if (size == 0)
+        return;
+    if (!(fraction >= 0))
+        fraction = 0;
+    if (fraction > 1)
+        fraction = 1;
+    if (bar_width < 1)
+        bar_width = 1;
+    filled = (int)(fraction * bar_width);
+    buf[0] = '\0';
+    if ((size_t)bar_width + 8 > size) {
+        snprintf(buf, size, "%3d%%", (int)(fraction * 100.0));
+        return;
+    }
+    buf[used++] = '[';
+    for (int i = 0; i < bar_width; i++)
+        buf[used++] = i < filled ? '#' : '-';
+    snprintf(buf + used, size - used, "] %3d%%", (int)(fraction * 100.0));
+}
+
+/* Appends to buf (size bytes, used so far) like snprintf; never overruns. */
+static size_t append(char *buf, size_t size, size_t used, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+
+static size_t append(char *buf, size_t size, size_t used, const char *fmt, ...)
+{
+    va_list ap;
+    int n;
+
+    if (used >= size)
+        return used;
+    va_start(ap, fmt);
+    n = vsnprintf(buf + used, size - used, fmt, ap);
+    va_end(ap);
+    if (n < 0)
+        return used;
+    return used + (size_t)n < size ? used + (size_t)n : size - 1;
+}
+
+void cli_irradiance_summary(char *buf, size_t size, const struct refract_irradiance *s, int step)
+{
+    size_t used = 0;
+
+    if (size == 0)
+        return;
+    buf[0] = '\0';
+    if (s->light_count == 0) {
+        append(buf, size, 0, "no lights");
+        return;
+    }
+    for (size_t i = 0; i < s->light_count; i++) {
+        const struct refract_light_status *l = &s->lights[i];
+
+        used = append(buf, size, used, "%s%s %s", i > 0 ? ", " : "", l->name, l->state);
+        if (!is_settled(l) && !is_state(l, "queued") && l->progress >= 0) {
+            int pct = (int)(100.0 * (l->progress > 1 ? 1 : l->progress));
+
+            if (step > 0)
+                pct -= pct % step;
+            used = append(buf, size, used, " %d%%", pct);
+        }
+        if (is_state(l, "computing") && l->patches_live >= 0 && step <= 0)
+            used = append(buf, size, used, " (%lld patches)", l->patches_live);
+    }
+}
+
+/* The PROGRESS cell of a light: "100%", "45%", "-" when it needs no volume. */
+static void progress_cell(char *buf, size_t size, const struct refract_light_status *l)
+{
+    if (is_state(l, "not_needed"))
+        snprintf(buf, size, "-");
+    else if (is_state(l, "ready"))
+        snprintf(buf, size, "100%%");
+    else if (l->progress >= 0)
+        snprintf(buf, size, "%.0f%%", 100.0 * (l->progress > 1 ? 1 : l->progress));
+    else
+        snprintf(buf, size, "-");
+}
+
+void cli_irradiance_table(FILE *f, const struct refract_irradiance *s)
+{
+    int name_w = 5; /* "LIGHT" */
+    bool any_failed = false;
+
+    fprintf(f, "scene %s: %s", s->scene[0] != '\0' ? s->scene : "?",
+            s->needed ? "needs light simulation" : "needs no light simulation");
+    if (s->transport_hash[0] != '\0')
+        fprintf(f, ", transport hash %s", s->transport_hash);
+    fprintf(f, ", %zu light%s\n", s->light_count, s->light_count == 1 ? "" : "s");
+    if (s->light_count == 0)
+        return;
+    for (size_t i = 0; i < s->light_count; i++) {
+        int n = (int)strlen(s->lights[i].name);
+
+        name_w = n > name_w ? n : name_w;
+    }
+    fprintf(f, "%-*s  %-10s  %8s  %8s  %10s  %10s  %10s  %s\n", name_w, "LIGHT", "STATE",
+            "PROGRESS", "PATCHES", "GPU MEM", "HOST MEM", "COMPUTE", "USING");
+    for (size_t i = 0; i < s->light_count; i++) {
+        const struct refract_light_status *l = &s->lights[i];
+        char progress[16], patches[24], gpu[24], host[24], compute[24];
+
+        progress_cell(progress, sizeof(progress), l);
+        if (l->patches_live >= 0)
+            snprintf(patches, sizeof(patches), "%lld", l->patches_live);
+        else
+            snprintf(patches, sizeof(patches), "-");
+        cli_format_bytes(gpu, sizeof(gpu), l->gpu_bytes);
+        cli_format_bytes(host, sizeof(host), l->host_bytes);
+        cli_format_ms(compute, sizeof(compute), l->compute_ms);
+        fprintf(f, "%-*s  %-10s  %8s  %8s  %10s  %10s  %10s  %s\n", name_w, l->name, l->state,
+                progress, patches, gpu, host, compute,
+                l->using_volume[0] != '\0' ? l->using_volume : "-");
+        any_failed = any_failed || is_state(l, "failed");
+    }
+    if (!any_failed)
+        return;
+    fputs("failed:\n", f);
+    for (size_t i = 0; i < s->light_count; i++) {
+        if (is_state(&s->lights[i], "failed"))
+            fprintf(f, "  %s: %s\n", s->lights[i].name,
+                    s->lights[i].message[0] != '\0' ? s->lights[i].message : "(no message)");
+    }
+}
+
+void cli_progress_init(struct cli_progress *p, FILE *f, bool tty, int width)
+{
+    memset(p, 0, sizeof(*p));
+    p->f = f;
+    p->tty = tty;
+    p->width = width >= 20 ? width : 80;
+}
+
+void cli_progress_update(struct cli_progress *p, const struct refract_irradiance *s)
+{
+    char summary[400];
+    char bar[64];
+    char line[512];
+
+    if (!p->tty) {
+        cli_irradiance_summary(summary, sizeof(summary), s, 10);
+        snprintf(line, sizeof(line), "irradiance: %s", summary);
+        if (strcmp(line, p->last) == 0)
+            return;
+        snprintf(p->last, sizeof(p->last), "%s", line);
+        fprintf(p->f, "%s\n", line);
+        fflush(p->f);
+        return;
+    }
+    cli_irradiance_summary(summary, sizeof(summary), s, 0);
+    cli_progress_bar(bar, sizeof(bar), cli_irradiance_fraction(s), 24);
+    /* Cut to the terminal's width: a wrapped line cannot be redrawn with \r. */
+    snprintf(line, sizeof(line), "%s  %s", bar, summary);
+    if ((int)strlen(line) > p->width - 1)
+        line[p->width - 1] = '\0';
+    if (p->drawn && strcmp(line, p->last) == 0)
+        return; /* unchanged: redrawing would only flicker */
+    snprintf(p->last, sizeof(p->last), "%s", line);
+    fprintf(p->f, "\r%s\033[K", line);
+    fflush(p->f);
+    p->drawn = true;
+}
+
+void cli_progress_finish(struct cli_progress *p)
+{
+    if (p->tty && p->drawn)
+        fputc('\n', p->f);
+    p->drawn = false;
+    fflush(p->f);
+}

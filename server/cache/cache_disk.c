@@ -1,0 +1,395 @@
+/*
+ * cache_disk.c - irradiance volumes in the data directory and as EXR bytes.
+ *
+ *     <data>/irradiance/<key>.exr   the volume (layout in irradiance_cache.h, docs/api.md)
+ *     <data>/irradiance/<key>.json  sidecar: {"key", "dims", "bmin", "voxel",
+ *                                   "compute_ms", "stats": {...}}
+ *
+ * Both are written to a temporary name, fsynced and renamed, the EXR first, so a sidecar
+ * always names a complete volume; the start-up index trusts only pairs.
+ */
+#include <cjson/cJSON.h>
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <inttypes.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "../core/log.h"
+#include "../io/io_exr.h"
+#include "cache_internal.h"
+
+static const char *const channel_names[] = {"R", "G", "B", "dir.X", "dir.Y", "dir.Z", "dir.W"};
+#define IRR_CHANNELS 7
+#define IRR_MAX_FILE ((size_t)2 << 30)
+
+void irr_volume_path(const struct irradiance_cache *c, uint64_t key, const char *ext, char *out,
+                     size_t size)
+{
+    snprintf(out, size, "%s/%016" PRIx64 ".%s", c->dir, key, ext);
+}
+
+enum refract_code irr_disk_mkdirs(const char *path, struct err *e)
+{
+    char buf[700];
+    snprintf(buf, sizeof buf, "%s", path);
+    for (char *p = buf + 1; *p; p++) {
+        if (*p != '/')
+            continue;
+        *p = '\0';
+        if (mkdir(buf, 0755) != 0 && errno != EEXIST)
+            return err_set(e, REFRACT_E_STORAGE, "cannot create %s: %s", buf, strerror(errno));
+        *p = '/';
+    }
+    if (mkdir(buf, 0755) != 0 && errno != EEXIST)
+        return err_set(e, REFRACT_E_STORAGE, "cannot create %s: %s", buf, strerror(errno));
+    return REFRACT_E_OK;
+}
+
+static char *grid_json(const struct light_grid *g)
+{
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddItemToObject(o, "dims", cJSON_CreateIntArray(g->dims, 3));
+    double b[3] = {g->bmin.x, g->bmin.y, g->bmin.z};
+    cJSON_AddItemToObject(o, "bmin", cJSON_CreateDoubleArray(b, 3));
+    cJSON_AddNumberToObject(o, "voxel", g->voxel);
+    char *s = cJSON_PrintUnformatted(o);
+    cJSON_Delete(o);
+    return s;
+}
+
+/* Reads "dims", "bmin", "voxel" of a grid object; false when any is missing or bad. */
+static bool grid_from_json(const cJSON *o, struct light_grid *g)
+{
+    const cJSON *dims = cJSON_GetObjectItemCaseSensitive(o, "dims");
+    const cJSON *bmin = cJSON_GetObjectItemCaseSensitive(o, "bmin");
+    const cJSON *voxel = cJSON_GetObjectItemCaseSensitive(o, "voxel");
+    if (!cJSON_IsArray(dims) || cJSON_GetArraySize(dims) != 3 || !cJSON_IsArray(bmin) ||
+        cJSON_GetArraySize(bmin) != 3 || !cJSON_IsNumber(voxel) || !(voxel->valuedouble > 0))
+        return false;
+    double b[3];
+    for (int a = 0; a < 3; a++) {
+        const cJSON *d = cJSON_GetArrayItem(dims, a), *m = cJSON_GetArrayItem(bmin, a);
+        if (!cJSON_IsNumber(d) || d->valuedouble < 1 || d->valuedouble > 4096 || !cJSON_IsNumber(m))
+            return false;
+        g->dims[a] = (int)d->valuedouble;
+        b[a] = m->valuedouble;
+    }
+    g->bmin = (vec3){b[0], b[1], b[2]};
+    g->voxel = voxel->valuedouble;
+    return true;
+}
+
+enum refract_code irradiance_volume_encode_exr(const struct irradiance_volume *v, uint64_t key,
+                                               void **bytes, size_t *len, struct err *e)
+{
+    const int *d = v->grid.dims;
+    size_t n = (size_t)d[0] * d[1] * d[2];
+    float *px = malloc(n * IRR_CHANNELS * sizeof *px);
+    char *grid = grid_json(&v->grid);
+    if (px == NULL || grid == NULL) {
+        free(px);
+        cJSON_free(grid);
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory encoding a volume");
+    }
+    /* The volume's x-fastest, then y, then z order is the image's row order when the
+     * slices are stacked vertically with z = 0 at the top. */
+    for (size_t i = 0; i < n; i++) {
+        for (int k = 0; k < 3; k++)
+            px[i * IRR_CHANNELS + (size_t)k] = v->irradiance[i * 4 + (size_t)k];
+        for (int k = 0; k < 4; k++)
+            px[i * IRR_CHANNELS + 3 + (size_t)k] = v->direction[i * 4 + (size_t)k];
+    }
+    char keyhex[17];
+    snprintf(keyhex, sizeof keyhex, "%016" PRIx64, key);
+    const char *attrs[] = {"refract.grid", grid, "refract.key", keyhex, NULL};
+    enum refract_code rc = io_encode_exr_channels(px, d[0], d[1] * d[2], IRR_CHANNELS,
+                                                  channel_names, attrs, bytes, len, e);
+    free(px);
+    cJSON_free(grid);
+    return rc;
+}
+
+enum refract_code irradiance_volume_decode_exr(const void *bytes, size_t len,
+                                               struct irradiance_volume *out, struct err *e)
+{
+    memset(out, 0, sizeof *out);
+    float *px = NULL;
+    int w = 0, h = 0;
+    char grid_text[1024];
+    enum refract_code rc =
+        io_decode_exr_channels(bytes, len, IRR_CHANNELS, channel_names, 1ll << 30, &px, &w, &h,
+                               "refract.grid", grid_text, sizeof grid_text, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    cJSON *g = cJSON_Parse(grid_text);
+    bool ok = g && grid_from_json(g, &out->grid);
+    cJSON_Delete(g);
+    const int *d = out->grid.dims;
+    if (!ok || d[0] != w || (long long)d[1] * d[2] != h) {
+        free(px);
+        memset(out, 0, sizeof *out);
+        return err_set(e, REFRACT_E_INVALID_IMAGE,
+                       "EXR: refract.grid is missing or does not match the %d x %d image", w, h);
+    }
+    size_t n = (size_t)w * (size_t)h;
+    out->irradiance = malloc(n * 4 * sizeof(float));
+    out->direction = malloc(n * 4 * sizeof(float));
+    if (out->irradiance == NULL || out->direction == NULL) {
+        free(px);
+        irradiance_volume_free(out);
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory decoding a volume");
+    }
+    for (size_t i = 0; i < n; i++) {
+        for (int k = 0; k < 3; k++)
+            out->irradiance[i * 4 + (size_t)k] = px[i * IRR_CHANNELS + (size_t)k];
+        out->irradiance[i * 4 + 3] = 0.0f;
+        for (int k = 0; k < 4; k++)
+            out->direction[i * 4 + (size_t)k] = px[i * IRR_CHANNELS + 3 + (size_t)k];
+    }
+    free(px);
+    return REFRACT_E_OK;
+}
+
+/* Temporary name, fsync, rename: readers never see half a file. */
+static enum refract_code write_atomic(const char *path, const void *data, size_t len, struct err *e)
+{
+    char tmp[700];
+    snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
+    int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd < 0)
+        return err_set(e, REFRACT_E_STORAGE, "cannot write %s: %s", tmp, strerror(errno));
+    const char *p = data;
+    size_t left = len;
+    while (left > 0) {
+        ssize_t w = write(fd, p, left);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0) {
+            int err = errno;
+            close(fd);
+            unlink(tmp);
+            return err_set(e, REFRACT_E_STORAGE, "cannot write %s: %s", tmp, strerror(err));
+        }
+        p += w;
+        left -= (size_t)w;
+    }
+    if (fsync(fd) != 0 || close(fd) != 0 || rename(tmp, path) != 0) {
+        int err = errno;
+        unlink(tmp);
+        return err_set(e, REFRACT_E_STORAGE, "cannot store %s: %s", path, strerror(err));
+    }
+    return REFRACT_E_OK;
+}
+
+static void add_triplet(cJSON *o, const char *name, const double v[3])
+{
+    cJSON_AddItemToObject(o, name, cJSON_CreateDoubleArray(v, 3));
+}
+
+static cJSON *stats_json(const struct lightsim_stats *s)
+{
+    cJSON *o = cJSON_CreateObject();
+    add_triplet(o, "flux_in", s->flux_in);
+    add_triplet(o, "flux_out", s->flux_out);
+    add_triplet(o, "flux_reflected", s->flux_reflected);
+    add_triplet(o, "flux_absorbed", s->flux_absorbed);
+    add_triplet(o, "flux_culled", s->flux_culled);
+    add_triplet(o, "flux_live", s->flux_live);
+    cJSON_AddNumberToObject(o, "steps", (double)s->steps);
+    cJSON_AddNumberToObject(o, "patch_steps", (double)s->patch_steps);
+    cJSON_AddNumberToObject(o, "splits", (double)s->splits);
+    cJSON_AddNumberToObject(o, "culled_energy", (double)s->culled_energy);
+    cJSON_AddNumberToObject(o, "culled_level", (double)s->culled_level);
+    cJSON_AddNumberToObject(o, "culled_flip", (double)s->culled_flip);
+    cJSON_AddNumberToObject(o, "culled_capacity", (double)s->culled_capacity);
+    cJSON_AddNumberToObject(o, "patches_initial", s->patches_initial);
+    cJSON_AddNumberToObject(o, "patches_peak", s->patches_peak);
+    return o;
+}
+
+struct cJSON *irradiance_stats_json(const struct lightsim_stats *s)
+{
+    return stats_json(s);
+}
+
+static void read_triplet(const cJSON *o, const char *name, double v[3])
+{
+    const cJSON *a = cJSON_GetObjectItemCaseSensitive(o, name);
+    for (int k = 0; k < 3; k++) {
+        const cJSON *x = cJSON_IsArray(a) ? cJSON_GetArrayItem(a, k) : NULL;
+        v[k] = cJSON_IsNumber(x) ? x->valuedouble : 0.0;
+    }
+}
+
+static double read_number(const cJSON *o, const char *name)
+{
+    const cJSON *x = cJSON_GetObjectItemCaseSensitive(o, name);
+    return cJSON_IsNumber(x) ? x->valuedouble : 0.0;
+}
+
+static void stats_from_json(const cJSON *o, struct lightsim_stats *s)
+{
+    memset(s, 0, sizeof *s);
+    read_triplet(o, "flux_in", s->flux_in);
+    read_triplet(o, "flux_out", s->flux_out);
+    read_triplet(o, "flux_reflected", s->flux_reflected);
+    read_triplet(o, "flux_absorbed", s->flux_absorbed);
+    read_triplet(o, "flux_culled", s->flux_culled);
+    read_triplet(o, "flux_live", s->flux_live);
+    s->steps = (long long)read_number(o, "steps");
+    s->patch_steps = (long long)read_number(o, "patch_steps");
+    s->splits = (long long)read_number(o, "splits");
+    s->culled_energy = (long long)read_number(o, "culled_energy");
+    s->culled_level = (long long)read_number(o, "culled_level");
+    s->culled_flip = (long long)read_number(o, "culled_flip");
+    s->culled_capacity = (long long)read_number(o, "culled_capacity");
+    s->patches_initial = (int)read_number(o, "patches_initial");
+    s->patches_peak = (int)read_number(o, "patches_peak");
+    s->progress = 1.0;
+    s->done = true;
+}
+
+enum refract_code irr_disk_write(const struct irradiance_cache *c, const struct irr_entry *en,
+                                 struct err *e)
+{
+    void *bytes = NULL;
+    size_t len = 0;
+    enum refract_code rc = irradiance_volume_encode_exr(&en->host, en->key, &bytes, &len, e);
+    char path[700];
+    irr_volume_path(c, en->key, "exr", path, sizeof path);
+    if (rc == REFRACT_E_OK)
+        rc = write_atomic(path, bytes, len, e);
+    free(bytes);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    cJSON *o = cJSON_CreateObject();
+    char keyhex[17];
+    snprintf(keyhex, sizeof keyhex, "%016" PRIx64, en->key);
+    cJSON_AddStringToObject(o, "key", keyhex);
+    char *grid = grid_json(&en->host.grid);
+    cJSON *g = grid ? cJSON_Parse(grid) : NULL;
+    cJSON_free(grid);
+    if (g)
+        cJSON_AddItemToObject(o, "grid", g);
+    cJSON_AddNumberToObject(o, "compute_ms", en->compute_ms);
+    cJSON_AddItemToObject(o, "stats", stats_json(&en->host.stats));
+    char *text = cJSON_Print(o);
+    cJSON_Delete(o);
+    if (text == NULL)
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory writing a sidecar");
+    irr_volume_path(c, en->key, "json", path, sizeof path);
+    rc = write_atomic(path, text, strlen(text), e);
+    cJSON_free(text);
+    return rc;
+}
+
+static enum refract_code read_file(const char *path, char **out, size_t *len, struct err *e)
+{
+    *out = NULL;
+    *len = 0;
+    FILE *f = fopen(path, "rb");
+    if (f == NULL)
+        return err_set(e, REFRACT_E_STORAGE, "cannot read %s: %s", path, strerror(errno));
+    size_t cap = 1 << 16, n = 0;
+    char *buf = malloc(cap + 1);
+    while (buf) {
+        size_t got = fread(buf + n, 1, cap - n, f);
+        n += got;
+        if (got == 0)
+            break;
+        if (n == cap) {
+            if (cap >= IRR_MAX_FILE) {
+                free(buf);
+                buf = NULL;
+                break;
+            }
+            char *grown = realloc(buf, cap * 2 + 1);
+            if (grown == NULL) {
+                free(buf);
+                buf = NULL;
+                break;
+            }
+            buf = grown;
+            cap *= 2;
+        }
+    }
+    fclose(f);
+    if (buf == NULL)
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "cannot read %s: too large", path);
+    buf[n] = '\0';
+    *out = buf;
+    *len = n;
+    return REFRACT_E_OK;
+}
+
+enum refract_code irr_disk_read(const struct irradiance_cache *c, uint64_t key,
+                                struct irradiance_volume *out, double *compute_ms, struct err *e)
+{
+    char path[700];
+    char *text = NULL, *bytes = NULL;
+    size_t len = 0;
+    irr_volume_path(c, key, "json", path, sizeof path);
+    enum refract_code rc = read_file(path, &text, &len, e);
+    cJSON *side = rc == REFRACT_E_OK ? cJSON_Parse(text) : NULL;
+    free(text);
+    if (rc == REFRACT_E_OK && side == NULL)
+        rc = err_set(e, REFRACT_E_STORAGE, "%s is not JSON", path);
+    irr_volume_path(c, key, "exr", path, sizeof path);
+    if (rc == REFRACT_E_OK)
+        rc = read_file(path, &bytes, &len, e);
+    if (rc == REFRACT_E_OK)
+        rc = irradiance_volume_decode_exr(bytes, len, out, e);
+    free(bytes);
+    if (rc == REFRACT_E_OK) {
+        stats_from_json(cJSON_GetObjectItemCaseSensitive(side, "stats"), &out->stats);
+        *compute_ms = read_number(side, "compute_ms");
+    }
+    cJSON_Delete(side);
+    return rc;
+}
+
+void irr_disk_index(struct irradiance_cache *c)
+{
+    DIR *d = opendir(c->dir);
+    if (d == NULL)
+        return;
+    struct dirent *ent;
+    int found = 0;
+    while ((ent = readdir(d)) != NULL) {
+        const char *n = ent->d_name;
+        if (strlen(n) != 21 || strcmp(n + 16, ".json") != 0)
+            continue;
+        char *end = NULL;
+        uint64_t key = strtoull(n, &end, 16);
+        char exr[700];
+        irr_volume_path(c, key, "exr", exr, sizeof exr);
+        if (end != n + 16 || access(exr, R_OK) != 0 || irr_find_locked(c, key) != NULL)
+            continue;
+        struct irr_entry *en = calloc(1, sizeof *en);
+        if (en == NULL)
+            break;
+        en->cache = c;
+        en->key = key;
+        en->phase = IRR_READY;
+        en->on_disk = true;
+        if (c->entry_count == c->entry_cap) {
+            size_t cap = c->entry_cap ? c->entry_cap * 2 : 64;
+            struct irr_entry **grown = realloc(c->entries, cap * sizeof *grown);
+            if (grown == NULL) {
+                free(en);
+                break;
+            }
+            c->entries = grown;
+            c->entry_cap = cap;
+        }
+        c->entries[c->entry_count++] = en;
+        found++;
+    }
+    closedir(d);
+    log_info("irradiance", "%s: %d volumes indexed", c->dir, found);
+}

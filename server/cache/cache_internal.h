@@ -1,0 +1,130 @@
+/*
+ * cache_internal.h - what the irradiance cache's files share (not used outside
+ * server/cache/): entries, slots, the worker's task queue and the locking rules.
+ *
+ * LOCKING: `lock` guards the entry table, the slots, the task queue, the counters and
+ * every entry field marked (L). Fields marked (G) belong to the GPU thread, (W) to the
+ * worker. An entry's host copy is read outside the lock only by the worker while
+ * `persisting` pins it; GPU textures are made and freed on the GPU thread only, under the
+ * lock (so status readers see consistent byte counts).
+ *
+ * LIFETIME: an entry leaves the table only when it was cancelled (superseded) and no task
+ * or GPU item refers to it (`busy` false). Ready entries are never removed, only evicted
+ * from the GPU and host memories; an index entry (on disk only) costs a few hundred bytes.
+ */
+#ifndef REFRACT_CACHE_INTERNAL_H
+#define REFRACT_CACHE_INTERNAL_H
+
+#include <pthread.h>
+#include <stdatomic.h>
+
+#include "../lightsim/gpu/lightsim_gpu.h"
+#include "irradiance_cache.h"
+
+#define IRR_FIELDS_KEPT 4 /* input fields kept for the next poses, per transport hash */
+
+/* Input fields of one transport hash, shared by the runs that start from them. */
+struct irr_fields {
+    atomic_int refs;
+    uint64_t transport;
+    struct lightsim_fields f;
+};
+void irr_fields_release(struct irr_fields *f);
+
+enum irr_phase { IRR_QUEUED = 0, IRR_COMPUTING = 1, IRR_READY = 2, IRR_FAILED = 3 };
+
+struct irr_entry {
+    struct irradiance_cache *cache;
+    uint64_t key, transport;
+    enum irr_phase phase;     /* (L) */
+    bool cancelled;           /* (L) superseded by a newer pose */
+    bool busy;                /* (L) a worker task or a GPU item refers to it */
+    bool persisting;          /* (L) the worker is writing the host copy */
+    bool on_disk;             /* (L) <key>.exr and <key>.json exist */
+    bool loaded_from_disk;    /* (L) */
+    int loading;              /* (L) threads reading its volume back from disk */
+    struct scene_light light; /* the pose computed (unit colour; colour ignored) */
+    struct scene_lightsim set;
+    double progress;               /* (L) */
+    int patches_live;              /* (L) */
+    struct lightsim_stats stats;   /* (L) */
+    bool has_stats;                /* (L) */
+    char message[ERR_MSG_MAX];     /* (L) when failed */
+    double compute_ms;             /* (L) begin to read-back, GPU thread time included */
+    double started_ms;             /* (G) */
+    struct irradiance_volume host; /* (L) */
+    bool has_host;                 /* (L) */
+    struct irradiance_gpu gpu;     /* (L, made and freed on the GPU thread) */
+    bool has_gpu;                  /* (L) */
+    int64_t last_use;              /* (L) cache tick of the last request or render */
+    /* Until the fields are built (W): the scene version it was asked for. */
+    const struct scene *scene;
+    scene_volume_lookup_fn lookup;
+    void *lookup_ctx;
+    void (*release)(void *ctx);
+    struct irr_fields *fields;    /* (G) held from the worker until the run begins */
+    struct lightsim_gpu_run *run; /* (G) */
+    bool finished;                /* (G) the run ended (ready, failed or cancelled) */
+    struct gpu_work work;         /* the chunk item, resubmitted until finished */
+};
+
+struct irr_slot {
+    char scene[64];
+    char light[SCENE_NAME_MAX];
+    uint64_t current;  /* key wanted now */
+    uint64_t previous; /* key of the last volume that was ready for it */
+    bool has_previous;
+};
+
+enum irr_task_kind { IRR_TASK_BUILD = 0, IRR_TASK_PERSIST = 1 };
+struct irr_task {
+    enum irr_task_kind kind;
+    struct irr_entry *entry;
+    struct irr_task *next;
+};
+
+struct irradiance_cache {
+    pthread_mutex_t lock;
+    pthread_cond_t wake;
+    pthread_t worker;
+    bool worker_started, stop;
+    struct irradiance_cache_desc desc;
+    char dir[600]; /* <data>/irradiance */
+    struct gpu *gpu;
+    struct irr_entry **entries;
+    size_t entry_count, entry_cap;
+    struct irr_slot *slots;
+    size_t slot_count, slot_cap;
+    struct irr_task *task_head, *task_tail;
+    struct irr_fields *fields[IRR_FIELDS_KEPT]; /* (W) most recent first */
+    int64_t tick;
+    struct irradiance_cache_counters counters;
+};
+
+/* cache.c */
+struct irr_entry *irr_find_locked(struct irradiance_cache *c, uint64_t key);
+void irr_push_task_locked(struct irradiance_cache *c, enum irr_task_kind kind,
+                          struct irr_entry *en);
+void irr_evict_host_locked(struct irradiance_cache *c);
+/* GPU thread: frees textures of the least recently used entries, except those used at
+ * tick `keep_tick` or later, until the GPU budget holds. */
+void irr_evict_gpu_locked(struct irradiance_cache *c, int64_t keep_tick);
+void irr_drop_source(struct irr_entry *en);
+
+/* cache_compute.c */
+void *irr_worker_main(void *arg);
+void irr_release_gpu_entry(struct irr_entry *en); /* GPU thread */
+
+/* cache_disk.c */
+enum refract_code irr_disk_mkdirs(const char *path, struct err *e);
+void irr_volume_path(const struct irradiance_cache *c, uint64_t key, const char *ext, char *out,
+                     size_t size);
+enum refract_code irr_disk_write(const struct irradiance_cache *c, const struct irr_entry *en,
+                                 struct err *e);
+/* Reads <key>.exr and its sidecar into a new host volume (stats and compute_ms too). */
+enum refract_code irr_disk_read(const struct irradiance_cache *c, uint64_t key,
+                                struct irradiance_volume *out, double *compute_ms, struct err *e);
+/* Adds a ready, on-disk entry for every <key>.json + <key>.exr of the directory. */
+void irr_disk_index(struct irradiance_cache *c);
+
+#endif

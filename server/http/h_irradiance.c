@@ -1,0 +1,175 @@
+/*
+ * h_irradiance.c - GET /v1/scenes/{id}/irradiance (the status of each light's irradiance
+ * volume) and GET /v1/scenes/{id}/irradiance/{light}.exr (the volume as OpenEXR), and the
+ * glue between store versions and the irradiance cache (server/cache/).
+ */
+#include <inttypes.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../cache/irradiance_cache.h"
+#include "http_internal.h"
+
+struct render_scene_source http_scene_source(struct store_scene *v)
+{
+    return (struct render_scene_source){
+        .id = v->id,
+        .generation = v->data_generation,
+        .scene = v->scene,
+        .lookup = store_volume_lookup,
+        .lookup_ctx = v,
+        .env_rgba = v->env ? v->env->rgba : NULL,
+        .env_width = v->env ? v->env->width : 0,
+        .env_height = v->env ? v->env->height : 0,
+    };
+}
+
+static void version_retain(void *ctx)
+{
+    atomic_fetch_add(&((struct store_scene *)ctx)->refs, 1);
+}
+
+static void version_release(void *ctx)
+{
+    store_scene_release(ctx);
+}
+
+/* The channels whose uploads change light transport (scene_transport_hash's list). */
+static bool transport_channel(int ch)
+{
+    return ch == SCENE_CH_IOR || ch == SCENE_CH_ATTENUATION || ch == SCENE_CH_SCATTERING ||
+           ch == SCENE_CH_OPAQUE;
+}
+
+/* FNV-1a over the names and content checksums of the uploads the transport uses, in the
+ * order the scene references them: an upload with new content is a new transport. */
+static uint64_t uploads_hash(const struct store_scene *v)
+{
+    uint64_t h = 14695981039346656037ull;
+    const struct scene *s = v->scene;
+    for (size_t o = 0; o < s->object_count; o++) {
+        for (int ch = 0; ch < SCENE_CH_COUNT; ch++) {
+            const struct scene_field *f = &s->objects[o].fields[ch];
+            for (size_t i = 0; transport_channel(ch) && i < f->count; i++) {
+                if (f->layers[i].kind != SCENE_LAYER_VOLUME)
+                    continue;
+                uint64_t sum = 0;
+                for (size_t k = 0; k < v->volume_count; k++) {
+                    if (strcmp(v->volumes[k]->name, f->layers[i].volume) == 0)
+                        sum = v->volumes[k]->checksum;
+                }
+                const unsigned char *p = (const unsigned char *)&sum;
+                for (size_t b = 0; b < sizeof sum; b++)
+                    h = (h ^ p[b]) * 1099511628211ull;
+            }
+        }
+    }
+    return h;
+}
+
+void http_irradiance_source(struct store_scene *v, struct irradiance_source *out)
+{
+    *out = (struct irradiance_source){.scene_id = v->id,
+                                      .scene = v->scene,
+                                      .lookup = store_volume_lookup,
+                                      .lookup_ctx = v,
+                                      .uploads_hash = uploads_hash(v),
+                                      .retain = version_retain,
+                                      .release = version_release};
+}
+
+static void add_hex(cJSON *o, const char *name, uint64_t v)
+{
+    char hex[17];
+    snprintf(hex, sizeof hex, "%016" PRIx64, v);
+    cJSON_AddStringToObject(o, name, hex);
+}
+
+cJSON *http_irradiance_status(const struct http_app *app, struct store_scene *v)
+{
+    struct irradiance_source src;
+    http_irradiance_source(v, &src);
+    struct irradiance_light_status st[SCENE_MAX_LIGHTS];
+    int n = irradiance_cache_status(app->irradiance, &src, st);
+    cJSON *root = cJSON_CreateObject();
+    cJSON_AddStringToObject(root, "scene", v->id);
+    cJSON_AddBoolToObject(root, "needed", scene_needs_light_simulation(v->scene));
+    add_hex(root, "transport_hash", irradiance_transport_hash(&src));
+    cJSON_AddNumberToObject(root, "generation", (double)v->generation);
+    cJSON *arr = cJSON_AddArrayToObject(root, "lights");
+    for (int i = 0; i < n; i++) {
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddStringToObject(o, "name", st[i].name);
+        cJSON_AddStringToObject(o, "state", irradiance_state_name(st[i].state));
+        cJSON_AddNumberToObject(o, "progress", st[i].progress);
+        cJSON_AddNumberToObject(o, "patches_live", st[i].patches_live);
+        add_hex(o, "key", st[i].key);
+        cJSON_AddNumberToObject(o, "gpu_bytes", (double)st[i].gpu_bytes);
+        cJSON_AddNumberToObject(o, "host_bytes", (double)st[i].host_bytes);
+        cJSON_AddNumberToObject(o, "compute_ms", st[i].compute_ms);
+        cJSON_AddBoolToObject(o, "loaded_from_disk", st[i].loaded_from_disk);
+        cJSON_AddStringToObject(o, "using", st[i].using_);
+        if (st[i].state == IRRADIANCE_FAILED)
+            cJSON_AddStringToObject(o, "message", st[i].message);
+        if (st[i].has_stats)
+            cJSON_AddItemToObject(o, "stats", irradiance_stats_json(&st[i].stats));
+        cJSON_AddItemToArray(arr, o);
+    }
+    struct irradiance_cache_counters k;
+    irradiance_cache_counters(app->irradiance, &k);
+    cJSON *cache = cJSON_AddObjectToObject(root, "cache");
+    cJSON_AddNumberToObject(cache, "entries", k.entries);
+    cJSON_AddNumberToObject(cache, "gpu_bytes", (double)k.gpu_bytes);
+    cJSON_AddNumberToObject(cache, "host_bytes", (double)k.host_bytes);
+    cJSON_AddNumberToObject(cache, "computed", (double)k.computed);
+    cJSON_AddNumberToObject(cache, "superseded", (double)k.superseded);
+    cJSON_AddNumberToObject(cache, "loaded", (double)k.loaded);
+    cJSON_AddNumberToObject(cache, "failed", (double)k.failed);
+    cJSON_AddNumberToObject(cache, "evicted_gpu", (double)k.evicted_gpu);
+    cJSON_AddNumberToObject(cache, "evicted_host", (double)k.evicted_host);
+    return root;
+}
+
+enum MHD_Result http_handle_irradiance_get(struct http_request *req)
+{
+    enum MHD_Result answer = MHD_NO;
+    struct store_scene *v = http_scene_or_404(req, &answer);
+    if (v == NULL)
+        return answer;
+    cJSON *root = http_irradiance_status(req->app, v);
+    store_scene_release(v);
+    return http_respond_json(req, MHD_HTTP_OK, root);
+}
+
+enum MHD_Result http_handle_irradiance_exr(struct http_request *req)
+{
+    enum MHD_Result answer = MHD_NO;
+    struct store_scene *v = http_scene_or_404(req, &answer);
+    if (v == NULL)
+        return answer;
+    struct irradiance_source src;
+    http_irradiance_source(v, &src);
+    struct irradiance_volume vol;
+    uint64_t key = 0;
+    bool previous = false;
+    struct err e = {0};
+    enum refract_code rc = irradiance_cache_copy(req->app->irradiance, &src, req->params[1], &vol,
+                                                 &key, &previous, &e);
+    store_scene_release(v);
+    if (rc != REFRACT_E_OK)
+        return http_respond_err(req, &e);
+    void *bytes = NULL;
+    size_t len = 0;
+    rc = irradiance_volume_encode_exr(&vol, key, &bytes, &len, &e);
+    char dims[64], keyhex[17];
+    snprintf(dims, sizeof dims, "%dx%dx%d", vol.grid.dims[0], vol.grid.dims[1], vol.grid.dims[2]);
+    snprintf(keyhex, sizeof keyhex, "%016" PRIx64, key);
+    irradiance_volume_free(&vol);
+    if (rc != REFRACT_E_OK)
+        return http_respond_err(req, &e);
+    const char *headers[] = {
+        "X-Irradiance-Key",           keyhex, "X-Irradiance-Dims", dims, "X-Refract-Irradiance",
+        previous ? "stale" : "ready", NULL};
+    return http_respond_bytes(req, MHD_HTTP_OK, bytes, len, "image/x-exr", headers);
+}
