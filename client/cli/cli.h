@@ -96,4 +96,14 @@ int cli_read_file(const char *path, char **data, size_t *len);
  * the partial file. Prints why and returns REFRACT_E_IO on failure. Borrows data. */
 int cli_write_file(const char *path, const void *data, size_t len);
 
+/* cli_wait.c */
+
+/* Waits until every light of the scene's irradiance status is ready, failed or
+ * not_needed (unless *status is settled already), drawing progress on stderr: a bar on
+ * a terminal, a line per change otherwise. The wait is bounded by --timeout (default
+ * 120 s; 0 = no bound). On success *status is replaced by the final status (the HTTP
+ * status of the original is kept); on failure it is left alone and the librefract code
+ * is returned (refract_errmsg says why). */
+int cli_wait_irradiance(struct cli *cli, const char *scene, struct refract_irradiance *status);
+
 #endif

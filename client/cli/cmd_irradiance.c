@@ -1,5 +1,5 @@
 /*
- * cmd_irradiance.c - `refract irradiance status|get`: the irradiance volumes refractd
+ * cmd_irradiance.c - `refract irradiance status|wait|get`: the irradiance volumes refractd
  * keeps for a scene's lights.
  *
  * status prints a table for people (--json prints refractd's reply for scripts); get
@@ -16,6 +16,7 @@
 
 #define IRRADIANCE_USAGE                                                                           \
     "usage: refract irradiance status ID [--json]\n"                                               \
+    "       refract irradiance wait ID\n"                                                          \
     "       refract irradiance get ID LIGHT -o FILE.exr\n"                                         \
     "\n"                                                                                           \
     "status shows, for each light of scene ID, the state of its irradiance volume\n"               \
@@ -24,6 +25,10 @@
     "its compute time, and which volume renders use now (current, previous, none).\n"              \
     "--json prints refractd's reply instead of the table.\n"                                       \
     "\n"                                                                                           \
+    "wait waits until every light's volume is ready, failed or not needed, with a\n"               \
+    "progress bar on stderr (--timeout bounds it, default 120 s), then prints the\n"               \
+    "table; it exits with the failed light's code when a simulation failed.\n"                     \
+    "\n"                                                                                           \
     "get writes LIGHT's irradiance volume to FILE (- = stdout) as OpenEXR: the z\n"                \
     "slices stacked vertically, z = 0 at the top; channels R, G, B (irradiance) and\n"             \
     "dir.X, dir.Y, dir.Z, dir.W (light direction); see docs/api.md.\n"                             \
@@ -31,13 +36,14 @@
     "Examples:\n"                                                                                  \
     "  refract irradiance status \"$ID\"\n"                                                        \
     "  refract irradiance status \"$ID\" --json | jq '.lights[] | {name, state}'\n"                \
+    "  refract irradiance wait \"$ID\" && refract render \"$ID\" -o lit.png\n"                     \
     "  refract irradiance get \"$ID\" sun -o sun_irradiance.exr\n"
 
 static int run_group(struct cli *cli, int argc, char **argv);
 
 const struct cli_command cli_cmd_irradiance = {
     .name = "irradiance",
-    .synopsis = "irradiance status|get",
+    .synopsis = "irradiance status|wait|get",
     .summary = "show the lights' irradiance volumes, or download one as EXR",
     .usage = IRRADIANCE_USAGE,
     .run = run_group,
@@ -45,6 +51,8 @@ const struct cli_command cli_cmd_irradiance = {
 
 static const struct cli_command irradiance_status_cmd = {.name = "irradiance status",
                                                          .usage = IRRADIANCE_USAGE};
+static const struct cli_command irradiance_wait_cmd = {.name = "irradiance wait",
+                                                       .usage = IRRADIANCE_USAGE};
 static const struct cli_command irradiance_get_cmd = {.name = "irradiance get",
                                                       .usage = IRRADIANCE_USAGE};
 
@@ -73,6 +81,49 @@ static int run_status(struct cli *cli, int argc, char **argv)
         if (fflush(stdout) != 0 || ferror(stdout))
             code = cli_fail(REFRACT_E_IO, "cannot write to stdout");
     }
+    refract_irradiance_free(&status);
+    return code;
+}
+
+/* The first failed light's code (gpu_error when refractd named none), or OK. */
+static int failed_code(const struct refract_irradiance *s)
+{
+    for (size_t i = 0; i < s->light_count; i++) {
+        if (strcmp(s->lights[i].state, "failed") == 0)
+            return cli_fail(s->lights[i].code > 0 ? s->lights[i].code : REFRACT_E_GPU_ERROR,
+                            "light %s: the irradiance simulation failed: %s", s->lights[i].name,
+                            s->lights[i].message[0] != '\0' ? s->lights[i].message
+                                                            : "(refractd gave no message)");
+    }
+    return REFRACT_E_OK;
+}
+
+static int run_wait(struct cli *cli, int argc, char **argv)
+{
+    static const char *const names[] = {"the scene ID"};
+    struct refract_irradiance status = {0};
+    struct cli_parsed p;
+    int code = cli_parse_command(&irradiance_wait_cmd, argc, argv, NULL, 0, &p);
+
+    if (code != REFRACT_E_OK || p.help)
+        return code;
+    code = cli_expect_args(&irradiance_wait_cmd, &p, 1, 1, names);
+    if (code == REFRACT_E_OK)
+        code = cli_connect(cli);
+    if (code != REFRACT_E_OK)
+        return code;
+    code = refract_irradiance_status(cli->client, p.pos[0], &status);
+    if (code != REFRACT_E_OK)
+        return cli_call_failed(cli, code);
+    code = cli_wait_irradiance(cli, p.pos[0], &status);
+    if (code != REFRACT_E_OK) {
+        refract_irradiance_free(&status);
+        return cli_call_failed(cli, code);
+    }
+    cli_irradiance_table(stdout, &status);
+    code = failed_code(&status);
+    if (fflush(stdout) != 0 || ferror(stdout))
+        code = cli_fail(REFRACT_E_IO, "cannot write to stdout");
     refract_irradiance_free(&status);
     return code;
 }
@@ -149,8 +200,8 @@ static int run_get(struct cli *cli, int argc, char **argv)
 static int run_group(struct cli *cli, int argc, char **argv)
 {
     if (argc == 0)
-        return cli_usage_error(&cli_cmd_irradiance, "irradiance: missing the command (status or "
-                                                    "get)");
+        return cli_usage_error(&cli_cmd_irradiance, "irradiance: missing the command (status, "
+                                                    "wait or get)");
     if (strcmp(argv[0], "-h") == 0 || strcmp(argv[0], "--help") == 0) {
         fputs(cli_cmd_irradiance.usage, stdout);
         return REFRACT_E_OK;
@@ -159,5 +210,7 @@ static int run_group(struct cli *cli, int argc, char **argv)
         return run_status(cli, argc - 1, argv + 1);
     if (strcmp(argv[0], "get") == 0)
         return run_get(cli, argc - 1, argv + 1);
+    if (strcmp(argv[0], "wait") == 0)
+        return run_wait(cli, argc - 1, argv + 1);
     return cli_usage_error(&cli_cmd_irradiance, "unknown irradiance command '%s'", argv[0]);
 }

@@ -10,15 +10,12 @@
  */
 #include <stdlib.h>
 #include <string.h>
-#include <sys/ioctl.h>
-#include <unistd.h>
 
 #include "cli.h"
 #include "cli_irradiance.h"
 #include "cli_light.h"
 
 /* How long --wait waits when --timeout is not given: the request timeout's default. */
-#define LIGHT_WAIT_DEFAULT_MS 120000L
 
 #define LIGHT_USAGE                                                                                \
     "usage: refract light set ID NAME [--type directional|point|spot]\n"                           \
@@ -74,21 +71,6 @@ enum set_opt {
     OPT_NO_WAIT,
     OPT_COUNT
 };
-
-static int terminal_columns(int fd)
-{
-    struct winsize ws;
-    const char *columns = getenv("COLUMNS");
-
-    if (ioctl(fd, TIOCGWINSZ, &ws) == 0 && ws.ws_col > 0)
-        return ws.ws_col;
-    return columns != NULL && atoi(columns) > 0 ? atoi(columns) : 80;
-}
-
-static void show_progress(const struct refract_irradiance *status, void *user)
-{
-    cli_progress_update(user, status);
-}
 
 /* The light that was set, in a status; NULL when refractd did not list it. */
 static const struct refract_light_status *find_status(const struct refract_irradiance *s,
@@ -178,30 +160,12 @@ static int build_light(struct cli *cli, const char *scene, const char *name,
 static int wait_for_volumes(struct cli *cli, const char *scene, const char *name,
                             struct refract_irradiance *status)
 {
-    struct cli_progress progress;
-    struct refract_wait_options opts = {
-        .timeout_ms = cli->timeout_ms >= 0 ? cli->timeout_ms : LIGHT_WAIT_DEFAULT_MS,
-        .progress = show_progress,
-        .user = &progress,
-    };
-    struct refract_irradiance final = {0};
-    int code;
+    int code = cli_wait_irradiance(cli, scene, status);
 
-    if (refract_irradiance_settled(status))
-        return REFRACT_E_OK;
-    cli_progress_init(&progress, stderr, isatty(2), terminal_columns(2));
-    cli_progress_update(&progress, status);
-    code = refract_irradiance_wait(cli->client, scene, &opts, &final);
-    cli_progress_finish(&progress);
-    if (code != REFRACT_E_OK) {
-        refract_irradiance_free(&final);
+    if (code != REFRACT_E_OK)
         /* The light is stored either way; say so, or a script would set it again. */
         return cli_fail(code, "light %s is set, but waiting for its irradiance failed: %s", name,
                         refract_errmsg(cli->client));
-    }
-    final.http_status = status->http_status; /* what the PUT said, for the report */
-    refract_irradiance_free(status);
-    *status = final;
     return REFRACT_E_OK;
 }
 

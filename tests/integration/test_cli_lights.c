@@ -265,6 +265,20 @@ static void render_after_no_wait_says_what_it_used(struct test_daemon *d, const 
         CHECK_CONTAINS(r.err, "refract: note: a light has no irradiance volume yet");
     cli_run_free(&r);
 
+    /* `irradiance wait` returns when the --no-wait light is settled, with the table. */
+    r = run_cli(d, (const char *[]){"irradiance", "wait", id, NULL});
+    CHECK_MSG(r.status == 0, "irradiance wait: %s", r.err);
+    CHECK_CONTAINS(r.out, "LIGHT");
+    CHECK_CONTAINS(r.out, "bulb");
+    CHECK(strstr(r.out, "computing") == NULL && strstr(r.out, "queued") == NULL);
+    cli_run_free(&r);
+    r = run_cli(d, (const char *[]){"irradiance", "status", id, "--json", NULL});
+    CHECK_STR(state_of(r.out, "bulb"), "ready");
+    cli_run_free(&r);
+    r = run_cli(d, (const char *[]){"irradiance", "wait", "no_such_scene", NULL});
+    CHECK_INT(r.status, REFRACT_E_SCENE_NOT_FOUND);
+    cli_run_free(&r);
+
     /* Moving it and waiting ends with both lights ready. */
     r = run_cli(d, (const char *[]){"light", "set", id, "bulb", "--position", "0.3,1.5,0", NULL});
     CHECK_INT(r.status, 0);
