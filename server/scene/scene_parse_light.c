@@ -181,6 +181,32 @@ static double default_half_size(const struct scene *s)
     return 1.5 * reach;
 }
 
+/* The receiver must not cut through an object's bounds: the march sees the plane only
+ * once a view ray has left every object (docs/tracing.md "Light"), so a plane above the
+ * bottom of a box would be invisible inside that box and show the environment through a
+ * square hole. The lowest world y of each object's bounding box is checked. */
+static enum refract_code check_below_objects(const struct scene *s, double height, struct err *e)
+{
+    for (size_t i = 0; i < s->object_count; i++) {
+        const struct scene_object *o = &s->objects[i];
+        double low = INFINITY;
+        for (int c = 0; c < 8; c++) {
+            vec3 p = {(c & 1) ? o->bounds_max.x : o->bounds_min.x,
+                      (c & 2) ? o->bounds_max.y : o->bounds_min.y,
+                      (c & 4) ? o->bounds_max.z : o->bounds_min.z};
+            low = fmin(low, xform_point_to_world(&o->world_from_object, p).y);
+        }
+        if (height > low + 1e-9)
+            return err_set(e, REFRACT_E_INVALID_FIELD,
+                           "receiver.height: %g is above the bottom of object %zu (\"%s\")'s "
+                           "bounds in world space (y = %g); view rays inside an object's bounds "
+                           "do not see the receiver, so put the plane at or below y = %g, or let "
+                           "the object's bounds end at the plane",
+                           height, i, o->name, low, low);
+    }
+    return REFRACT_E_OK;
+}
+
 enum refract_code scene_parse_receiver(const cJSON *o, struct scene *s, struct err *e)
 {
     static const char *const keys[] = {"height", "half_size", "albedo", NULL};
@@ -192,6 +218,8 @@ enum refract_code scene_parse_receiver(const cJSON *o, struct scene *s, struct e
     enum refract_code rc = jr_check_object(o, "receiver", keys, e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(o, "receiver", "height", true, 0.0, -m, m, &r->height, e);
+    if (rc == REFRACT_E_OK)
+        rc = check_below_objects(s, r->height, e);
     double def = default_half_size(s);
     if (rc == REFRACT_E_OK && def > 0.0 && def <= m)
         rc = jr_number_gt(o, "receiver", "half_size", false, def, 0.0, m, &r->half_size, e);

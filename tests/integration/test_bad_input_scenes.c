@@ -264,7 +264,7 @@ static const struct json_error_case scene_cases[] = {
      {"lights: expected an array of 0..4 light objects", "got 3"}},
     {__LINE__, "{\"receiver\": {\"half_size\": 2}, \"objects\": [" OBJ "]}", 400,
      "missing_field", {"receiver: missing required field \"height\""}},
-    {__LINE__, "{\"receiver\": {\"height\": 0, \"albedo\": [1, 2, 1]}, \"objects\": [" OBJ "]}",
+    {__LINE__, "{\"receiver\": {\"height\": -2, \"albedo\": [1, 2, 1]}, \"objects\": [" OBJ "]}",
      400, "invalid_field", {"receiver.albedo[1]: expected a finite number in 0..1, got 2"}},
     {__LINE__, "{\"lightsim\": {\"resolution\": 1024}, \"objects\": [" OBJ "]}", 400,
      "invalid_field", {"lightsim.resolution: expected an integer in 8..512, got 1024"}},

@@ -133,6 +133,9 @@ static const struct bad_case bad_cases[] = {
      "receiver.half_size", "> 0"},
     {TOP("\"receiver\": {\"height\": -1, \"albedo\": 1.2}"), REFRACT_E_INVALID_FIELD,
      "receiver.albedo", "0..1"},
+    /* A plane through an object's bounds would be unseen inside them (a square hole). */
+    {TOP("\"receiver\": {\"height\": -0.5}"), REFRACT_E_INVALID_FIELD,
+     "receiver.height: -0.5 is above the bottom of object 0", "at or below y = -1"},
     {TOP("\"receiver\": {\"height\": -1, \"albedo\": [0.5, 0.5, 2]}"), REFRACT_E_INVALID_FIELD,
      "receiver.albedo[2]", NULL},
     {TOP("\"receiver\": {\"height\": -1, \"size\": 2}"), REFRACT_E_UNKNOWN_FIELD,
@@ -328,7 +331,7 @@ static void receiver_defaults_follow_the_objects_world_bounds(void)
         CHECK_NEAR(s->receiver.albedo[2], 0.3, 0);
         scene_destroy(s);
     }
-    s = parse_ok(TOP("\"receiver\": {\"height\": 0.5, \"half_size\": 2, \"albedo\": 0.25}"));
+    s = parse_ok(TOP("\"receiver\": {\"height\": -1.5, \"half_size\": 2, \"albedo\": 0.25}"));
     if (s != NULL) {
         CHECK_NEAR(s->receiver.half_size, 2.0, 0);
         CHECK_NEAR(s->receiver.albedo[1], 0.25, 0);

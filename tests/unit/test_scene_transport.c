@@ -18,7 +18,7 @@
 #define SMOKE                                                                                      \
     "{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 8, "                \
     "\"scattering\": 0.3, \"transform\": {\"translate\": [2, 0, 0]}}"
-#define BASE "{\"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", " SMOKE "]}"
+#define BASE "{\"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", " SMOKE "]}"
 
 static struct scene *parse(const char *doc)
 {
@@ -52,7 +52,7 @@ static const struct hash_case same_transport[] = {
      "\"lightsim\": {\"resolution\": 64, \"step\": 0.5, \"initial_patches\": 64, \"max_level\": 6, "
      "\"split\": 1, \"energy_threshold\": 1e-4, \"point_radius\": 0.01, \"deposit\": \"flux\", "
      "\"cull_flipped\": false, \"max_patches\": 262144}, "
-     "\"receiver\": {\"height\": -1, \"half_size\": 4.5, \"albedo\": 0.8}, \"objects\": ["
+     "\"receiver\": {\"height\": -2, \"half_size\": 4.5, \"albedo\": 0.8}, \"objects\": ["
      "{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": [16, 16, 16], "
      "\"smoothing_sigma\": 1, \"opaque_ior\": 1.5, "
      "\"transform\": {\"translate\": [0, 0, 0], \"scale\": 1}, "
@@ -63,26 +63,26 @@ static const struct hash_case same_transport[] = {
      "{\"objects\": [{\"ior\": {\"inside\": 1.5, \"radius\": 0.5, \"shape\": \"sphere\"}, "
      "\"resolution\": 16, \"bounds\": {\"max\": [1, 1, 1], \"min\": [-1, -1, -1]}}, "
      "{\"transform\": {\"translate\": [2, 0, 0]}, \"scattering\": 0.3, \"resolution\": 8, "
-     "\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}}], \"receiver\": {\"height\": -1}}"},
+     "\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}}], \"receiver\": {\"height\": -2}}"},
     {"-0 for 0",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", "
      "{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 8, "
      "\"scattering\": 0.3, \"transform\": {\"translate\": [2, -0.0, -0]}}]}"},
     {"lights added",
      "{\"lights\": [{\"type\": \"directional\", \"direction\": [0, -1, 0]}, {\"name\": \"b\", "
      "\"type\": \"spot\", \"position\": [0, 3, 0], \"direction\": [0, -1, 0], \"color\": 2, "
-     "\"intensity\": 5}], \"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", " SMOKE "]}"},
+     "\"intensity\": 5}], \"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", " SMOKE "]}"},
     {"camera, environment, name, description",
      "{\"name\": \"other\", \"description\": \"d\", \"camera\": {\"eye\": [3, 1, 4], \"fov_y_deg\": 20, "
      "\"width\": 64, \"height\": 48}, \"environment\": {\"intensity\": 3, \"rotation_deg\": 90}, "
-     "\"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", " SMOKE "]}"},
+     "\"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", " SMOKE "]}"},
     {"render settings other than boundary_threshold",
      "{\"render\": {\"integrator\": \"euler\", \"step\": 0.25, \"max_steps\": 100, \"exposure\": 2, "
-     "\"tonemap\": \"filmic\"}, \"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", " SMOKE "]}"},
+     "\"tonemap\": \"filmic\"}, \"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", " SMOKE "]}"},
     {"receiver albedo",
-     "{\"receiver\": {\"height\": -1, \"albedo\": [0.1, 0.5, 0.9]}, \"objects\": [" GLASS ", " SMOKE "]}"},
+     "{\"receiver\": {\"height\": -2, \"albedo\": [0.1, 0.5, 0.9]}, \"objects\": [" GLASS ", " SMOKE "]}"},
     {"emission, anisotropy, brdf, object names",
-     "{\"receiver\": {\"height\": -1}, \"objects\": ["
+     "{\"receiver\": {\"height\": -2}, \"objects\": ["
      "{\"name\": \"ball\", \"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 16, "
      "\"ior\": {\"shape\": \"sphere\", \"radius\": 0.5, \"inside\": 1.5}, \"emission\": 2, "
      "\"brdf\": {\"type\": \"phong\", \"exponent\": 50}}, "
@@ -90,105 +90,105 @@ static const struct hash_case same_transport[] = {
      "\"scattering\": 0.3, \"anisotropy\": 0.7, \"brdf\": {\"type\": \"none\"}, "
      "\"transform\": {\"translate\": [2, 0, 0]}}]}"},
     {"a rotation by 0 degrees",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", "
      "{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 8, "
      "\"scattering\": 0.3, \"transform\": {\"translate\": [2, 0, 0], \"rotate\": {\"axis\": [1, 0, 0], "
      "\"angle_deg\": 0}}}]}"},
 };
 
 static const struct hash_case other_transport[] = {
-    {"ambient_ior", "{\"ambient_ior\": 1.33, \"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", " SMOKE "]}"},
-    {"boundary_threshold", "{\"render\": {\"boundary_threshold\": 0.05}, \"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", " SMOKE "]}"},
+    {"ambient_ior", "{\"ambient_ior\": 1.33, \"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", " SMOKE "]}"},
+    {"boundary_threshold", "{\"render\": {\"boundary_threshold\": 0.05}, \"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", " SMOKE "]}"},
     {"receiver height", "{\"receiver\": {\"height\": -1.5}, \"objects\": [" GLASS ", " SMOKE "]}"},
-    {"receiver half_size", "{\"receiver\": {\"height\": -1, \"half_size\": 4}, \"objects\": [" GLASS ", " SMOKE "]}"},
+    {"receiver half_size", "{\"receiver\": {\"height\": -2, \"half_size\": 4}, \"objects\": [" GLASS ", " SMOKE "]}"},
     {"no receiver", "{\"objects\": [" GLASS ", " SMOKE "]}"},
-    {"lightsim resolution", "{\"lightsim\": {\"resolution\": 32}, \"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", " SMOKE "]}"},
-    {"lightsim step", "{\"lightsim\": {\"step\": 0.25}, \"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", " SMOKE "]}"},
-    {"lightsim initial_patches", "{\"lightsim\": {\"initial_patches\": 32}, \"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", " SMOKE "]}"},
-    {"lightsim max_level", "{\"lightsim\": {\"max_level\": 5}, \"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", " SMOKE "]}"},
-    {"lightsim split", "{\"lightsim\": {\"split\": 2}, \"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", " SMOKE "]}"},
-    {"lightsim energy_threshold", "{\"lightsim\": {\"energy_threshold\": 0}, \"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", " SMOKE "]}"},
-    {"lightsim point_radius", "{\"lightsim\": {\"point_radius\": 0.02}, \"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", " SMOKE "]}"},
-    {"lightsim deposit", "{\"lightsim\": {\"deposit\": \"max\"}, \"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", " SMOKE "]}"},
-    {"lightsim cull_flipped", "{\"lightsim\": {\"cull_flipped\": true}, \"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", " SMOKE "]}"},
-    {"lightsim max_patches", "{\"lightsim\": {\"max_patches\": 1024}, \"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", " SMOKE "]}"},
+    {"lightsim resolution", "{\"lightsim\": {\"resolution\": 32}, \"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", " SMOKE "]}"},
+    {"lightsim step", "{\"lightsim\": {\"step\": 0.25}, \"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", " SMOKE "]}"},
+    {"lightsim initial_patches", "{\"lightsim\": {\"initial_patches\": 32}, \"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", " SMOKE "]}"},
+    {"lightsim max_level", "{\"lightsim\": {\"max_level\": 5}, \"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", " SMOKE "]}"},
+    {"lightsim split", "{\"lightsim\": {\"split\": 2}, \"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", " SMOKE "]}"},
+    {"lightsim energy_threshold", "{\"lightsim\": {\"energy_threshold\": 0}, \"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", " SMOKE "]}"},
+    {"lightsim point_radius", "{\"lightsim\": {\"point_radius\": 0.02}, \"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", " SMOKE "]}"},
+    {"lightsim deposit", "{\"lightsim\": {\"deposit\": \"max\"}, \"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", " SMOKE "]}"},
+    {"lightsim cull_flipped", "{\"lightsim\": {\"cull_flipped\": true}, \"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", " SMOKE "]}"},
+    {"lightsim max_patches", "{\"lightsim\": {\"max_patches\": 1024}, \"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", " SMOKE "]}"},
     {"the glass's index",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
      "\"resolution\": 16, \"ior\": {\"shape\": \"sphere\", \"radius\": 0.5, \"inside\": 1.51}}, " SMOKE "]}"},
     {"the glass's radius",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
      "\"resolution\": 16, \"ior\": {\"shape\": \"sphere\", \"radius\": 0.4, \"inside\": 1.5}}, " SMOKE "]}"},
     {"a box instead of a sphere",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
      "\"resolution\": 16, \"ior\": {\"shape\": \"box\", \"size\": [0.5, 0.5, 0.5], \"inside\": 1.5}}, " SMOKE "]}"},
     {"an outside value",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
      "\"resolution\": 16, \"ior\": {\"shape\": \"sphere\", \"radius\": 0.5, \"inside\": 1.5, \"outside\": 1}}, " SMOKE "]}"},
     {"object resolution",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
      "\"resolution\": [16, 16, 17], \"ior\": {\"shape\": \"sphere\", \"radius\": 0.5, \"inside\": 1.5}}, " SMOKE "]}"},
     {"object bounds",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1.1]}, "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1.1]}, "
      "\"resolution\": 16, \"ior\": {\"shape\": \"sphere\", \"radius\": 0.5, \"inside\": 1.5}}, " SMOKE "]}"},
     {"smoothing_sigma",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
      "\"resolution\": 16, \"smoothing_sigma\": 0.5, \"ior\": {\"shape\": \"sphere\", \"radius\": 0.5, \"inside\": 1.5}}, " SMOKE "]}"},
     {"opaque_ior",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
      "\"resolution\": 16, \"opaque_ior\": 1.6, \"ior\": {\"shape\": \"sphere\", \"radius\": 0.5, \"inside\": 1.5}}, " SMOKE "]}"},
     {"an attenuation layer",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
      "\"resolution\": 16, \"attenuation\": 0.1, \"ior\": {\"shape\": \"sphere\", \"radius\": 0.5, \"inside\": 1.5}}, " SMOKE "]}"},
     {"an opaque layer",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
      "\"resolution\": 16, \"opaque\": {\"shape\": \"sphere\", \"radius\": 0.1, \"inside\": 0.5}, \"ior\": {\"shape\": \"sphere\", \"radius\": 0.5, \"inside\": 1.5}}, " SMOKE "]}"},
     {"scattering colour",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", "
      "{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 8, "
      "\"scattering\": [0.3, 0.3, 0.31], \"transform\": {\"translate\": [2, 0, 0]}}]}"},
     {"the smoke's translation",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", "
      "{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 8, "
      "\"scattering\": 0.3, \"transform\": {\"translate\": [2, 0.001, 0]}}]}"},
     {"the smoke's rotation",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", "
      "{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 8, "
      "\"scattering\": 0.3, \"transform\": {\"translate\": [2, 0, 0], \"rotate\": {\"axis\": [0, 1, 0], \"angle_deg\": 10}}}]}"},
     {"the smoke's scale",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", "
      "{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 8, "
      "\"scattering\": 0.3, \"transform\": {\"translate\": [2, 0, 0], \"scale\": 1.1}}]}"},
-    {"the objects' order", "{\"receiver\": {\"height\": -1}, \"objects\": [" SMOKE ", " GLASS "]}"},
-    {"one object fewer", "{\"receiver\": {\"height\": -1}, \"objects\": [" GLASS "]}"},
+    {"the objects' order", "{\"receiver\": {\"height\": -2}, \"objects\": [" SMOKE ", " GLASS "]}"},
+    {"one object fewer", "{\"receiver\": {\"height\": -2}, \"objects\": [" GLASS "]}"},
     {"a volume layer's name",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", "
      "{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 8, "
      "\"scattering\": {\"volume\": \"smoke\"}, \"transform\": {\"translate\": [2, 0, 0]}}]}"},
     {"a volume layer's scale",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", "
      "{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 8, "
      "\"scattering\": {\"volume\": \"smoke\", \"scale\": 2}, \"transform\": {\"translate\": [2, 0, 0]}}]}"},
     {"a volume layer's offset",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [" GLASS ", "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", "
      "{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 8, "
      "\"scattering\": {\"volume\": \"smoke\", \"offset\": 0.1}, \"transform\": {\"translate\": [2, 0, 0]}}]}"},
     {"a GRIN profile",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
      "\"resolution\": 16, \"ior\": {\"profile\": \"luneburg\", \"radius\": 0.5}}, " SMOKE "]}"},
     {"a GRIN profile's radius",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
      "\"resolution\": 16, \"ior\": {\"profile\": \"luneburg\", \"radius\": 0.6}}, " SMOKE "]}"},
     {"a lathe",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
      "\"resolution\": 16, \"ior\": {\"shape\": \"lathe\", \"profile\": [[0, 0], [0.5, 0], [0.5, 0.5], [0, 0.5]], \"inside\": 1.5}}, " SMOKE "]}"},
     {"a lathe's point",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
      "\"resolution\": 16, \"ior\": {\"shape\": \"lathe\", \"profile\": [[0, 0], [0.5, 0], [0.5, 0.6], [0, 0.5]], \"inside\": 1.5}}, " SMOKE "]}"},
     {"a text shape's string",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
      "\"resolution\": 16, \"ior\": {\"shape\": \"text\", \"text\": \"AB\", \"height\": 0.3, \"depth\": 0.2, \"inside\": 1.5}}, " SMOKE "]}"},
     {"bumpy_sphere frequency",
-     "{\"receiver\": {\"height\": -1}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+     "{\"receiver\": {\"height\": -2}, \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
      "\"resolution\": 16, \"ior\": {\"shape\": \"bumpy_sphere\", \"radius\": 0.5, \"bump_frequency\": 5, \"inside\": 1.5}}, " SMOKE "]}"},
 };
 /* clang-format on */
@@ -270,7 +270,7 @@ static void needs_light_simulation_for_scattering_or_a_receiver(void)
         {"{\"lights\": [{\"type\": \"directional\", \"direction\": [0, -1, 0]}], \"objects\": "
          "[" GLASS "]}",
          false},
-        {"{\"receiver\": {\"height\": -1}, \"objects\": [" GLASS "]}", true},
+        {"{\"receiver\": {\"height\": -2}, \"objects\": [" GLASS "]}", true},
         {"{\"objects\": [" GLASS ", " SMOKE "]}", true},
         {"{\"objects\": [{\"bounds\": {\"min\": [0, 0, 0], \"max\": [1, 1, 1]}, \"ior\": 1.2, "
          "\"scattering\": {\"shape\": \"box\", \"size\": [0.1, 0.1, 0.1], \"inside\": 0}}]}",
