@@ -36,6 +36,8 @@ ls_gpu_patch child(ls_gpu_patch p, vec3 a, vec3 b, vec3 c, vec3 d, vec3 wa, vec3
     q.power = vec4(p.power.rgb * share, 0.0);
     q.state.x = p.state.x + 1;
     q.state.w = 0;
+    q.pend = vec4(0.0); // the parent flushed its pending deposit before splitting
+    q.pend_from = vec4(0.0);
     return q;
 }
 

@@ -58,42 +58,71 @@ vec4 bspline_weights(float f)
                 2.0 / 3.0 - g * g + 0.5 * g * g * g, f * f * f / 6.0);
 }
 
-// Splat of q (rgb) and q_lum * d into the 4 x 4 x 4 voxels around m with cubic B-spline
-// weights (docs/lightsim.md step 5, "flux": a lattice of tent splats ripples by up to 12%
-// per axis, the B-spline's by 0.45%); voxels outside the grid are skipped.
+// Splat of q (rgb) into the 4 x 4 x 4 voxels around m with cubic B-spline weights
+// (docs/lightsim.md step 5, "flux": a lattice of tent splats ripples by up to 12% per
+// axis, the B-spline's by 0.45%) and of q_lum * d into the 2 x 2 x 2 voxels around m
+// with trilinear weights (only the direction's normalised mean is used, so it needs no
+// ripple-free amplitude); voxels outside the grid are skipped. The loops run over the
+// stencil's part inside the grid, so the 64 voxels need no per-voxel bounds tests.
 void splat(vec3 m, vec3 q, vec3 d)
 {
     vec3 v = (m - ls.grid_min.xyz) / ls.grid_min.w - 0.5;
     vec3 fl = floor(v);
-    ivec3 i0 = ivec3(fl) - 1;
+    if (!all(greaterThan(fl, vec3(-3.0))) || !all(lessThan(fl, vec3(ls.dims.xyz) + 1.0)))
+        return; // all 64 voxels outside (or NaN)
+    ivec3 i1 = ivec3(fl); // the trilinear stencil's first voxel
     vec3 f = v - fl;
-    vec4 wx = bspline_weights(f.x), wy = bspline_weights(f.y), wz = bspline_weights(f.z);
+    // direction: trilinear over i1 .. i1 + 1
     float q_lum = (q.r + q.g + q.b) / 3.0;
     vec3 qd = q_lum * d;
-    for (int kz = 0; kz < 4; kz++) {
-        int z = i0.z + kz;
-        if (z < 0 || z >= ls.dims.z)
-            continue;
-        for (int ky = 0; ky < 4; ky++) {
-            int y = i0.y + ky;
-            if (y < 0 || y >= ls.dims.y)
-                continue;
-            float wyz = wy[ky] * wz[kz];
-            for (int kx = 0; kx < 4; kx++) {
-                int x = i0.x + kx;
-                float wt = wx[kx] * wyz;
-                if (x < 0 || x >= ls.dims.x || wt == 0.0)
+    ivec3 lo = max(-i1, ivec3(0)), hi = min(ls.dims.xyz - i1, ivec3(2));
+    for (int kz = lo.z; kz < hi.z; kz++) {
+        float wz = kz == 0 ? 1.0 - f.z : f.z;
+        for (int ky = lo.y; ky < hi.y; ky++) {
+            float wyz = (ky == 0 ? 1.0 - f.y : f.y) * wz;
+            uint row = voxel_index(ivec3(i1.x, i1.y + ky, i1.z + kz));
+            for (int kx = lo.x; kx < hi.x; kx++) {
+                float wt = (kx == 0 ? 1.0 - f.x : f.x) * wyz;
+                if (wt == 0.0)
                     continue;
-                uint o = voxel_index(ivec3(x, y, z));
-                deposit_add(0, o, wt * q.r);
-                deposit_add(1, o, wt * q.g);
-                deposit_add(2, o, wt * q.b);
+                uint o = row + uint(kx);
                 deposit_add(3, o, wt * qd.x);
                 deposit_add(4, o, wt * qd.y);
                 deposit_add(5, o, wt * qd.z);
             }
         }
     }
+    // irradiance: cubic B-spline over i1 - 1 .. i1 + 2
+    ivec3 i0 = i1 - 1;
+    vec4 wx = bspline_weights(f.x), wy = bspline_weights(f.y), wz4 = bspline_weights(f.z);
+    lo = max(-i0, ivec3(0));
+    hi = min(ls.dims.xyz - i0, ivec3(4));
+    for (int kz = lo.z; kz < hi.z; kz++) {
+        for (int ky = lo.y; ky < hi.y; ky++) {
+            float wyz = wy[ky] * wz4[kz];
+            uint row = voxel_index(ivec3(i0.x, i0.y + ky, i0.z + kz));
+            for (int kx = lo.x; kx < hi.x; kx++) {
+                float wt = wx[kx] * wyz;
+                if (wt == 0.0)
+                    continue;
+                uint o = row + uint(kx);
+                deposit_add(0, o, wt * q.r);
+                deposit_add(1, o, wt * q.g);
+                deposit_add(2, o, wt * q.b);
+            }
+        }
+    }
+}
+
+// Flux mode: deposits the pending sum, q = sum(P ds) / voxel^3, at the midpoint of the
+// pending segment from .. to with direction dir, and clears it (docs/lightsim.md step 5).
+void flush_pending(inout vec4 pend, vec3 from, vec3 to, vec3 dir)
+{
+    if (pend.w == 0.0)
+        return;
+    float voxel = ls.grid_min.w;
+    splat(0.5 * (from + to), pend.rgb / (voxel * voxel * voxel), dir);
+    pend = vec4(0.0);
 }
 
 // Max mode (thesis sect. 6.2.3): the voxel containing m keeps the largest E_p; the
@@ -215,18 +244,26 @@ void main()
         if (p.state.y != 0 && g < 0.5 * thr)
             p.state.y = 0;
         p.power.rgb = P;
-        // 4. opaque embeddings absorb the patch (it deposits nothing).
+        // 4. opaque embeddings absorb the patch; this step deposits nothing, the pending
+        // steps (they ended at c) are deposited.
+        bool flux = ls.dims.w != LS_DEPOSIT_MAX;
         if (ext1.a >= 0.5) {
+            if (flux)
+                flush_pending(p.pend, p.pend_from.xyz, c, d);
             acc_abs += P;
         } else {
-            // 5. deposit at the segment midpoint.
-            vec3 m = 0.5 * (c + c1);
-            vec3 q = P * ds / (voxel * voxel * voxel);
+            // 5. deposit: max mode at the segment midpoint; flux mode accumulates P ds and
+            // deposits every ls.limits.z steps and before the patch dies or splits.
             vec3 D1 = ls_diagonal_cross(p.x[0].xyz, p.x[1].xyz, p.x[2].xyz, p.x[3].xyz);
-            if (ls.dims.w == LS_DEPOSIT_MAX)
+            if (flux) {
+                if (p.pend.w == 0.0)
+                    p.pend_from.xyz = c;
+                p.pend += vec4(P * ds, 1.0);
+            } else {
+                vec3 m = 0.5 * (c + c1);
+                vec3 q = P * ds / (voxel * voxel * voxel);
                 deposit_max(m, P / max(0.5 * length(D1), 1e-4 * voxel * voxel), q, d1);
-            else
-                splat(m, q, d1);
+            }
             // 6. fate, in the order of docs/lightsim.md.
             bool inside = ls_inside_box(c1);
             float e_max = max(max(length(p.x[1].xyz - p.x[0].xyz), length(p.x[2].xyz - p.x[1].xyz)),
@@ -250,6 +287,8 @@ void main()
             } else {
                 count = 1u;
             }
+            if (flux && (count != 1u || p.pend.w >= float(ls.limits.z)))
+                flush_pending(p.pend, p.pend_from.xyz, c1, d1);
         }
         p.power.w = s1.a;
         p.x[0].w = ext1.r;

@@ -92,7 +92,7 @@ struct lightsim_params {
     vec4 medium;     /* x: ambient n; y: probe distance k (world); z: boundary threshold
                         (dn per light voxel); w: split length (world units) */
     vec4 cull;       /* x: energy cut (absolute max(P)); y: 1 = cull flipped patches */
-    ivec4 limits;    /* x: max_level; y: max_patches */
+    ivec4 limits;    /* x: max_level; y: max_patches; z: flux deposit every z steps */
 };
 
 /* One wavefront patch (std430; docs/lightsim.md "Patches"): corners p00, p10, p11, p01. */
@@ -103,6 +103,9 @@ struct ls_gpu_patch {
     vec4 zone;    /* x: n_lo, y: n_hi of the interface zone */
     ivec4 state;  /* x: level; y: in_zone; z: crossed; w: 1 = the cached samples are those
                      at the current centre c (the previous step's c') */
+    vec4 pend;      /* rgb: pending flux deposit, sum of P ds over the pending steps (docs/
+                       lightsim.md step 5); w: pending step count */
+    vec4 pend_from; /* xyz: start of the pending segment (world); w: unused */
 };
 
 /* Indirect dispatch arguments and counters written on the GPU (std430). */

@@ -42,6 +42,10 @@ struct light_grid {
  * and set->resolution voxels along its longest axis. Light-independent. */
 void lightsim_domain(const struct scene *s, struct light_grid *out);
 
+/* How many time steps a patch accumulates before a flux deposit (docs/lightsim.md step
+ * 5): max(1, floor(1 / step_voxels)), so deposits lie about one voxel apart. */
+int lightsim_deposit_every(const struct scene_lightsim *set);
+
 /* The simulator's input on the light grid. x fastest, then y, then z. */
 struct lightsim_fields {
     struct light_grid grid;

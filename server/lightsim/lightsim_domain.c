@@ -55,3 +55,10 @@ void lightsim_domain(const struct scene *s, struct light_grid *out)
         vec3_set(&out->bmin, a, vec3_get(lo, a) - (clipped ? 0.0 : 2.0 * voxel));
     }
 }
+
+int lightsim_deposit_every(const struct scene_lightsim *set)
+{
+    /* 1e-9: step 0.5 (or 1/3) gives exactly 2 (or 3) despite rounding */
+    double k = set->step_voxels > 0.0 ? floor(1.0 / set->step_voxels + 1e-9) : 1.0;
+    return k >= 1.0 ? (int)fmin(k, 1000.0) : 1;
+}

@@ -67,6 +67,9 @@ void ls_patch_split(const struct ls_patch *p, struct ls_patch child[4])
     for (int k = 0; k < 4; k++) {
         child[k] = *p;
         child[k].level = p->level + 1;
+        /* the parent flushed its pending deposit before splitting */
+        child[k].pend[0] = child[k].pend[1] = child[k].pend[2] = 0.0;
+        child[k].pend_steps = 0;
         for (int q = 0; q < 4; q++) {
             child[k].x[q] = cxs[k][q];
             child[k].w[q] = cws[k][q];

@@ -22,6 +22,11 @@ struct ls_patch {
     bool in_zone; /* interface-zone state (docs/lightsim.md step 3) */
     bool crossed;
     double n_lo, n_hi;
+    /* Pending flux deposit (docs/lightsim.md step 5): sum of P ds over the last
+     * pend_steps steps, which started at pend_from. */
+    double pend[3];
+    vec3 pend_from;
+    int pend_steps;
 };
 
 /* What each step derives from the corners (docs/lightsim.md "Patches"). */

@@ -173,6 +173,7 @@ enum refract_code lightsim_ref_advance(struct lightsim_ref *r, int max_steps, bo
         .set = &r->set,
         .dt = r->dt,
         .energy_floor = r->energy_floor,
+        .deposit_every = lightsim_deposit_every(&r->set),
         .lo = lo,
         .hi = hi,
         .acc_e = r->acc_e,

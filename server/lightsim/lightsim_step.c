@@ -100,10 +100,52 @@ static void bspline_weights(double f, double w[4])
     w[3] = f * f * f / 6.0;
 }
 
-/* Step 5, flux mode: P ds / voxel^3 splatted about m with cubic B-spline weights. */
+/* Flux mode's direction: q_lum d' with trilinear weights over the 2 x 2 x 2 voxels about
+ * m. Only its normalised mean is used, so the tent's ripple does not matter here. */
+static void deposit_direction(const struct ls_step_ctx *c, double q_lum, vec3 m, vec3 d1)
+{
+    const struct light_grid *g = &c->f->grid;
+    vec3 v = vec3_sub(vec3_scale(vec3_sub(m, g->bmin), 1.0 / g->voxel), (vec3){0.5, 0.5, 0.5});
+    int i0[3];
+    double w[3][2];
+    for (int a = 0; a < 3; a++) {
+        double va = vec3_get(v, a);
+        double fl = floor(va);
+        if (!(fl > -2.0 && fl < g->dims[a])) /* all 8 outside, or NaN */
+            return;
+        i0[a] = (int)fl;
+        w[a][1] = va - fl;
+        w[a][0] = 1.0 - w[a][1];
+    }
+    for (int kz = 0; kz < 2; kz++) {
+        int z = i0[2] + kz;
+        if (z < 0 || z >= g->dims[2])
+            continue;
+        for (int ky = 0; ky < 2; ky++) {
+            int y = i0[1] + ky;
+            if (y < 0 || y >= g->dims[1])
+                continue;
+            for (int kx = 0; kx < 2; kx++) {
+                int x = i0[0] + kx;
+                if (x < 0 || x >= g->dims[0])
+                    continue;
+                double wt = w[0][kx] * w[1][ky] * w[2][kz] * q_lum;
+                size_t o =
+                    3 * ((size_t)x + (size_t)g->dims[0] * ((size_t)y + (size_t)g->dims[1] * z));
+                c->acc_d[o + 0] += wt * d1.x;
+                c->acc_d[o + 1] += wt * d1.y;
+                c->acc_d[o + 2] += wt * d1.z;
+            }
+        }
+    }
+}
+
+/* Step 5, flux mode: q splatted about m with cubic B-spline weights, the direction
+ * q_lum d' trilinearly. */
 static void deposit_flux(const struct ls_step_ctx *c, const double q[3], vec3 m, vec3 d1)
 {
     const struct light_grid *g = &c->f->grid;
+    deposit_direction(c, (q[0] + q[1] + q[2]) / 3.0, m, d1);
     vec3 v = vec3_sub(vec3_scale(vec3_sub(m, g->bmin), 1.0 / g->voxel), (vec3){0.5, 0.5, 0.5});
     int i0[3];
     double w[3][4];
@@ -115,7 +157,6 @@ static void deposit_flux(const struct ls_step_ctx *c, const double q[3], vec3 m,
         i0[a] = (int)fl - 1;
         bspline_weights(va - fl, w[a]);
     }
-    double q_lum = (q[0] + q[1] + q[2]) / 3.0;
     for (int kz = 0; kz < 4; kz++) {
         int z = i0[2] + kz;
         if (z < 0 || z >= g->dims[2])
@@ -133,12 +174,25 @@ static void deposit_flux(const struct ls_step_ctx *c, const double q[3], vec3 m,
                     3 * ((size_t)x + (size_t)g->dims[0] * ((size_t)y + (size_t)g->dims[1] * z));
                 for (int ch = 0; ch < 3; ch++)
                     c->acc_e[o + ch] += wt * q[ch];
-                c->acc_d[o + 0] += wt * q_lum * d1.x;
-                c->acc_d[o + 1] += wt * q_lum * d1.y;
-                c->acc_d[o + 2] += wt * q_lum * d1.z;
             }
         }
     }
+}
+
+/* Step 5, flux mode: deposits the pending sum, q = sum(P ds) / voxel^3, at the midpoint
+ * of the pending segment pend_from .. to, with direction d, and clears it. */
+static void flush_pending(const struct ls_step_ctx *c, struct ls_patch *p, vec3 to, vec3 d)
+{
+    if (p->pend_steps == 0)
+        return;
+    double vol = c->f->grid.voxel * c->f->grid.voxel * c->f->grid.voxel;
+    double q[3];
+    for (int ch = 0; ch < 3; ch++) {
+        q[ch] = p->pend[ch] / vol;
+        p->pend[ch] = 0.0;
+    }
+    deposit_flux(c, q, vec3_scale(vec3_add(p->pend_from, to), 0.5), d);
+    p->pend_steps = 0;
 }
 
 /* Step 5, max mode (tevs2007 sect. 6.2.3): the voxel containing m keeps the largest
@@ -166,6 +220,39 @@ static void deposit_max(const struct ls_step_ctx *c, const double P[3], const do
     c->acc_d[o + 0] += q_lum * d1.x;
     c->acc_d[o + 1] += q_lum * d1.y;
     c->acc_d[o + 2] += q_lum * d1.z;
+}
+
+/* Step 6: the patch's fate, in the order of docs/lightsim.md. */
+static enum ls_fate fate_of(const struct ls_step_ctx *c, struct ls_patch *p,
+                            const struct ls_derived *g1, struct ls_patch child[4])
+{
+    struct lightsim_stats *st = c->st;
+    if (!ls_box_contains(c->lo, c->hi, g1->c) &&
+        !ls_halfline_meets_box(g1->c, g1->d, c->lo, c->hi)) {
+        add3(st->flux_out, p->P, 1.0);
+        return LS_DIES;
+    }
+    if (max3(p->P) < c->energy_floor) {
+        add3(st->flux_culled, p->P, 1.0);
+        st->culled_energy++;
+        return LS_DIES;
+    }
+    if (c->set->cull_flipped && !ls_patch_oriented(g1)) {
+        add3(st->flux_culled, p->P, 1.0);
+        st->culled_flip++;
+        return LS_DIES;
+    }
+    if (g1->e_max > c->set->split_voxels * c->f->grid.voxel) {
+        if (p->level < c->set->max_level) {
+            ls_patch_split(p, child);
+            st->splits++;
+            return LS_SPLITS;
+        }
+        add3(st->flux_culled, p->P, 1.0);
+        st->culled_level++;
+        return LS_DIES;
+    }
+    return LS_LIVES;
 }
 
 enum ls_fate ls_patch_step(const struct ls_step_ctx *c, struct ls_patch *p,
@@ -196,47 +283,33 @@ enum ls_fate ls_patch_step(const struct ls_step_ctx *c, struct ls_patch *p,
     vec3 w1 = vec3_scale(vec3_add(vec3_add(p->w[0], p->w[1]), vec3_add(p->w[2], p->w[3])), 0.25);
     interface(c, p, &s0, &s1, g1.c, w1);
 
-    /* 4. opaque */
+    /* 4. opaque: the steps before this one (pending, they ended at c) are deposited */
+    bool flux = c->set->deposit != SCENE_DEPOSIT_MAX;
     if (s1.coverage >= 0.5) {
+        if (flux)
+            flush_pending(c, p, g0.c, g0.d);
         add3(st->flux_absorbed, p->P, 1.0);
         return LS_DIES;
     }
 
-    /* 5. deposit at the segment midpoint */
-    vec3 m = vec3_scale(vec3_add(g0.c, g1.c), 0.5);
-    double vol = f->grid.voxel * f->grid.voxel * f->grid.voxel;
-    double q[3];
-    for (int ch = 0; ch < 3; ch++)
-        q[ch] = p->P[ch] * ds / vol;
-    if (c->set->deposit == SCENE_DEPOSIT_MAX)
+    /* 5. deposit: max mode at every step's midpoint; flux mode accumulates P ds and
+     * deposits every deposit_every steps and before the patch dies or splits */
+    if (flux) {
+        if (p->pend_steps == 0)
+            p->pend_from = g0.c;
+        add3(p->pend, p->P, ds);
+        p->pend_steps++;
+    } else {
+        vec3 m = vec3_scale(vec3_add(g0.c, g1.c), 0.5);
+        double vol = f->grid.voxel * f->grid.voxel * f->grid.voxel;
+        double q[3];
+        for (int ch = 0; ch < 3; ch++)
+            q[ch] = p->P[ch] * ds / vol;
         deposit_max(c, p->P, q, g1.area, m, g1.d);
-    else
-        deposit_flux(c, q, m, g1.d);
+    }
 
-    /* 6. fate */
-    if (!ls_box_contains(c->lo, c->hi, g1.c) && !ls_halfline_meets_box(g1.c, g1.d, c->lo, c->hi)) {
-        add3(st->flux_out, p->P, 1.0);
-        return LS_DIES;
-    }
-    if (max3(p->P) < c->energy_floor) {
-        add3(st->flux_culled, p->P, 1.0);
-        st->culled_energy++;
-        return LS_DIES;
-    }
-    if (c->set->cull_flipped && !ls_patch_oriented(&g1)) {
-        add3(st->flux_culled, p->P, 1.0);
-        st->culled_flip++;
-        return LS_DIES;
-    }
-    if (g1.e_max > c->set->split_voxels * f->grid.voxel) {
-        if (p->level < c->set->max_level) {
-            ls_patch_split(p, child);
-            st->splits++;
-            return LS_SPLITS;
-        }
-        add3(st->flux_culled, p->P, 1.0);
-        st->culled_level++;
-        return LS_DIES;
-    }
-    return LS_LIVES;
+    enum ls_fate fate = fate_of(c, p, &g1, child);
+    if (flux && (fate != LS_LIVES || p->pend_steps >= c->deposit_every))
+        flush_pending(c, p, g1.c, g1.d);
+    return fate;
 }

@@ -14,6 +14,7 @@ struct ls_step_ctx {
     const struct scene_lightsim *set;
     double dt;           /* time step, world units (step_voxels * voxel) */
     double energy_floor; /* energy_threshold * mean initial max(P) */
+    int deposit_every;   /* flux mode: steps per deposit, lightsim_deposit_every */
     vec3 lo, hi;         /* the domain box */
     double *acc_e;       /* 3 per voxel: flux deposit sum, or max mode's maximum */
     double *acc_d;       /* 3 per voxel: power-weighted direction sum */

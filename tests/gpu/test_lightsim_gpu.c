@@ -94,12 +94,14 @@ static void unit_irradiance_in_matched_medium(struct gpu *gpu)
            mean_e, max_dev, sum_dev / (3 * count), count, max_dir, t.out.stats.steps,
            t.out.stats.patches_peak, t.ms);
     /* The mean is exact up to float sums. Each voxel: cubic B-spline splats spaced s
-     * apart (patches 2 rho / N0 = 0.43 voxel laterally, dt / n = 0.38 voxel along the
-     * beam) sum to 1 + O(2 sinc^4(1 / s)) per axis (measured max 1e-4; trilinear splats
-     * rippled by 1.9% here). The direction is exact up to RGBA16F. */
+     * apart (patches 2 rho / N0 = 0.43 voxel laterally; along the beam one deposit per
+     * 2 steps, 2 dt / n = 0.75 voxel) sum to 1 + O(2 sinc^4(1 / s)) per axis: at most
+     * 0.37 % along the beam (measured max 6e-4, mean 3.4e-4; 1e-4 and < 2e-4 when every
+     * step deposited, 0.38 voxel apart; trilinear splats rippled by 1.9% here). The
+     * direction is exact up to RGBA16F. */
     CHECK_NEAR(mean_e, 1.0, 1e-3);
     CHECK(max_dev < 1e-3);
-    CHECK(sum_dev / (3 * count) < 2e-4);
+    CHECK(sum_dev / (3 * count) < 5e-4);
     CHECK(max_dir < 2e-3);
     CHECK(t.out.stats.done);
     CHECK(test_bookkeeping_residual(&t.out.stats, 0) < 1e-5);
@@ -145,8 +147,9 @@ static void inverse_square_point_light(struct gpu *gpu)
     /* Expected: 1 / r^2 blurred by the deposit's cubic B-spline, (1 + (voxel / r)^2 / 3)
      * / r^2 (+2.1% at 4 voxels). The mean: the cube sphere's flat quads carry P =
      * A / eps^2, a little less than their solid angle. Per voxel: the residual splat
-     * ripple and the seams of split levels (measured: mean -0.3%, max 2.5%, mean
-     * deviation 0.4%; trilinear splats gave up to 19%). */
+     * ripple and the seams of split levels (measured: mean -0.3%, max 3.5%, mean
+     * deviation 0.5%; max 2.5%, mean deviation 0.4% when every step deposited, 0.5
+     * voxel apart instead of 1; trilinear splats gave up to 19%). */
     CHECK_NEAR(mean, 1.0, 5e-3);
     CHECK(max_dev < 0.04);
     CHECK(sum_dev / count < 8e-3);
@@ -256,8 +259,9 @@ static void lifecycle_run(struct gpu_work *w, struct gpu *gpu)
         return;
     size_t voxels = (size_t)f->grid.dims[0] * f->grid.dims[1] * f->grid.dims[2];
     size_t cap = 5000, blocks = (cap + LS_SCAN_BLOCK - 1) / LS_SCAN_BLOCK;
-    size_t stepping = 2 * cap * 176 + 2 * cap * 4 + blocks * 4 + 80 + LS_ACC_COUNT * 4 +
-                      LS_TOT_COUNT * 8 + voxels * LS_DEPOSIT_CHANNELS * 4 + 96 + 2 * voxels * 16;
+    size_t stepping = 2 * cap * 208 + /* ls_gpu_patch: 208 bytes */ 2 * cap * 4 + blocks * 4 + 80 +
+                      LS_ACC_COUNT * 4 + LS_TOT_COUNT * 8 + voxels * LS_DEPOSIT_CHANNELS * 4 + 96 +
+                      2 * voxels * 16;
     printf("life cycle: %zu bytes while stepping (expected %zu)\n", lightsim_gpu_run_bytes(run),
            stepping);
     LC_CHECK(lightsim_gpu_run_bytes(run) == stepping);

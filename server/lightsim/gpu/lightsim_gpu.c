@@ -15,7 +15,7 @@
 #include "lightsim_gpu_programs.h"
 #include "lightsim_gpu_wavefront.h"
 
-_Static_assert(sizeof(ls_gpu_patch) == 176, "ls_gpu_patch must match std430");
+_Static_assert(sizeof(ls_gpu_patch) == 208, "ls_gpu_patch must match std430");
 _Static_assert(sizeof(ls_control) == 80, "ls_control must match std430");
 _Static_assert(sizeof(lightsim_params) == 96, "lightsim_params must match std140");
 
@@ -97,7 +97,7 @@ static lightsim_params make_params(const struct lightsim_fields *f,
     p.medium = (vec4){(float)f->ambient_ior, (float)f->probe_distance, (float)f->boundary_threshold,
                       (float)(set->split_voxels * g->voxel)};
     p.cull = (vec4){(float)energy_cut, set->cull_flipped ? 1.0f : 0.0f, 0, 0};
-    p.limits = (ivec4){set->max_level, set->max_patches, 0, 0};
+    p.limits = (ivec4){set->max_level, set->max_patches, lightsim_deposit_every(set), 0};
     return p;
 }
 
