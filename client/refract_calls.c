@@ -98,6 +98,23 @@ int refract_call_json(refract_client *c, const char *method, const char *path, c
     return refract_call_json_status(c, method, path, body, body_len, content_type, json_out, NULL);
 }
 
+int refract_scene_call_json(refract_client *c, const char *call, const char *method,
+                            const char *scene_id, const char *suffix, const void *body,
+                            size_t body_len, const char *content_type, char **json_out)
+{
+    char *path;
+    int code = refract_check_segment(c, call, "scene id", scene_id);
+
+    if (code != REFRACT_E_OK)
+        return code;
+    path = refract_scene_path(scene_id, suffix);
+    if (path == NULL)
+        return refract_out_of_memory(c, "building the request path");
+    code = refract_call_json(c, method, path, body, body_len, content_type, json_out);
+    free(path);
+    return code;
+}
+
 int refract_begin(refract_client *c, char **json_out)
 {
     if (json_out != NULL)
@@ -173,40 +190,20 @@ int refract_scene_create(refract_client *c, const char *scene_json, size_t len, 
 
 int refract_scene_get(refract_client *c, const char *scene_id, char **json_out)
 {
-    char *path;
-    int code;
-
     if (refract_begin(c, json_out) != REFRACT_E_OK)
         return REFRACT_E_USAGE;
     if (json_out == NULL)
         return refract_fail(c, REFRACT_E_USAGE, "refract_scene_get: json_out is NULL");
-    code = refract_check_segment(c, "refract_scene_get", "scene id", scene_id);
-    if (code != REFRACT_E_OK)
-        return code;
-    path = refract_scene_path(scene_id, "");
-    if (path == NULL)
-        return refract_out_of_memory(c, "building the request path");
-    code = refract_call_json(c, "GET", path, NULL, 0, NULL, json_out);
-    free(path);
-    return code;
+    return refract_scene_call_json(c, "refract_scene_get", "GET", scene_id, "", NULL, 0, NULL,
+                                   json_out);
 }
 
 int refract_scene_delete(refract_client *c, const char *scene_id)
 {
-    char *path;
-    int code;
-
     if (refract_begin(c, NULL) != REFRACT_E_OK)
         return REFRACT_E_USAGE;
-    code = refract_check_segment(c, "refract_scene_delete", "scene id", scene_id);
-    if (code != REFRACT_E_OK)
-        return code;
-    path = refract_scene_path(scene_id, "");
-    if (path == NULL)
-        return refract_out_of_memory(c, "building the request path");
-    code = refract_call_json(c, "DELETE", path, NULL, 0, NULL, NULL);
-    free(path);
-    return code;
+    return refract_scene_call_json(c, "refract_scene_delete", "DELETE", scene_id, "", NULL, 0, NULL,
+                                   NULL);
 }
 
 /* Runtime check rather than a macro: compilers disagree on how to spell the byte-order
@@ -412,23 +409,12 @@ int refract_render(refract_client *c, const char *scene_id, const char *request_
 int refract_trace(refract_client *c, const char *scene_id, const char *request_json,
                   char **json_out)
 {
-    char *path;
-    int code;
-
     if (refract_begin(c, json_out) != REFRACT_E_OK)
         return REFRACT_E_USAGE;
     if (json_out == NULL || request_json == NULL)
         return refract_fail(c, REFRACT_E_USAGE,
                             "refract_trace: request_json and json_out "
                             "must not be NULL");
-    code = refract_check_segment(c, "refract_trace", "scene id", scene_id);
-    if (code != REFRACT_E_OK)
-        return code;
-    path = refract_scene_path(scene_id, "/trace");
-    if (path == NULL)
-        return refract_out_of_memory(c, "building the request path");
-    code = refract_call_json(c, "POST", path, request_json, strlen(request_json),
-                             "application/json", json_out);
-    free(path);
-    return code;
+    return refract_scene_call_json(c, "refract_trace", "POST", scene_id, "/trace", request_json,
+                                   strlen(request_json), "application/json", json_out);
 }

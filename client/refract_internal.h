@@ -89,6 +89,12 @@ int refract_out_of_memory(refract_client *c, const char *what);
  * Borrows body until return. */
 int refract_call_json(refract_client *c, const char *method, const char *path, const void *body,
                       size_t body_len, const char *content_type, char **json_out);
+/* The rest of a JSON call on one scene's resource, after refract_begin() and the call's
+ * own argument checks: checks scene_id, builds "/v1/scenes/<escaped id><suffix>" and
+ * makes the call with refract_call_json(). call names the function in messages. */
+int refract_scene_call_json(refract_client *c, const char *call, const char *method,
+                            const char *scene_id, const char *suffix, const void *body,
+                            size_t body_len, const char *content_type, char **json_out);
 /* refract_call_json() that also gives the reply's HTTP status (200 or 202, say) through
  * *http_status (when not NULL; 0 when no reply came). */
 int refract_call_json_status(refract_client *c, const char *method, const char *path,

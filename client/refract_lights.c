@@ -128,22 +128,12 @@ int refract_lights_put(refract_client *c, const char *scene_id, const char *ligh
 
 int refract_lights_get(refract_client *c, const char *scene_id, char **json_out)
 {
-    char *path;
-    int code;
-
     if (refract_begin(c, json_out) != REFRACT_E_OK)
         return REFRACT_E_USAGE;
     if (json_out == NULL)
         return refract_fail(c, REFRACT_E_USAGE, "refract_lights_get: json_out is NULL");
-    code = refract_check_segment(c, "refract_lights_get", "scene id", scene_id);
-    if (code != REFRACT_E_OK)
-        return code;
-    path = refract_scene_path(scene_id, "/lights");
-    if (path == NULL)
-        return refract_out_of_memory(c, "building the request path");
-    code = refract_call_json(c, "GET", path, NULL, 0, NULL, json_out);
-    free(path);
-    return code;
+    return refract_scene_call_json(c, "refract_lights_get", "GET", scene_id, "/lights", NULL, 0,
+                                   NULL, json_out);
 }
 
 int refract_irradiance_status(refract_client *c, const char *scene_id,

@@ -9,25 +9,11 @@
 #include "refract_status.h"
 
 #include <cjson/cJSON.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-static bool status_say(char *why, size_t why_size, const char *fmt, ...)
-    __attribute__((format(printf, 3, 4)));
-
-static bool status_say(char *why, size_t why_size, const char *fmt, ...)
-{
-    va_list ap;
-
-    if (why == NULL || why_size == 0)
-        return false;
-    va_start(ap, fmt);
-    vsnprintf(why, why_size, fmt, ap);
-    va_end(ap);
-    return false;
-}
+#include "refract_say.h"
 
 static void copy_member(char *dst, size_t dst_size, const cJSON *obj, const char *key)
 {
@@ -83,11 +69,11 @@ static bool read_light(const cJSON *obj, size_t i, struct refract_light_status *
     const cJSON *code = cJSON_GetObjectItemCaseSensitive(obj, "code");
 
     if (!cJSON_IsObject(obj))
-        return status_say(why, why_size, "lights[%zu]: expected an object", i);
+        return refract_say(why, why_size, "lights[%zu]: expected an object", i);
     if (!cJSON_IsString(name) || name->valuestring[0] == '\0')
-        return status_say(why, why_size, "lights[%zu].name: expected a non-empty string", i);
+        return refract_say(why, why_size, "lights[%zu].name: expected a non-empty string", i);
     if (!cJSON_IsString(state) || state->valuestring[0] == '\0')
-        return status_say(why, why_size, "lights[%zu].state: expected a non-empty string", i);
+        return refract_say(why, why_size, "lights[%zu].state: expected a non-empty string", i);
     copy_member(l->name, sizeof(l->name), obj, "name");
     copy_member(l->state, sizeof(l->state), obj, "state");
     copy_member(l->key, sizeof(l->key), obj, "key");
@@ -114,17 +100,17 @@ bool refract_status_from_json(const char *json, size_t len, struct refract_irrad
     memset(out, 0, sizeof(*out));
     if (root == NULL || !cJSON_IsObject(root)) {
         cJSON_Delete(root);
-        return status_say(why, why_size, "expected a JSON object {\"scene\", \"lights\": [...]}");
+        return refract_say(why, why_size, "expected a JSON object {\"scene\", \"lights\": [...]}");
     }
     if (!cJSON_IsArray(lights)) {
         cJSON_Delete(root);
-        return status_say(why, why_size, "lights: expected an array");
+        return refract_say(why, why_size, "lights: expected an array");
     }
     n = (size_t)cJSON_GetArraySize(lights);
     out->lights = n > 0 ? calloc(n, sizeof(*out->lights)) : NULL;
     if (n > 0 && out->lights == NULL) {
         cJSON_Delete(root);
-        return status_say(why, why_size, "out of memory reading %zu lights", n);
+        return refract_say(why, why_size, "out of memory reading %zu lights", n);
     }
     copy_member(out->scene, sizeof(out->scene), root, "scene");
     copy_member(out->transport_hash, sizeof(out->transport_hash), root, "transport_hash");

@@ -10,7 +10,6 @@
 
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,21 +17,7 @@
 
 #include "refract_errors.h"
 
-static bool say(char *why, size_t why_size, const char *fmt, ...)
-    __attribute__((format(printf, 3, 4)));
-
-/* Writes a message into why and returns false, so parsers end with `return say(...)`. */
-static bool say(char *why, size_t why_size, const char *fmt, ...)
-{
-    va_list ap;
-
-    if (why == NULL || why_size == 0)
-        return false;
-    va_start(ap, fmt);
-    vsnprintf(why, why_size, fmt, ap);
-    va_end(ap);
-    return false;
-}
+#include "../refract_say.h"
 
 /* Edit distance between two short strings, capped: anything longer than 63 characters
  * counts as far away. Used only to suggest an option for a typo. */
@@ -93,9 +78,9 @@ static int unknown_option(const struct cli_opt *opts, size_t n_opts, const char 
         }
     }
     if (closest != NULL)
-        say(why, why_size, "unknown option '%s'; did you mean '%s'?", arg, closest);
+        refract_say(why, why_size, "unknown option '%s'; did you mean '%s'?", arg, closest);
     else
-        say(why, why_size, "unknown option '%s'", arg);
+        refract_say(why, why_size, "unknown option '%s'", arg);
     return REFRACT_E_USAGE;
 }
 
@@ -115,7 +100,7 @@ static int take_option(int argc, char *const argv[], int *i, struct cli_opt *opt
         return unknown_option(opts, n_opts, name, why, why_size);
     }
     if (opt->given) {
-        say(why, why_size, "%s is given twice", opt->name);
+        refract_say(why, why_size, "%s is given twice", opt->name);
         return REFRACT_E_USAGE;
     }
     if (opt->takes_value && eq != NULL) {
@@ -123,10 +108,10 @@ static int take_option(int argc, char *const argv[], int *i, struct cli_opt *opt
     } else if (opt->takes_value && *i + 1 < argc) {
         opt->value = argv[++*i]; /* may start with '-': "--exposure -1" */
     } else if (opt->takes_value) {
-        say(why, why_size, "%s needs a value", opt->name);
+        refract_say(why, why_size, "%s needs a value", opt->name);
         return REFRACT_E_USAGE;
     } else if (eq != NULL) {
-        say(why, why_size, "%s takes no value", opt->name);
+        refract_say(why, why_size, "%s takes no value", opt->name);
         return REFRACT_E_USAGE;
     }
     opt->given = true;
@@ -151,7 +136,7 @@ int cli_parse_args(int argc, char *const argv[], struct cli_opt *opts, size_t n_
             options_done = true;
         } else if (options_done || arg[0] != '-' || arg[1] == '\0') {
             if (out->n_pos == CLI_MAX_POSITIONALS) {
-                say(why, why_size, "unexpected argument '%s'", arg);
+                refract_say(why, why_size, "unexpected argument '%s'", arg);
                 return REFRACT_E_USAGE;
             }
             out->pos[out->n_pos++] = arg;
@@ -184,22 +169,23 @@ bool cli_parse_vec3(const char *s, double out[3], char *why, size_t why_size)
         p = skip_blanks(p);
         v = strtod(p, &end);
         if (end == p || !isfinite(v))
-            return say(why, why_size,
-                       "expected three numbers separated by commas, such as "
-                       "0,0,4; got \"%s\"",
-                       s);
+            return refract_say(why, why_size,
+                               "expected three numbers separated by commas, such as "
+                               "0,0,4; got \"%s\"",
+                               s);
         out[k] = v;
         p = skip_blanks(end);
         if (k < 2 && *p != ',')
-            return say(why, why_size,
-                       "expected three numbers separated by commas, such as "
-                       "0,0,4; got \"%s\"",
-                       s);
+            return refract_say(why, why_size,
+                               "expected three numbers separated by commas, such as "
+                               "0,0,4; got \"%s\"",
+                               s);
         if (k < 2)
             p++; /* past the comma */
     }
     if (*p != '\0')
-        return say(why, why_size, "expected exactly three numbers, such as 0,0,4; got \"%s\"", s);
+        return refract_say(why, why_size,
+                           "expected exactly three numbers, such as 0,0,4; got \"%s\"", s);
     return true;
 }
 
@@ -215,25 +201,25 @@ bool cli_parse_dims(const char *s, int out[3], char *why, size_t why_size)
         errno = 0;
         v = strtol(p, &end, 10);
         if (end == p || errno != 0 || v < 1 || v > CLI_DIM_MAX)
-            return say(why, why_size,
-                       "expected three whole numbers in 1..%d separated by "
-                       "commas, such as 64,64,64; got \"%s\"",
-                       CLI_DIM_MAX, s);
+            return refract_say(why, why_size,
+                               "expected three whole numbers in 1..%d separated by "
+                               "commas, such as 64,64,64; got \"%s\"",
+                               CLI_DIM_MAX, s);
         out[k] = (int)v;
         p = skip_blanks(end);
         if (k < 2 && *p != ',')
-            return say(why, why_size,
-                       "expected three whole numbers separated by commas, such "
-                       "as 64,64,64; got \"%s\"",
-                       s);
+            return refract_say(why, why_size,
+                               "expected three whole numbers separated by commas, such "
+                               "as 64,64,64; got \"%s\"",
+                               s);
         if (k < 2)
             p++; /* past the comma */
     }
     if (*p != '\0')
-        return say(why, why_size,
-                   "expected exactly three whole numbers, such as 64,64,64; "
-                   "got \"%s\"",
-                   s);
+        return refract_say(why, why_size,
+                           "expected exactly three whole numbers, such as 64,64,64; "
+                           "got \"%s\"",
+                           s);
     return true;
 }
 
@@ -245,7 +231,8 @@ bool cli_parse_long(const char *s, long min, long max, long *out, char *why, siz
     errno = 0;
     v = strtol(s, &end, 10);
     if (end == s || *end != '\0' || errno != 0 || v < min || v > max)
-        return say(why, why_size, "expected a whole number in %ld..%ld, got \"%s\"", min, max, s);
+        return refract_say(why, why_size, "expected a whole number in %ld..%ld, got \"%s\"", min,
+                           max, s);
     *out = v;
     return true;
 }
@@ -256,7 +243,7 @@ bool cli_parse_double(const char *s, double *out, char *why, size_t why_size)
     double v = strtod(s, &end);
 
     if (end == s || *end != '\0' || !isfinite(v))
-        return say(why, why_size, "expected a finite number, got \"%s\"", s);
+        return refract_say(why, why_size, "expected a finite number, got \"%s\"", s);
     *out = v;
     return true;
 }
@@ -267,10 +254,10 @@ bool cli_parse_timeout(const char *s, long *timeout_ms, char *why, size_t why_si
     double seconds = 0;
 
     if (!cli_parse_double(s, &seconds, NULL, 0) || seconds < 0 || seconds > max_seconds)
-        return say(why, why_size,
-                   "expected seconds from 0 (no limit) to %.0f, such as 30 or "
-                   "2.5; got \"%s\"",
-                   max_seconds, s);
+        return refract_say(why, why_size,
+                           "expected seconds from 0 (no limit) to %.0f, such as 30 or "
+                           "2.5; got \"%s\"",
+                           max_seconds, s);
     *timeout_ms = (long)ceil(seconds * 1000.0);
     return true;
 }

@@ -8,27 +8,12 @@
  */
 #include "cli_light.h"
 
-#include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 #include <strings.h>
 
 #include "cli_args.h"
-
-static bool light_say(char *why, size_t why_size, const char *fmt, ...)
-    __attribute__((format(printf, 3, 4)));
-
-static bool light_say(char *why, size_t why_size, const char *fmt, ...)
-{
-    va_list ap;
-
-    if (why == NULL || why_size == 0)
-        return false;
-    va_start(ap, fmt);
-    vsnprintf(why, why_size, fmt, ap);
-    va_end(ap);
-    return false;
-}
+#include "../refract_say.h"
 
 /* The light types and the members that belong to each (the scene schema's words). */
 static const struct {
@@ -58,7 +43,7 @@ static bool parse_vec(const char *option, const char *text, double out[3], char 
 
     if (cli_parse_vec3(text, out, inner, sizeof(inner)))
         return true;
-    return light_say(why, why_size, "%s: %s", option, inner);
+    return refract_say(why, why_size, "%s: %s", option, inner);
 }
 
 static bool parse_number(const char *option, const char *text, double *out, char *why,
@@ -68,7 +53,7 @@ static bool parse_number(const char *option, const char *text, double *out, char
 
     if (cli_parse_double(text, out, inner, sizeof(inner)))
         return true;
-    return light_say(why, why_size, "%s: %s", option, inner);
+    return refract_say(why, why_size, "%s: %s", option, inner);
 }
 
 bool cli_light_spec_parse(const struct cli_light_flags *flags, struct cli_light_spec *spec,
@@ -81,8 +66,9 @@ bool cli_light_spec_parse(const struct cli_light_flags *flags, struct cli_light_
                 spec->type = light_types[i].type;
         }
         if (spec->type == NULL)
-            return light_say(why, why_size, "--type: expected directional, point or spot, got '%s'",
-                             flags->type);
+            return refract_say(why, why_size,
+                               "--type: expected directional, point or spot, got '%s'",
+                               flags->type);
     }
     spec->has_direction = flags->direction != NULL;
     if (spec->has_direction &&
@@ -90,9 +76,9 @@ bool cli_light_spec_parse(const struct cli_light_flags *flags, struct cli_light_
         return false;
     if (spec->has_direction && spec->direction[0] == 0 && spec->direction[1] == 0 &&
         spec->direction[2] == 0)
-        return light_say(why, why_size,
-                         "--direction: 0,0,0 points nowhere; give the way the light "
-                         "travels, such as 0,-1,0 for straight down");
+        return refract_say(why, why_size,
+                           "--direction: 0,0,0 points nowhere; give the way the light "
+                           "travels, such as 0,-1,0 for straight down");
     spec->has_position = flags->position != NULL;
     if (spec->has_position &&
         !parse_vec("--position", flags->position, spec->position, why, why_size))
@@ -118,25 +104,25 @@ bool cli_light_spec_fits(const struct cli_light_spec *spec, const char *type, ch
     if (type == NULL)
         return true;
     if (t < 0)
-        return light_say(why, why_size,
-                         "the light's type is '%s', which this refract does not know; "
-                         "give --type directional, point or spot",
-                         type);
+        return refract_say(why, why_size,
+                           "the light's type is '%s', which this refract does not know; "
+                           "give --type directional, point or spot",
+                           type);
     if (spec->has_position && !light_types[t].position)
-        return light_say(why, why_size,
-                         "--position does not apply to a %s light, which has only a "
-                         "direction; give --type point or spot to place the light",
-                         type);
+        return refract_say(why, why_size,
+                           "--position does not apply to a %s light, which has only a "
+                           "direction; give --type point or spot to place the light",
+                           type);
     if (spec->has_direction && !light_types[t].direction)
-        return light_say(why, why_size,
-                         "--direction does not apply to a %s light, which shines every "
-                         "way; give --type spot for a cone or --type directional",
-                         type);
+        return refract_say(why, why_size,
+                           "--direction does not apply to a %s light, which shines every "
+                           "way; give --type spot for a cone or --type directional",
+                           type);
     if (spec->has_angle && !light_types[t].angle)
-        return light_say(why, why_size,
-                         "--angle does not apply to a %s light; only a spot light has a "
-                         "cone (give --type spot)",
-                         type);
+        return refract_say(why, why_size,
+                           "--angle does not apply to a %s light; only a spot light has a "
+                           "cone (give --type spot)",
+                           type);
     return true;
 }
 

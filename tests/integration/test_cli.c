@@ -19,73 +19,17 @@
 
 #include "daemon.h"
 #include "io/io_image.h"
+#include "support_cli.h"
 #include "test.h"
 
-struct cli_run {
-    int status; /* exit status, or -1 when it did not exit normally */
-    char *out;  /* stdout, NUL-terminated */
-    char *err;  /* stderr */
-};
-
-static char *slurp(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (f == NULL)
-        return strdup("");
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *buf = malloc((size_t)n + 1);
-    size_t got = fread(buf, 1, (size_t)n, f);
-    buf[got] = '\0';
-    fclose(f);
-    return buf;
-}
-
-/* Runs $REFRACT_CLI --url <daemon> ARGS... with stdin from `stdin_path` (or /dev/null). */
+/* The shared runner, plus the failing command's stderr on the test's log. */
 static struct cli_run run_cli(const struct test_daemon *d, const char *url, const char *stdin_path,
                               const char *const *args)
 {
-    struct cli_run r = {-1, NULL, NULL};
-    char out_path[400], err_path[400];
-    snprintf(out_path, sizeof out_path, "%s/cli.out", d->dir);
-    snprintf(err_path, sizeof err_path, "%s/cli.err", d->dir);
-    const char *cli = getenv("REFRACT_CLI");
-    const char *argv[32];
-    int n = 0;
-    argv[n++] = cli;
-    argv[n++] = "--url";
-    argv[n++] = url ? url : d->url;
-    for (int i = 0; args[i] && n < 31; i++)
-        argv[n++] = args[i];
-    argv[n] = NULL;
-    pid_t pid = fork();
-    if (pid == 0) {
-        int in = open(stdin_path ? stdin_path : "/dev/null", O_RDONLY);
-        int out = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0600);
-        int er = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0600);
-        if (in < 0 || out < 0 || er < 0)
-            _exit(127);
-        dup2(in, 0);
-        dup2(out, 1);
-        dup2(er, 2);
-        execv(cli, (char *const *)argv);
-        _exit(127);
-    }
-    int st = 0;
-    if (pid > 0 && waitpid(pid, &st, 0) == pid && WIFEXITED(st))
-        r.status = WEXITSTATUS(st);
-    r.out = slurp(out_path);
-    r.err = slurp(err_path);
+    struct cli_run r = cli_run(d, url, stdin_path, args);
     if (r.status != 0)
         fprintf(stderr, "  refract %s ...: exit %d, stderr: %s", args[0], r.status, r.err);
     return r;
-}
-
-static void cli_run_free(struct cli_run *r)
-{
-    free(r->out);
-    free(r->err);
 }
 
 static bool file_starts_with(const char *path, const void *magic, size_t n)

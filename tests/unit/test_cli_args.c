@@ -17,6 +17,7 @@
 #include "../../client/cli/cli_image.c"
 #include "../../client/cli/cli_irradiance.c"
 #include "../../client/cli/cli_light.c"
+#include "../../client/refract_say.c"
 #include "../../client/refract_status.c"
 #include "../../client/refract_url.c"
 
