@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "../core/log.h"
+#include "../io/io_files.h"
 #include "cache_internal.h"
 
 /* ---- keys ------------------------------------------------------------------------------ */
@@ -688,7 +689,7 @@ struct irradiance_cache *irradiance_cache_create(const struct irradiance_cache_d
     snprintf(c->dir, sizeof c->dir, "%s/irradiance", desc->data_dir);
     pthread_mutex_init(&c->lock, NULL);
     pthread_cond_init(&c->wake, NULL);
-    if (irr_disk_mkdirs(c->dir, e) != REFRACT_E_OK) {
+    if (io_mkdirs(c->dir, e) != REFRACT_E_OK) {
         irradiance_cache_destroy(c);
         return NULL;
     }

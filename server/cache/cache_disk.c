@@ -10,17 +10,15 @@
  */
 #include <cjson/cJSON.h>
 #include <dirent.h>
-#include <errno.h>
-#include <fcntl.h>
 #include <inttypes.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include "../core/log.h"
 #include "../io/io_exr.h"
+#include "../io/io_files.h"
 #include "cache_internal.h"
 
 static const char *const channel_names[] = {"R", "G", "B", "dir.X", "dir.Y", "dir.Z", "dir.W"};
@@ -31,23 +29,6 @@ void irr_volume_path(const struct irradiance_cache *c, uint64_t key, const char 
                      size_t size)
 {
     snprintf(out, size, "%s/%016" PRIx64 ".%s", c->dir, key, ext);
-}
-
-enum refract_code irr_disk_mkdirs(const char *path, struct err *e)
-{
-    char buf[700];
-    snprintf(buf, sizeof buf, "%s", path);
-    for (char *p = buf + 1; *p; p++) {
-        if (*p != '/')
-            continue;
-        *p = '\0';
-        if (mkdir(buf, 0755) != 0 && errno != EEXIST)
-            return err_set(e, REFRACT_E_STORAGE, "cannot create %s: %s", buf, strerror(errno));
-        *p = '/';
-    }
-    if (mkdir(buf, 0755) != 0 && errno != EEXIST)
-        return err_set(e, REFRACT_E_STORAGE, "cannot create %s: %s", buf, strerror(errno));
-    return REFRACT_E_OK;
 }
 
 static char *grid_json(const struct light_grid *g)
@@ -155,37 +136,6 @@ enum refract_code irradiance_volume_decode_exr(const void *bytes, size_t len,
     return REFRACT_E_OK;
 }
 
-/* Temporary name, fsync, rename: readers never see half a file. */
-static enum refract_code write_atomic(const char *path, const void *data, size_t len, struct err *e)
-{
-    char tmp[700];
-    snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
-    int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fd < 0)
-        return err_set(e, REFRACT_E_STORAGE, "cannot write %s: %s", tmp, strerror(errno));
-    const char *p = data;
-    size_t left = len;
-    while (left > 0) {
-        ssize_t w = write(fd, p, left);
-        if (w < 0 && errno == EINTR)
-            continue;
-        if (w <= 0) {
-            int err = errno;
-            close(fd);
-            unlink(tmp);
-            return err_set(e, REFRACT_E_STORAGE, "cannot write %s: %s", tmp, strerror(err));
-        }
-        p += w;
-        left -= (size_t)w;
-    }
-    if (fsync(fd) != 0 || close(fd) != 0 || rename(tmp, path) != 0) {
-        int err = errno;
-        unlink(tmp);
-        return err_set(e, REFRACT_E_STORAGE, "cannot store %s: %s", path, strerror(err));
-    }
-    return REFRACT_E_OK;
-}
-
 static void add_triplet(cJSON *o, const char *name, const double v[3])
 {
     cJSON_AddItemToObject(o, name, cJSON_CreateDoubleArray(v, 3));
@@ -263,7 +213,7 @@ enum refract_code irr_disk_write(const struct irradiance_cache *c, const struct 
     char path[700];
     irr_volume_path(c, en->key, "exr", path, sizeof path);
     if (rc == REFRACT_E_OK)
-        rc = write_atomic(path, bytes, len, e);
+        rc = io_write_atomic(path, bytes, len, e);
     free(bytes);
     if (rc != REFRACT_E_OK)
         return rc;
@@ -283,48 +233,9 @@ enum refract_code irr_disk_write(const struct irradiance_cache *c, const struct 
     if (text == NULL)
         return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory writing a sidecar");
     irr_volume_path(c, en->key, "json", path, sizeof path);
-    rc = write_atomic(path, text, strlen(text), e);
+    rc = io_write_atomic(path, text, strlen(text), e);
     cJSON_free(text);
     return rc;
-}
-
-static enum refract_code read_file(const char *path, char **out, size_t *len, struct err *e)
-{
-    *out = NULL;
-    *len = 0;
-    FILE *f = fopen(path, "rb");
-    if (f == NULL)
-        return err_set(e, REFRACT_E_STORAGE, "cannot read %s: %s", path, strerror(errno));
-    size_t cap = 1 << 16, n = 0;
-    char *buf = malloc(cap + 1);
-    while (buf) {
-        size_t got = fread(buf + n, 1, cap - n, f);
-        n += got;
-        if (got == 0)
-            break;
-        if (n == cap) {
-            if (cap >= IRR_MAX_FILE) {
-                free(buf);
-                buf = NULL;
-                break;
-            }
-            char *grown = realloc(buf, cap * 2 + 1);
-            if (grown == NULL) {
-                free(buf);
-                buf = NULL;
-                break;
-            }
-            buf = grown;
-            cap *= 2;
-        }
-    }
-    fclose(f);
-    if (buf == NULL)
-        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "cannot read %s: too large", path);
-    buf[n] = '\0';
-    *out = buf;
-    *len = n;
-    return REFRACT_E_OK;
 }
 
 enum refract_code irr_disk_read(const struct irradiance_cache *c, uint64_t key,
@@ -334,14 +245,14 @@ enum refract_code irr_disk_read(const struct irradiance_cache *c, uint64_t key,
     char *text = NULL, *bytes = NULL;
     size_t len = 0;
     irr_volume_path(c, key, "json", path, sizeof path);
-    enum refract_code rc = read_file(path, &text, &len, e);
+    enum refract_code rc = io_read_file(path, IRR_MAX_FILE, &text, &len, e);
     cJSON *side = rc == REFRACT_E_OK ? cJSON_Parse(text) : NULL;
     free(text);
     if (rc == REFRACT_E_OK && side == NULL)
         rc = err_set(e, REFRACT_E_STORAGE, "%s is not JSON", path);
     irr_volume_path(c, key, "exr", path, sizeof path);
     if (rc == REFRACT_E_OK)
-        rc = read_file(path, &bytes, &len, e);
+        rc = io_read_file(path, IRR_MAX_FILE, &bytes, &len, e);
     if (rc == REFRACT_E_OK)
         rc = irradiance_volume_decode_exr(bytes, len, out, e);
     free(bytes);

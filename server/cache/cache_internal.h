@@ -116,7 +116,6 @@ void *irr_worker_main(void *arg);
 void irr_release_gpu_entry(struct irr_entry *en); /* GPU thread */
 
 /* cache_disk.c */
-enum refract_code irr_disk_mkdirs(const char *path, struct err *e);
 void irr_volume_path(const struct irradiance_cache *c, uint64_t key, const char *ext, char *out,
                      size_t size);
 enum refract_code irr_disk_write(const struct irradiance_cache *c, const struct irr_entry *en,

@@ -19,7 +19,7 @@
 
 #include "../core/log.h"
 #include "../io/io_image.h"
-#include "store_files.h"
+#include "../io/io_files.h"
 
 #define STORE_MAX_JSON_BYTES (64u << 20)
 #define STORE_MAX_VOLUMES_PER_SCENE 64
@@ -233,12 +233,12 @@ static enum refract_code persist_document(struct store *s, const char *id, const
 {
     char dir[4096], path[4200];
     scene_dir(s, id, dir, sizeof dir);
-    enum refract_code rc = store_remove_tree(dir, e);
+    enum refract_code rc = io_remove_tree(dir, e);
     if (rc == REFRACT_E_OK)
-        rc = store_mkdirs(dir, e);
+        rc = io_mkdirs(dir, e);
     snprintf(path, sizeof path, "%s/scene.json", dir);
     if (rc == REFRACT_E_OK)
-        rc = store_write_atomic(path, json, len, e);
+        rc = io_write_atomic(path, json, len, e);
     return rc;
 }
 
@@ -327,7 +327,7 @@ enum refract_code store_scene_set_lights(struct store *s, const char *id, const 
     if (rc == REFRACT_E_OK) {
         char path[4200];
         snprintf(path, sizeof path, "%s/scenes/%s/scene.json", s->data_dir, id);
-        rc = store_write_atomic(path, json, len, e);
+        rc = io_write_atomic(path, json, len, e);
     }
     if (rc == REFRACT_E_OK) {
         free(v->json);
@@ -365,7 +365,7 @@ enum refract_code store_scene_delete(struct store *s, const char *id, struct err
     *slot = s->slots[--s->slot_count];
     char dir[4096];
     scene_dir(s, id, dir, sizeof dir);
-    enum refract_code rc = store_remove_tree(dir, e);
+    enum refract_code rc = io_remove_tree(dir, e);
     pthread_mutex_unlock(&s->lock);
     store_scene_release(v);
     return rc;
@@ -472,15 +472,15 @@ static enum refract_code persist_volume(struct store *s, const char *id,
     char dir[4096], path[4200], meta[256];
     scene_dir(s, id, dir, sizeof dir);
     strncat(dir, "/volumes", sizeof dir - strlen(dir) - 1);
-    enum refract_code rc = store_mkdirs(dir, e);
+    enum refract_code rc = io_mkdirs(dir, e);
     snprintf(path, sizeof path, "%s/%s.f32", dir, v->name);
     if (rc == REFRACT_E_OK)
-        rc = store_write_atomic(path, v->data, v->count * sizeof(float), e);
+        rc = io_write_atomic(path, v->data, v->count * sizeof(float), e);
     int n = snprintf(meta, sizeof meta, "{\"dims\": [%d, %d, %d], \"components\": %d}\n",
                      v->view.dims[0], v->view.dims[1], v->view.dims[2], v->view.components);
     snprintf(path, sizeof path, "%s/%s.json", dir, v->name);
     if (rc == REFRACT_E_OK)
-        rc = store_write_atomic(path, meta, (size_t)n, e);
+        rc = io_write_atomic(path, meta, (size_t)n, e);
     return rc;
 }
 
@@ -582,7 +582,7 @@ static enum refract_code env_put(struct store *s, const char *id, const void *by
         char dir[4096], path[4200];
         scene_dir(s, id, dir, sizeof dir);
         snprintf(path, sizeof path, "%s/environment.img", dir);
-        rc = store_write_atomic(path, bytes, len, e);
+        rc = io_write_atomic(path, bytes, len, e);
     }
     if (rc == REFRACT_E_OK) {
         struct store_scene *v = version_new(s, id, slot->current);
@@ -634,7 +634,7 @@ static void load_volumes(struct store *s, const char *id, const char *dir)
         struct err e;
         int dims[3] = {0}, comps = 0;
         snprintf(path, sizeof path, "%s/%s.json", vdir, name);
-        if (store_read_file(path, 4096, &meta, &meta_len, &e) != REFRACT_E_OK ||
+        if (io_read_file(path, 4096, &meta, &meta_len, &e) != REFRACT_E_OK ||
             sscanf(meta, "{\"dims\": [%d, %d, %d], \"components\": %d}", &dims[0], &dims[1],
                    &dims[2], &comps) != 4) {
             log_warn("store", "skipping volume %s of scene %s: unreadable metadata", name, id);
@@ -644,8 +644,7 @@ static void load_volumes(struct store *s, const char *id, const char *dir)
         free(meta);
         snprintf(path, sizeof path, "%s/%s.f32", vdir, name);
         size_t expect = (size_t)dims[0] * dims[1] * dims[2] * comps * sizeof(float);
-        if (store_read_file(path, expect, &raw, &raw_len, &e) != REFRACT_E_OK ||
-            raw_len != expect) {
+        if (io_read_file(path, expect, &raw, &raw_len, &e) != REFRACT_E_OK || raw_len != expect) {
             log_warn("store", "skipping volume %s of scene %s: %s", name, id,
                      raw ? "size does not match its metadata" : e.msg);
             free(raw);
@@ -670,7 +669,7 @@ static void load_scene(struct store *s, const char *id)
     char *json = NULL;
     size_t len = 0;
     struct err e;
-    if (store_read_file(path, STORE_MAX_JSON_BYTES, &json, &len, &e) != REFRACT_E_OK) {
+    if (io_read_file(path, STORE_MAX_JSON_BYTES, &json, &len, &e) != REFRACT_E_OK) {
         log_warn("store", "skipping %s: %s", dir, e.msg);
         return;
     }
@@ -704,7 +703,7 @@ static void load_scene(struct store *s, const char *id)
     char *img = NULL;
     size_t img_len = 0;
     if (access(path, R_OK) == 0) {
-        if (store_read_file(path, (size_t)1 << 31, &img, &img_len, &e) != REFRACT_E_OK ||
+        if (io_read_file(path, (size_t)1 << 31, &img, &img_len, &e) != REFRACT_E_OK ||
             env_put(s, id, img, img_len, false, NULL, NULL, &e) != REFRACT_E_OK)
             log_warn("store", "scene %s: environment image not restored: %s", id, e.msg);
         free(img);
@@ -725,7 +724,7 @@ struct store *store_open(const struct store_desc *desc, struct err *e)
     pthread_mutex_init(&s->lock, NULL);
     char scenes[1024];
     snprintf(scenes, sizeof scenes, "%s/scenes", s->data_dir);
-    if (store_mkdirs(scenes, e) != REFRACT_E_OK) {
+    if (io_mkdirs(scenes, e) != REFRACT_E_OK) {
         err_prefix(e, "data directory (--data-dir): ");
         store_close(s);
         return NULL;

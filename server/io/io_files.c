@@ -1,8 +1,8 @@
 /*
- * store_files.c - atomic file writes and friends for the data directory; see
- * store_files.h.
+ * io_files.c - atomic file writes and friends for the data directory (scene store and
+ * irradiance cache); see io_files.h.
  */
-#include "store_files.h"
+#include "io_files.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -13,7 +13,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-enum refract_code store_mkdirs(const char *path, struct err *e)
+enum refract_code io_mkdirs(const char *path, struct err *e)
 {
     char buf[1024];
     if (snprintf(buf, sizeof buf, "%s", path) >= (int)sizeof buf)
@@ -48,7 +48,7 @@ static void fsync_parent(const char *path)
     }
 }
 
-enum refract_code store_write_atomic(const char *path, const void *data, size_t len, struct err *e)
+enum refract_code io_write_atomic(const char *path, const void *data, size_t len, struct err *e)
 {
     char tmp[1100];
     snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
@@ -86,8 +86,8 @@ enum refract_code store_write_atomic(const char *path, const void *data, size_t 
     return REFRACT_E_OK;
 }
 
-enum refract_code store_read_file(const char *path, size_t max_len, char **out, size_t *len,
-                                  struct err *e)
+enum refract_code io_read_file(const char *path, size_t max_len, char **out, size_t *len,
+                               struct err *e)
 {
     *out = NULL;
     *len = 0;
@@ -117,7 +117,7 @@ enum refract_code store_read_file(const char *path, size_t max_len, char **out, 
     return REFRACT_E_OK;
 }
 
-enum refract_code store_remove_tree(const char *path, struct err *e)
+enum refract_code io_remove_tree(const char *path, struct err *e)
 {
     struct stat st;
     if (lstat(path, &st) != 0)
@@ -132,7 +132,7 @@ enum refract_code store_remove_tree(const char *path, struct err *e)
                 continue;
             char child[1024];
             snprintf(child, sizeof child, "%s/%s", path, ent->d_name);
-            enum refract_code rc = store_remove_tree(child, e);
+            enum refract_code rc = io_remove_tree(child, e);
             if (rc != REFRACT_E_OK) {
                 closedir(d);
                 return rc;
