@@ -141,7 +141,7 @@ static void add_triplet(cJSON *o, const char *name, const double v[3])
     cJSON_AddItemToObject(o, name, cJSON_CreateDoubleArray(v, 3));
 }
 
-static cJSON *stats_json(const struct lightsim_stats *s)
+struct cJSON *irradiance_stats_json(const struct lightsim_stats *s)
 {
     cJSON *o = cJSON_CreateObject();
     add_triplet(o, "flux_in", s->flux_in);
@@ -160,11 +160,6 @@ static cJSON *stats_json(const struct lightsim_stats *s)
     cJSON_AddNumberToObject(o, "patches_initial", s->patches_initial);
     cJSON_AddNumberToObject(o, "patches_peak", s->patches_peak);
     return o;
-}
-
-struct cJSON *irradiance_stats_json(const struct lightsim_stats *s)
-{
-    return stats_json(s);
 }
 
 static void read_triplet(const cJSON *o, const char *name, double v[3])
@@ -227,7 +222,7 @@ enum refract_code irr_disk_write(const struct irradiance_cache *c, const struct 
     if (g)
         cJSON_AddItemToObject(o, "grid", g);
     cJSON_AddNumberToObject(o, "compute_ms", en->compute_ms);
-    cJSON_AddItemToObject(o, "stats", stats_json(&en->host.stats));
+    cJSON_AddItemToObject(o, "stats", irradiance_stats_json(&en->host.stats));
     char *text = cJSON_Print(o);
     cJSON_Delete(o);
     if (text == NULL)
