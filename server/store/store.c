@@ -325,8 +325,9 @@ enum refract_code store_scene_set_lights(struct store *s, const char *id, const 
     else if (v == NULL)
         rc = err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory storing the lights");
     if (rc == REFRACT_E_OK) {
-        char path[4200];
-        snprintf(path, sizeof path, "%s/scenes/%s/scene.json", s->data_dir, id);
+        char dir[4096], path[4200];
+        scene_dir(s, id, dir, sizeof dir);
+        snprintf(path, sizeof path, "%s/scene.json", dir);
         rc = io_write_atomic(path, json, len, e);
     }
     if (rc == REFRACT_E_OK) {
