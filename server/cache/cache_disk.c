@@ -31,13 +31,19 @@ void irr_volume_path(const struct irradiance_cache *c, uint64_t key, const char 
     snprintf(out, size, "%s/%016" PRIx64 ".%s", c->dir, key, ext);
 }
 
-static char *grid_json(const struct light_grid *g)
+static cJSON *grid_object(const struct light_grid *g)
 {
     cJSON *o = cJSON_CreateObject();
     cJSON_AddItemToObject(o, "dims", cJSON_CreateIntArray(g->dims, 3));
     double b[3] = {g->bmin.x, g->bmin.y, g->bmin.z};
     cJSON_AddItemToObject(o, "bmin", cJSON_CreateDoubleArray(b, 3));
     cJSON_AddNumberToObject(o, "voxel", g->voxel);
+    return o;
+}
+
+static char *grid_json(const struct light_grid *g)
+{
+    cJSON *o = grid_object(g);
     char *s = cJSON_PrintUnformatted(o);
     cJSON_Delete(o);
     return s;
@@ -216,11 +222,7 @@ enum refract_code irr_disk_write(const struct irradiance_cache *c, const struct 
     char keyhex[17];
     snprintf(keyhex, sizeof keyhex, "%016" PRIx64, en->key);
     cJSON_AddStringToObject(o, "key", keyhex);
-    char *grid = grid_json(&en->host.grid);
-    cJSON *g = grid ? cJSON_Parse(grid) : NULL;
-    cJSON_free(grid);
-    if (g)
-        cJSON_AddItemToObject(o, "grid", g);
+    cJSON_AddItemToObject(o, "grid", grid_object(&en->host.grid));
     cJSON_AddNumberToObject(o, "compute_ms", en->compute_ms);
     cJSON_AddItemToObject(o, "stats", irradiance_stats_json(&en->host.stats));
     char *text = cJSON_Print(o);
