@@ -350,12 +350,12 @@ enum refract_code lightsim_gpu_advance(struct lightsim_gpu_run *run, int max_ste
     if (run->stats.done)
         return REFRACT_E_OK;
     const struct lightsim_gpu_programs *p = lightsim_gpu_programs();
-    long long todo = run->max_steps - run->steps_issued;
-    if (max_steps > 0 && max_steps < todo)
-        todo = max_steps;
-    for (long long i = 0; i < todo; i++)
+    long long steps_now = run->max_steps - run->steps_issued;
+    if (max_steps > 0 && max_steps < steps_now)
+        steps_now = max_steps;
+    for (long long i = 0; i < steps_now; i++)
         record_step(run, p);
-    run->steps_issued += todo;
+    run->steps_issued += steps_now;
     enum refract_code rc = gpu_check("a light simulation step", e);
     if (rc == REFRACT_E_OK)
         rc = read_stats(run, e);
