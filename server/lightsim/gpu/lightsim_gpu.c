@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../lightsim_init.h"
 #include "lightsim_gpu_programs.h"
 #include "lightsim_gpu_wavefront.h"
 
@@ -155,11 +156,8 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
         free(r);
         return rc;
     }
-    double rho = lightsim_grid_rho(&f->grid);
-    double n_max = lightsim_fields_n_max(f);
     r->dt = set->step_voxels * f->grid.voxel;
-    r->max_steps = (long long)ceil(4 * n_max * rho * 2 / r->dt) + 16;
-    r->t_sweep = 2 * (rho + f->grid.voxel) * n_max;
+    ls_step_budget(f, r->dt, &r->max_steps, &r->t_sweep);
 
     size_t cap = (size_t)set->max_patches;
     size_t blocks = (cap + LS_SCAN_BLOCK - 1) / LS_SCAN_BLOCK;
