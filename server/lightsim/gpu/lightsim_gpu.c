@@ -298,21 +298,9 @@ static enum refract_code finish(struct lightsim_gpu_run *r, const struct lightsi
                                 struct err *e)
 {
     const int *d = r->grid.dims;
-    struct gpu_volume_desc irr = {.label = "irradiance volume",
-                                  .width = d[0],
-                                  .height = d[1],
-                                  .depth = d[2],
-                                  .format = GPU_TEXEL_RGBA32F};
-    struct gpu_volume_desc dir = irr;
-    dir.label = "light direction volume";
-    dir.format = GPU_TEXEL_RGBA16F;
-    enum refract_code rc = gpu_volume_create(&irr, &r->out.irradiance, e);
-    if (rc == REFRACT_E_OK)
-        rc = gpu_volume_create(&dir, &r->out.direction, e);
-    if (rc != REFRACT_E_OK) {
-        irradiance_gpu_free(&r->out);
+    enum refract_code rc = irradiance_gpu_create(&r->grid, &r->out, e);
+    if (rc != REFRACT_E_OK)
         return rc;
-    }
     bind_all(r);
     glBindImageTexture(IMAGE_LS_IRRADIANCE, r->out.irradiance.tex, 0, GL_TRUE, 0, GL_WRITE_ONLY,
                        GL_RGBA32F);
@@ -328,8 +316,6 @@ static enum refract_code finish(struct lightsim_gpu_run *r, const struct lightsi
         irradiance_gpu_free(&r->out);
         return rc;
     }
-    r->out.grid = r->grid;
-    r->out.bytes = r->out.irradiance.bytes + r->out.direction.bytes;
     r->peak_bytes = lightsim_gpu_run_bytes(r);
     r->have_out = true;
     /* The deposit and the patch lists are not needed any more. */
