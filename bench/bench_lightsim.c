@@ -22,9 +22,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/utsname.h>
 #include <time.h>
-#include <unistd.h>
 
 #include "example_scene.h"
 #include "gpu/queue.h"
@@ -88,36 +86,6 @@ static void run_on_gpu(struct gpu_work *w, struct gpu *gpu)
     r->peak_bytes = lightsim_gpu_run_peak_bytes(run);
     lightsim_gpu_stats(run, &r->stats);
     lightsim_gpu_run_destroy(run);
-}
-
-static void print_header(const struct gpu *gpu, int argc, char **argv)
-{
-    const struct gpu_context_info *info = gpu_info(gpu);
-    struct utsname u;
-    uname(&u);
-    char cpu[300] = "unknown";
-    FILE *f = fopen("/proc/cpuinfo", "r");
-    char line[256];
-    while (f && fgets(line, sizeof line, f)) {
-        if (strncmp(line, "model name", 10) == 0) {
-            char *colon = strchr(line, ':');
-            snprintf(cpu, sizeof cpu, "%s", colon ? colon + 2 : line);
-            cpu[strcspn(cpu, "\n")] = '\0';
-            break;
-        }
-    }
-    if (f)
-        fclose(f);
-    time_t now = time(NULL);
-    char date[32];
-    strftime(date, sizeof date, "%Y-%m-%d", gmtime(&now));
-    printf("- date: %s\n- machine: %s, %ld cores, %s %s\n- GL_RENDERER: %s\n- GL_VERSION: %s\n",
-           date, cpu, sysconf(_SC_NPROCESSORS_ONLN), u.sysname, u.machine, info->renderer,
-           info->version);
-    printf("- command: `");
-    for (int i = 0; i < argc; i++)
-        printf("%s%s", i ? " " : "", argv[i]);
-    printf("`\n\n");
 }
 
 static void bench_case(struct gpu *gpu, const char *dir, const char *name, int res, int obj_res,
@@ -212,7 +180,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "refract-lightsim: %s\n", e.msg);
         return 1;
     }
-    print_header(gpu, argc, argv);
+    bench_print_header(gpu, argc, argv);
     printf("| scene | light grid | N0 | patches in | fields ms (CPU) | simulation ms (wall) | "
            "process CPU s | peak GPU MiB | steps | peak patches | M patch-steps | M "
            "patch-steps/s | ms/step | culled | reflected |\n");

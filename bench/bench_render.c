@@ -19,9 +19,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/utsname.h>
-#include <time.h>
-#include <unistd.h>
 
 #include "example_scene.h"
 #include "gpu/queue.h"
@@ -110,36 +107,6 @@ static int compare_doubles(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
     return (x > y) - (x < y);
-}
-
-static void print_header(const struct gpu *gpu, int argc, char **argv)
-{
-    const struct gpu_context_info *info = gpu_info(gpu);
-    struct utsname u;
-    uname(&u);
-    char cpu[300] = "unknown";
-    FILE *f = fopen("/proc/cpuinfo", "r");
-    char line[256];
-    while (f && fgets(line, sizeof line, f)) {
-        if (strncmp(line, "model name", 10) == 0) {
-            char *colon = strchr(line, ':');
-            snprintf(cpu, sizeof cpu, "%s", colon ? colon + 2 : line);
-            cpu[strcspn(cpu, "\n")] = '\0';
-            break;
-        }
-    }
-    if (f)
-        fclose(f);
-    time_t now = time(NULL);
-    char date[32];
-    strftime(date, sizeof date, "%Y-%m-%d", gmtime(&now));
-    printf("- date: %s\n- machine: %s, %ld cores, %s %s\n- GL_RENDERER: %s\n- GL_VERSION: %s\n",
-           date, cpu, sysconf(_SC_NPROCESSORS_ONLN), u.sysname, u.machine, info->renderer,
-           info->version);
-    printf("- command: `");
-    for (int i = 0; i < argc; i++)
-        printf("%s%s", i ? " " : "", argv[i]);
-    printf("`\n\n");
 }
 
 static void bench_scene(struct gpu *gpu, struct bench_ctx *c, const struct options *o,
@@ -236,7 +203,7 @@ int main(int argc, char **argv)
     struct bench_ctx c = {0};
     if (on_gpu(gpu, &c, 0) != REFRACT_E_OK)
         return 1;
-    print_header(gpu, argc, argv);
+    bench_print_header(gpu, argc, argv);
     printf("| scene | voxels | image | integrator | step | GPU ms (median) | Mrays/s | notes |\n");
     printf("|---|---|---|---|---|---|---|---|\n");
     for (int si = 0; si < o.scenes.count; si++)

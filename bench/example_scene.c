@@ -7,6 +7,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/utsname.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "gpu/queue.h"
 
 static char *read_file(const char *path)
 {
@@ -52,4 +57,34 @@ struct scene *bench_load_example(const char *program, const char *path, int reso
         fprintf(stderr, "%s: %s: %s\n", program, path, json ? e.msg : "not JSON");
     free(json);
     return s;
+}
+
+void bench_print_header(const struct gpu *gpu, int argc, char **argv)
+{
+    const struct gpu_context_info *info = gpu_info(gpu);
+    struct utsname u;
+    uname(&u);
+    char cpu[300] = "unknown";
+    FILE *f = fopen("/proc/cpuinfo", "r");
+    char line[256];
+    while (f && fgets(line, sizeof line, f)) {
+        if (strncmp(line, "model name", 10) == 0) {
+            char *colon = strchr(line, ':');
+            snprintf(cpu, sizeof cpu, "%s", colon ? colon + 2 : line);
+            cpu[strcspn(cpu, "\n")] = '\0';
+            break;
+        }
+    }
+    if (f)
+        fclose(f);
+    time_t now = time(NULL);
+    char date[32];
+    strftime(date, sizeof date, "%Y-%m-%d", gmtime(&now));
+    printf("- date: %s\n- machine: %s, %ld cores, %s %s\n- GL_RENDERER: %s\n- GL_VERSION: %s\n",
+           date, cpu, sysconf(_SC_NPROCESSORS_ONLN), u.sysname, u.machine, info->renderer,
+           info->version);
+    printf("- command: `");
+    for (int i = 0; i < argc; i++)
+        printf("%s%s", i ? " " : "", argv[i]);
+    printf("`\n\n");
 }

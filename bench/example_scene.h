@@ -1,6 +1,7 @@
 /*
- * example_scene.h - the benchmarks' scenes: an example document (proto/examples/) with
- * every object's voxel resolution replaced, parsed under limits large enough for 512^3.
+ * example_scene.h - what every benchmark shares: its scenes (an example document from
+ * proto/examples/ with every object's voxel resolution replaced, parsed under limits large
+ * enough for 512^3) and the header of its Markdown report (machine, GL, command).
  */
 #ifndef REFRACT_BENCH_EXAMPLE_SCENE_H
 #define REFRACT_BENCH_EXAMPLE_SCENE_H
@@ -10,5 +11,11 @@
 /* Returns the parsed scene (scene_destroy) or NULL after printing why, prefixed by
  * `program`. */
 struct scene *bench_load_example(const char *program, const char *path, int resolution);
+
+struct gpu;
+
+/* Prints the report's header: date, CPU model and cores, OS, GL_RENDERER, GL_VERSION and
+ * the command line (argv), as Markdown list items. */
+void bench_print_header(const struct gpu *gpu, int argc, char **argv);
 
 #endif

@@ -127,3 +127,17 @@ enum refract_code ls_initial_wavefront(const struct lightsim_fields *f, const st
                                                 : point(f, l, set, N0, &a, *out);
     return REFRACT_E_OK;
 }
+
+void ls_step_budget(const struct lightsim_fields *f, double dt, long long *max_steps,
+                    double *t_sweep)
+{
+    vec3 lo, hi;
+    ls_grid_box(&f->grid, &lo, &hi);
+    double rho = 0.5 * vec3_length(vec3_sub(hi, lo));
+    double n_max = f->ambient_ior;
+    size_t v = (size_t)f->grid.dims[0] * f->grid.dims[1] * f->grid.dims[2];
+    for (size_t i = 0; i < v; i++)
+        n_max = fmax(n_max, f->ior_grad[4 * i + 3]);
+    *max_steps = (long long)ceil(4.0 * n_max * rho * 2.0 / dt) + 16;
+    *t_sweep = 2.0 * (rho + f->grid.voxel) * n_max;
+}

@@ -32,15 +32,6 @@ static size_t voxel_count(const struct light_grid *g)
     return (size_t)g->dims[0] * (size_t)g->dims[1] * (size_t)g->dims[2];
 }
 
-static double largest_index(const struct lightsim_fields *f)
-{
-    double n_max = f->ambient_ior;
-    size_t v = voxel_count(&f->grid);
-    for (size_t i = 0; i < v; i++)
-        n_max = f->ior_grad[4 * i + 3] > n_max ? f->ior_grad[4 * i + 3] : n_max;
-    return n_max;
-}
-
 /* Grows both lists to hold `need` patches (at most max_patches). */
 static bool reserve(struct lightsim_ref *r, size_t need)
 {
@@ -125,12 +116,7 @@ enum refract_code lightsim_ref_begin(const struct lightsim_fields *f, const stru
                        "lightsim.resolution");
     }
     r->dt = set->step_voxels * f->grid.voxel;
-    vec3 lo, hi;
-    ls_grid_box(&f->grid, &lo, &hi);
-    double rho = 0.5 * vec3_length(vec3_sub(hi, lo));
-    double n_max = largest_index(f);
-    r->max_steps = (long long)ceil(4.0 * n_max * rho * 2.0 / r->dt) + 16;
-    r->t_sweep = 2.0 * (rho + f->grid.voxel) * n_max;
+    ls_step_budget(f, r->dt, &r->max_steps, &r->t_sweep);
 
     struct ls_patch *init = NULL;
     size_t n0 = 0;

@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../lightsim_init.h"
 #include "lightsim_gpu_programs.h"
 #include "lightsim_gpu_wavefront.h"
 
@@ -155,11 +156,8 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
         free(r);
         return rc;
     }
-    double rho = lightsim_grid_rho(&f->grid);
-    double n_max = lightsim_fields_n_max(f);
     r->dt = set->step_voxels * f->grid.voxel;
-    r->max_steps = (long long)ceil(4 * n_max * rho * 2 / r->dt) + 16;
-    r->t_sweep = 2 * (rho + f->grid.voxel) * n_max;
+    ls_step_budget(f, r->dt, &r->max_steps, &r->t_sweep);
 
     size_t cap = (size_t)set->max_patches;
     size_t blocks = (cap + LS_SCAN_BLOCK - 1) / LS_SCAN_BLOCK;
@@ -300,21 +298,9 @@ static enum refract_code finish(struct lightsim_gpu_run *r, const struct lightsi
                                 struct err *e)
 {
     const int *d = r->grid.dims;
-    struct gpu_volume_desc irr = {.label = "irradiance volume",
-                                  .width = d[0],
-                                  .height = d[1],
-                                  .depth = d[2],
-                                  .format = GPU_TEXEL_RGBA32F};
-    struct gpu_volume_desc dir = irr;
-    dir.label = "light direction volume";
-    dir.format = GPU_TEXEL_RGBA16F;
-    enum refract_code rc = gpu_volume_create(&irr, &r->out.irradiance, e);
-    if (rc == REFRACT_E_OK)
-        rc = gpu_volume_create(&dir, &r->out.direction, e);
-    if (rc != REFRACT_E_OK) {
-        irradiance_gpu_free(&r->out);
+    enum refract_code rc = irradiance_gpu_create(&r->grid, &r->out, e);
+    if (rc != REFRACT_E_OK)
         return rc;
-    }
     bind_all(r);
     glBindImageTexture(IMAGE_LS_IRRADIANCE, r->out.irradiance.tex, 0, GL_TRUE, 0, GL_WRITE_ONLY,
                        GL_RGBA32F);
@@ -330,8 +316,6 @@ static enum refract_code finish(struct lightsim_gpu_run *r, const struct lightsi
         irradiance_gpu_free(&r->out);
         return rc;
     }
-    r->out.grid = r->grid;
-    r->out.bytes = r->out.irradiance.bytes + r->out.direction.bytes;
     r->peak_bytes = lightsim_gpu_run_bytes(r);
     r->have_out = true;
     /* The deposit and the patch lists are not needed any more. */
@@ -350,12 +334,12 @@ enum refract_code lightsim_gpu_advance(struct lightsim_gpu_run *run, int max_ste
     if (run->stats.done)
         return REFRACT_E_OK;
     const struct lightsim_gpu_programs *p = lightsim_gpu_programs();
-    long long todo = run->max_steps - run->steps_issued;
-    if (max_steps > 0 && max_steps < todo)
-        todo = max_steps;
-    for (long long i = 0; i < todo; i++)
+    long long steps_now = run->max_steps - run->steps_issued;
+    if (max_steps > 0 && max_steps < steps_now)
+        steps_now = max_steps;
+    for (long long i = 0; i < steps_now; i++)
         record_step(run, p);
-    run->steps_issued += todo;
+    run->steps_issued += steps_now;
     enum refract_code rc = gpu_check("a light simulation step", e);
     if (rc == REFRACT_E_OK)
         rc = read_stats(run, e);

@@ -26,6 +26,10 @@ struct irradiance_gpu {
     size_t bytes;
 };
 
+/* Makes the two empty textures of a volume on grid g (irradiance RGBA32F, direction
+ * RGBA16F); on failure *out holds none. */
+enum refract_code irradiance_gpu_create(const struct light_grid *g, struct irradiance_gpu *out,
+                                        struct err *e);
 /* Uploads a host volume (e.g. reloaded from disk). */
 enum refract_code irradiance_gpu_upload(const struct irradiance_volume *v,
                                         struct irradiance_gpu *out, struct err *e);

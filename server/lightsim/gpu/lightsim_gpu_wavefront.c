@@ -10,21 +10,6 @@
 
 #include "../lightsim_init.h"
 
-double lightsim_grid_rho(const struct light_grid *g)
-{
-    vec3 extent = vec3_scale(vec3_make(g->dims[0], g->dims[1], g->dims[2]), g->voxel);
-    return 0.5 * vec3_length(extent);
-}
-
-double lightsim_fields_n_max(const struct lightsim_fields *f)
-{
-    double n = f->ambient_ior;
-    size_t count = (size_t)f->grid.dims[0] * f->grid.dims[1] * f->grid.dims[2];
-    for (size_t i = 0; i < count; i++)
-        n = fmax(n, f->ior_grad[4 * i + 3]);
-    return n;
-}
-
 static ls_gpu_patch to_gpu(const struct ls_patch *p)
 {
     ls_gpu_patch g;

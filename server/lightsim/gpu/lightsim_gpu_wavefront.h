@@ -32,9 +32,4 @@ enum refract_code lightsim_wavefront_build(const struct lightsim_fields *f,
                                            struct lightsim_wavefront *out, struct err *e);
 void lightsim_wavefront_free(struct lightsim_wavefront *w);
 
-/* Half the diagonal of the grid box (rho) and the largest n of the fields and the
- * ambient index (n_max), as docs/lightsim.md "Termination" uses them. */
-double lightsim_grid_rho(const struct light_grid *g);
-double lightsim_fields_n_max(const struct lightsim_fields *f);
-
 #endif
