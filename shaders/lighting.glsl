@@ -17,6 +17,12 @@ float phase_hg(float g, float cos_theta)
     return (1.0 - g * g) / (4.0 * LIGHT_PI * d * sqrt(d));
 }
 
+// Smith's separable masking term G1 for GGX with a2 = alpha^2 at cosine c (brdf.c's twin).
+float brdf_smith_g1(float a2, float c)
+{
+    return 2.0 * c / (c + sqrt(a2 + (1.0 - a2) * c * c));
+}
+
 // f_r(v, l_in) for unit v (towards the eye), l_in (towards the light) and normal n on their
 // side (tevs2007 eq. 5.6/5.8). The event's Fresnel R multiplies outside; GGX has no F.
 vec3 brdf_eval(int obj, vec3 v, vec3 l_in, vec3 n)
@@ -41,9 +47,7 @@ vec3 brdf_eval(int obj, vec3 v, vec3 l_in, vec3 n)
     float ch = max(dot(n, h), 0.0);
     float t = ch * ch * (a2 - 1.0) + 1.0;
     float D = a2 / (LIGHT_PI * t * t);
-    float g_i = 2.0 * cos_i / (cos_i + sqrt(a2 + (1.0 - a2) * cos_i * cos_i));
-    float g_o = 2.0 * cos_o / (cos_o + sqrt(a2 + (1.0 - a2) * cos_o * cos_o));
-    return color * D * g_i * g_o / (4.0 * cos_i * cos_o);
+    return color * D * brdf_smith_g1(a2, cos_i) * brdf_smith_g1(a2, cos_o) / (4.0 * cos_i * cos_o);
 }
 
 vec4 light_sample_irradiance(int j, vec3 u)

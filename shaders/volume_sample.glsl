@@ -19,14 +19,21 @@ vec4 volume_sample_ior_grad(int obj, vec3 p)
     return textureLod(ior_grad_atlas, volume_sample_coord(obj, p), 0.0);
 }
 
+// The atlas texel of object obj at p, or zero when the object lacks the channel `flag`
+// (it then reads the atlas' zero stand-in region or another object's data).
+vec4 volume_sample_masked(sampler3D atlas, int obj, vec3 p, int flag)
+{
+    vec4 t = textureLod(atlas, volume_sample_coord(obj, p), 0.0);
+    return (params.objects[obj].resolution.w & flag) != 0 ? t : vec4(0.0);
+}
+
 // sigma_a per world unit (tevs2007 eq. 3.4); 0 when the object has no attenuation.
-// Objects without the channel read the atlas' zero stand-in region or are masked by their
-// flag; scenes without it compile the fetch out (MARCH_ATTENUATION 0).
+// Objects without the channel are masked by their flag; scenes without it compile the
+// fetch out (MARCH_ATTENUATION 0).
 vec3 volume_sample_attenuation(int obj, vec3 p)
 {
 #if MARCH_ATTENUATION
-    vec3 a = textureLod(attenuation_atlas, volume_sample_coord(obj, p), 0.0).rgb;
-    return (params.objects[obj].resolution.w & OBJECT_HAS_ATTENUATION) != 0 ? a : vec3(0.0);
+    return volume_sample_masked(attenuation_atlas, obj, p, OBJECT_HAS_ATTENUATION).rgb;
 #else
     return vec3(0.0);
 #endif
@@ -36,8 +43,7 @@ vec3 volume_sample_attenuation(int obj, vec3 p)
 vec3 volume_sample_emission(int obj, vec3 p)
 {
 #if MARCH_EMISSION
-    vec3 e = textureLod(emission_atlas, volume_sample_coord(obj, p), 0.0).rgb;
-    return (params.objects[obj].resolution.w & OBJECT_HAS_EMISSION) != 0 ? e : vec3(0.0);
+    return volume_sample_masked(emission_atlas, obj, p, OBJECT_HAS_EMISSION).rgb;
 #else
     return vec3(0.0);
 #endif
@@ -47,8 +53,7 @@ vec3 volume_sample_emission(int obj, vec3 p)
 vec4 volume_sample_opaque(int obj, vec3 p)
 {
 #if MARCH_OPAQUE
-    vec4 o = textureLod(opaque_atlas, volume_sample_coord(obj, p), 0.0);
-    return (params.objects[obj].resolution.w & OBJECT_HAS_OPAQUE) != 0 ? o : vec4(0.0);
+    return volume_sample_masked(opaque_atlas, obj, p, OBJECT_HAS_OPAQUE);
 #else
     return vec4(0.0);
 #endif
@@ -59,8 +64,7 @@ vec4 volume_sample_opaque(int obj, vec3 p)
 vec4 volume_sample_scattering(int obj, vec3 p)
 {
 #if MARCH_SCATTERING
-    vec4 s = textureLod(scattering_atlas, volume_sample_coord(obj, p), 0.0);
-    return (params.objects[obj].resolution.w & OBJECT_HAS_SCATTERING) != 0 ? s : vec4(0.0);
+    return volume_sample_masked(scattering_atlas, obj, p, OBJECT_HAS_SCATTERING);
 #else
     return vec4(0.0);
 #endif

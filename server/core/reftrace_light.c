@@ -9,34 +9,7 @@
 
 #include "bindings.h"
 #include "phase.h"
-
-/* Trilinear sample of 4 floats per voxel at continuous voxel coordinates v, clamped to
- * [0, dims - 1] (the GPU's linear filter with clamp-to-edge). */
-static void sample4(const float *grid, const int dims[3], vec3 v, double out[4])
-{
-    double c[3] = {v.x, v.y, v.z};
-    int i0[3], i1[3];
-    double f[3];
-    for (int a = 0; a < 3; a++) {
-        double x = fmin(fmax(c[a], 0.0), (double)(dims[a] - 1));
-        double fl = floor(x);
-        i0[a] = (int)fl;
-        i1[a] = i0[a] + 1 < dims[a] ? i0[a] + 1 : i0[a];
-        f[a] = x - fl;
-    }
-    for (int k = 0; k < 4; k++)
-        out[k] = 0.0;
-    for (int corner = 0; corner < 8; corner++) {
-        int ix = (corner & 1) ? i1[0] : i0[0];
-        int iy = (corner & 2) ? i1[1] : i0[1];
-        int iz = (corner & 4) ? i1[2] : i0[2];
-        double w = ((corner & 1) ? f[0] : 1.0 - f[0]) * ((corner & 2) ? f[1] : 1.0 - f[1]) *
-                   ((corner & 4) ? f[2] : 1.0 - f[2]);
-        const float *t = grid + (((size_t)iz * dims[1] + iy) * dims[0] + ix) * 4;
-        for (int k = 0; k < 4; k++)
-            out[k] += w * t[k];
-    }
-}
+#include "smooth.h"
 
 bool reftrace_light_at(const struct reftrace_light *l, vec3 x, vec3 *E, vec3 *dir)
 {
@@ -54,12 +27,12 @@ bool reftrace_light_at(const struct reftrace_light *l, vec3 x, vec3 *E, vec3 *di
                 return false;
         vec3 v = {u[0] * l->dims[0] - 0.5, u[1] * l->dims[1] - 0.5, u[2] * l->dims[2] - 0.5};
         double d[4], e[4];
-        sample4(l->direction_volume, l->dims, v, d);
+        voxel_sample_trilinear_f(l->direction_volume, 4, l->dims, v, d);
         double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
         if (len <= 1e-6)
             return false;
         *dir = (vec3){d[0] / len, d[1] / len, d[2] / len};
-        sample4(l->irradiance, l->dims, v, e);
+        voxel_sample_trilinear_f(l->irradiance, 4, l->dims, v, e);
         *E = vec3_mul((vec3){e[0], e[1], e[2]}, scale);
         return true;
     }

@@ -130,7 +130,8 @@ static void axis_weights(double v, int len, int *i0, int *i1, double *f)
         *f = 0.0;
 }
 
-void voxel_sample_trilinear(const double *grid, int comps, const int res[3], vec3 v, double *out)
+/* The 8 corner voxels (indices into a grid of res) and trilinear weights at v. */
+static void trilinear_corners(const int res[3], vec3 v, size_t cell[8], double w[8])
 {
     int x0, x1, y0, y1, z0, z1;
     double fx, fy, fz;
@@ -141,16 +142,36 @@ void voxel_sample_trilinear(const double *grid, int comps, const int res[3], vec
     size_t sz = (size_t)res[0] * res[1];
     const int xs[2] = {x0, x1}, ys[2] = {y0, y1}, zs[2] = {z0, z1};
     const double wx[2] = {1.0 - fx, fx}, wy[2] = {1.0 - fy, fy}, wz[2] = {1.0 - fz, fz};
-    for (int c = 0; c < comps; c++)
-        out[c] = 0.0;
     for (int k = 0; k < 2; k++) {
         for (int j = 0; j < 2; j++) {
             for (int i = 0; i < 2; i++) {
-                double wt = wx[i] * wy[j] * wz[k];
-                const double *cell = grid + ((size_t)xs[i] + ys[j] * sy + zs[k] * sz) * comps;
-                for (int c = 0; c < comps; c++)
-                    out[c] += wt * cell[c];
+                w[k * 4 + j * 2 + i] = wx[i] * wy[j] * wz[k];
+                cell[k * 4 + j * 2 + i] = (size_t)xs[i] + ys[j] * sy + zs[k] * sz;
             }
         }
     }
+}
+
+void voxel_sample_trilinear(const double *grid, int comps, const int res[3], vec3 v, double *out)
+{
+    size_t cell[8];
+    double w[8];
+    trilinear_corners(res, v, cell, w);
+    for (int c = 0; c < comps; c++)
+        out[c] = 0.0;
+    for (int k = 0; k < 8; k++)
+        for (int c = 0; c < comps; c++)
+            out[c] += w[k] * grid[cell[k] * comps + c];
+}
+
+void voxel_sample_trilinear_f(const float *grid, int comps, const int res[3], vec3 v, double *out)
+{
+    size_t cell[8];
+    double w[8];
+    trilinear_corners(res, v, cell, w);
+    for (int c = 0; c < comps; c++)
+        out[c] = 0.0;
+    for (int k = 0; k < 8; k++)
+        for (int c = 0; c < comps; c++)
+            out[c] += w[k] * (double)grid[cell[k] * comps + c];
 }

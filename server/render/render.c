@@ -395,22 +395,23 @@ enum refract_code render_trace(struct render *r, const struct render_scene_sourc
     enum refract_code rc = gpu_buffer_create("trace rays in", count * sizeof *in, in, &in_buf, e);
     if (rc == REFRACT_E_OK)
         rc = gpu_buffer_create("trace hits out", count * sizeof *res, NULL, &out_buf, e);
+    GLuint prog = 0;
     if (rc == REFRACT_E_OK) {
-        GLuint prog = gpu_program_get_e(gpu_programs_get(r->gpu), GPU_KERNEL_TRACE_RAYS,
-                                        march_variant(sg, settings), e);
+        prog = gpu_program_get_e(gpu_programs_get(r->gpu), GPU_KERNEL_TRACE_RAYS,
+                                 march_variant(sg, settings), e);
         rc = prog ? REFRACT_E_OK : e->code;
+    }
+    if (rc == REFRACT_E_OK) {
         bind_scene(r, sg, &mp);
         glUseProgram(prog);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_RAYS_IN, in_buf.buf);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_HITS_OUT, out_buf.buf);
         double t = gpu_time_ms();
-        if (rc == REFRACT_E_OK) {
-            glDispatchCompute(gpu_groups((int)count, TRACE_LOCAL_X), 1, 1);
-            glFinish();
-            if (gpu_ms)
-                *gpu_ms = gpu_time_ms() - t;
-            rc = gpu_check("tracing", e);
-        }
+        glDispatchCompute(gpu_groups((int)count, TRACE_LOCAL_X), 1, 1);
+        glFinish();
+        if (gpu_ms)
+            *gpu_ms = gpu_time_ms() - t;
+        rc = gpu_check("tracing", e);
     }
     if (rc == REFRACT_E_OK)
         rc = gpu_buffer_read(&out_buf, res, count * sizeof *res, e);

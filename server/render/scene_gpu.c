@@ -207,46 +207,59 @@ static enum refract_code build_ior(struct build_ctx *b, size_t i, struct err *e)
     return gpu_check("computing the index gradient", e);
 }
 
+/* Evaluates channel ch of object i into dst (its components per voxel), the error
+ * prefixed with the object and channel. */
+static enum refract_code eval_channel(struct build_ctx *b, size_t i, enum scene_channel ch,
+                                      float *dst, struct err *e)
+{
+    const struct scene *s = b->src->scene;
+    enum refract_code rc =
+        scene_field_eval(s, &s->objects[i], ch, b->src->lookup, b->src->lookup_ctx, dst, e);
+    if (rc != REFRACT_E_OK)
+        return err_prefix(e, "objects[%zu].%s: ", i, scene_channel_name(ch));
+    return REFRACT_E_OK;
+}
+
+/* Uploads b->host (4 floats per voxel) into object i's box of atlas. */
+static enum refract_code upload_object(struct build_ctx *b, size_t i, struct gpu_volume *atlas,
+                                       struct err *e)
+{
+    const struct scene_object *obj = &b->src->scene->objects[i];
+    return gpu_volume_upload(atlas, 0, 0, b->sg->objects[i].atlas_z, obj->resolution[0],
+                             obj->resolution[1], obj->resolution[2], 4, b->host, e);
+}
+
 static enum refract_code build_channel(struct build_ctx *b, size_t i, enum scene_channel ch,
                                        struct gpu_volume *atlas, struct err *e)
 {
-    const struct scene *s = b->src->scene;
-    const struct scene_object *obj = &s->objects[i];
-    if (!scene_channel_used(obj, ch))
+    if (!scene_channel_used(&b->src->scene->objects[i], ch))
         return REFRACT_E_OK;
-    enum refract_code rc =
-        scene_field_eval(s, obj, ch, b->src->lookup, b->src->lookup_ctx, b->host, e);
-    if (rc != REFRACT_E_OK)
-        return err_prefix(e, "objects[%zu].%s: ", i, scene_channel_name(ch));
-    return gpu_volume_upload(atlas, 0, 0, b->sg->objects[i].atlas_z, obj->resolution[0],
-                             obj->resolution[1], obj->resolution[2], 4, b->host, e);
+    enum refract_code rc = eval_channel(b, i, ch, b->host, e);
+    return rc != REFRACT_E_OK ? rc : upload_object(b, i, atlas, e);
 }
 
 /* The scattering atlas: sigma_s (rgb) from the scattering channel and the Henyey-Greenstein
  * g from the anisotropy channel in alpha (0 when the object has none; tevs2007 eq. 5.5). */
 static enum refract_code build_scattering(struct build_ctx *b, size_t i, struct err *e)
 {
-    const struct scene *s = b->src->scene;
-    const struct scene_object *obj = &s->objects[i];
+    const struct scene_object *obj = &b->src->scene->objects[i];
     if (!scene_channel_used(obj, SCENE_CH_SCATTERING))
         return REFRACT_E_OK;
     size_t voxels = (size_t)obj->resolution[0] * obj->resolution[1] * obj->resolution[2];
-    enum refract_code rc = scene_field_eval(s, obj, SCENE_CH_SCATTERING, b->src->lookup,
-                                            b->src->lookup_ctx, b->host, e);
+    enum refract_code rc = eval_channel(b, i, SCENE_CH_SCATTERING, b->host, e);
     if (rc != REFRACT_E_OK)
-        return err_prefix(e, "objects[%zu].scattering: ", i);
+        return rc;
     if (scene_channel_used(obj, SCENE_CH_ANISOTROPY)) {
         int comps = scene_channel_components(SCENE_CH_ANISOTROPY);
         float *g = malloc(voxels * (size_t)comps * sizeof(float));
         if (g == NULL)
             return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of host memory evaluating fields");
-        rc =
-            scene_field_eval(s, obj, SCENE_CH_ANISOTROPY, b->src->lookup, b->src->lookup_ctx, g, e);
+        rc = eval_channel(b, i, SCENE_CH_ANISOTROPY, g, e);
         for (size_t v = 0; rc == REFRACT_E_OK && v < voxels; v++)
             b->host[v * 4 + 3] = g[v * (size_t)comps];
         free(g);
         if (rc != REFRACT_E_OK)
-            return err_prefix(e, "objects[%zu].anisotropy: ", i);
+            return rc;
     } else {
         for (size_t v = 0; v < voxels; v++)
             b->host[v * 4 + 3] = 0.0f;
@@ -257,9 +270,7 @@ static enum refract_code build_scattering(struct build_ctx *b, size_t i, struct 
         for (int c = 0; c < 3; c++)
             if (b->host[v * 4 + c] > 65504.0f)
                 b->host[v * 4 + c] = 65504.0f;
-    return gpu_volume_upload(&b->sg->scattering, 0, 0, b->sg->objects[i].atlas_z,
-                             obj->resolution[0], obj->resolution[1], obj->resolution[2], 4, b->host,
-                             e);
+    return upload_object(b, i, &b->sg->scattering, e);
 }
 
 static enum refract_code build_environment(struct build_ctx *b, struct err *e)
