@@ -14,6 +14,12 @@
 #include "scene/scene.h"
 #include "test.h"
 
+#define BOUNDS "\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}"
+/* A document with one object whose keys are BOUNDS plus `fields`. */
+#define OBJ(fields) "{\"objects\": [{" BOUNDS ", " fields "}]}"
+/* A document with top-level keys `top` and one valid object. */
+#define TOP(top) "{" top ", \"objects\": [{" BOUNDS ", \"ior\": 1.5}]}"
+
 /* Parses doc, which must be valid; the caller destroys the scene. */
 static inline struct scene *parse_ok(const char *doc)
 {

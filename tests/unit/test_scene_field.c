@@ -10,9 +10,6 @@
 #include "scene_test_util.h"
 #include "test.h"
 
-#define BOUNDS "\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}"
-#define OBJ(fields) "{\"objects\": [{" BOUNDS ", " fields "}]}"
-
 /* A small deterministic generator for test points. */
 static double rnd(unsigned *state)
 {

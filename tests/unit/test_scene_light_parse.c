@@ -10,10 +10,6 @@
 #include "scene_test_util.h"
 #include "test.h"
 
-#define BOUNDS "\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}"
-#define OBJ(fields) "{\"objects\": [{" BOUNDS ", " fields "}]}"
-/* A document with top-level keys `top` and one valid object. */
-#define TOP(top) "{" top ", \"objects\": [{" BOUNDS ", \"ior\": 1.5}]}"
 #define LIGHTS(list) TOP("\"lights\": [" list "]")
 #define SUN "{\"type\": \"directional\", \"direction\": [0, -1, 0]}"
 #define BUMPY "\"shape\": \"bumpy_sphere\", \"radius\": 0.5"

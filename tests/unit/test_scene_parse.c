@@ -13,11 +13,6 @@
 #include "scene_test_util.h"
 #include "test.h"
 
-#define BOUNDS "\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}"
-/* A document with one object whose keys are BOUNDS plus `fields`. */
-#define OBJ(fields) "{\"objects\": [{" BOUNDS ", " fields "}]}"
-/* A document with top-level keys `top` and one valid object. */
-#define TOP(top) "{" top ", \"objects\": [{" BOUNDS ", \"ior\": 1.5}]}"
 #define SPHERE "\"shape\": \"sphere\", \"radius\": 0.5"
 
 static const struct bad_case bad_cases[] = {

@@ -12,8 +12,8 @@
 #include "scene/scene_reference.h"
 #include "test.h"
 
-#define BOUNDS "\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}"
-#define OBJ(fields) "{\"objects\": [{" BOUNDS ", \"resolution\": 8, " fields "}]}"
+/* OBJ at resolution 8. */
+#define OBJ8(fields) OBJ("\"resolution\": 8, " fields)
 
 static void channel_table_covers_the_new_channels(void)
 {
@@ -27,7 +27,7 @@ static void channel_table_covers_the_new_channels(void)
 
 static void unused_channels_evaluate_to_zero(void)
 {
-    struct scene *s = parse_ok(OBJ("\"ior\": 1.5"));
+    struct scene *s = parse_ok(OBJ8("\"ior\": 1.5"));
     if (s == NULL)
         return;
     float *sc = eval(s, SCENE_CH_SCATTERING, NULL, NULL);
@@ -47,8 +47,8 @@ static void unused_channels_evaluate_to_zero(void)
 /* Smoke: an object of scattering only, a constant RGB with a sphere of another value. */
 static void scattering_layers_give_rgb_and_zero(void)
 {
-    struct scene *s = parse_ok(OBJ("\"scattering\": [[0.1, 0.2, 0.3], {\"shape\": \"sphere\", "
-                                   "\"radius\": 0.5, \"inside\": 7}]"));
+    struct scene *s = parse_ok(OBJ8("\"scattering\": [[0.1, 0.2, 0.3], {\"shape\": \"sphere\", "
+                                    "\"radius\": 0.5, \"inside\": 7}]"));
     if (s == NULL)
         return;
     const struct scene_object *o = &s->objects[0];
@@ -70,9 +70,9 @@ static void scattering_layers_give_rgb_and_zero(void)
  * The sphere's boundary is anti-aliased over one voxel, as for every channel. */
 static void anisotropy_is_one_float_per_voxel_with_shape_coverage(void)
 {
-    struct scene *s = parse_ok(OBJ("\"scattering\": 1, \"anisotropy\": [0.3, {\"shape\": "
-                                   "\"sphere\", \"radius\": 0.6, \"inside\": -0.8, \"outside\": "
-                                   "0.9}]"));
+    struct scene *s = parse_ok(OBJ8("\"scattering\": 1, \"anisotropy\": [0.3, {\"shape\": "
+                                    "\"sphere\", \"radius\": 0.6, \"inside\": -0.8, \"outside\": "
+                                    "0.9}]"));
     if (s == NULL)
         return;
     const struct scene_object *o = &s->objects[0];
@@ -273,8 +273,8 @@ static void bumpy_sphere_field_equals_voxelwise_coverage(void)
 
 static void reference_grids_carry_scattering_and_anisotropy(void)
 {
-    struct scene *s = parse_ok(OBJ("\"ior\": 1.33, \"scattering\": [0.5, 0.25, 0.125], "
-                                   "\"anisotropy\": 0.3"));
+    struct scene *s = parse_ok(OBJ8("\"ior\": 1.33, \"scattering\": [0.5, 0.25, 0.125], "
+                                    "\"anisotropy\": 0.3"));
     if (s == NULL)
         return;
     struct scene_reference r;
@@ -297,7 +297,7 @@ static void reference_grids_carry_scattering_and_anisotropy(void)
     }
     scene_destroy(s);
 
-    s = parse_ok(OBJ("\"ior\": 1.33"));
+    s = parse_ok(OBJ8("\"ior\": 1.33"));
     if (s != NULL &&
         scene_reference_build(s, SCENE_REFERENCE_VOXELS, NULL, NULL, &r, &e) == REFRACT_E_OK) {
         CHECK(r.objects[0].grid->scattering == NULL);
