@@ -163,6 +163,16 @@ enum refract_code scene_parse_lights(const cJSON *arr, struct scene *s, struct e
 
 /* ---- receiver ---- */
 
+/* Corner c (0..7; bit 0 picks max x, bit 1 max y, bit 2 max z) of o's bounds, in world
+ * space. */
+static vec3 world_corner(const struct scene_object *o, int c)
+{
+    vec3 p = {(c & 1) ? o->bounds_max.x : o->bounds_min.x,
+              (c & 2) ? o->bounds_max.y : o->bounds_min.y,
+              (c & 4) ? o->bounds_max.z : o->bounds_min.z};
+    return xform_point_to_world(&o->world_from_object, p);
+}
+
 /* 1.5 times the largest |x| or |z| that any object's world bounding box reaches, so the
  * plane catches the shadow and caustic of everything above it. */
 static double default_half_size(const struct scene *s)
@@ -171,10 +181,7 @@ static double default_half_size(const struct scene *s)
     for (size_t i = 0; i < s->object_count; i++) {
         const struct scene_object *o = &s->objects[i];
         for (int c = 0; c < 8; c++) {
-            vec3 p = {(c & 1) ? o->bounds_max.x : o->bounds_min.x,
-                      (c & 2) ? o->bounds_max.y : o->bounds_min.y,
-                      (c & 4) ? o->bounds_max.z : o->bounds_min.z};
-            vec3 w = xform_point_to_world(&o->world_from_object, p);
+            vec3 w = world_corner(o, c);
             reach = fmax(reach, fmax(fabs(w.x), fabs(w.z)));
         }
     }
@@ -190,12 +197,8 @@ static enum refract_code check_below_objects(const struct scene *s, double heigh
     for (size_t i = 0; i < s->object_count; i++) {
         const struct scene_object *o = &s->objects[i];
         double low = INFINITY;
-        for (int c = 0; c < 8; c++) {
-            vec3 p = {(c & 1) ? o->bounds_max.x : o->bounds_min.x,
-                      (c & 2) ? o->bounds_max.y : o->bounds_min.y,
-                      (c & 4) ? o->bounds_max.z : o->bounds_min.z};
-            low = fmin(low, xform_point_to_world(&o->world_from_object, p).y);
-        }
+        for (int c = 0; c < 8; c++)
+            low = fmin(low, world_corner(o, c).y);
         if (height > low + 1e-9)
             return err_set(e, REFRACT_E_INVALID_FIELD,
                            "receiver.height: %g is above the bottom of object %zu (\"%s\")'s "
