@@ -22,8 +22,9 @@ static const cJSON *member(const cJSON *obj, const char *key)
     return cJSON_IsObject(obj) ? cJSON_GetObjectItemCaseSensitive(obj, key) : NULL;
 }
 
-enum refract_code scene_read_rgb(const cJSON *obj, const char *path, const char *key, double def,
-                                 double max, double out[3], struct err *e)
+/* A colour under key: a number (grey) or [r, g, b], each in 0..max; absent -> def grey. */
+static enum refract_code read_rgb(const cJSON *obj, const char *path, const char *key, double def,
+                                  double max, double out[3], struct err *e)
 {
     const cJSON *item = member(obj, key);
     char p[256], got[80];
@@ -125,7 +126,7 @@ enum refract_code scene_parse_light(const cJSON *o, const char *path, int index,
     if (rc == REFRACT_E_OK && l->kind == SCENE_LIGHT_SPOT)
         rc = jr_number(o, path, "angle_deg", false, 30.0, 1.0, 89.0, &l->spot_angle_deg, e);
     if (rc == REFRACT_E_OK)
-        rc = scene_read_rgb(o, path, "color", 1.0, 1e3, l->color, e);
+        rc = read_rgb(o, path, "color", 1.0, 1e3, l->color, e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(o, path, "intensity", false, 1.0, 0.0, 1e6, &l->intensity, e);
     return rc;
@@ -229,7 +230,7 @@ enum refract_code scene_parse_receiver(const cJSON *o, struct scene *s, struct e
     else if (rc == REFRACT_E_OK)
         rc = jr_number_gt(o, "receiver", "half_size", true, 1.0, 0.0, m, &r->half_size, e);
     if (rc == REFRACT_E_OK)
-        rc = scene_read_rgb(o, "receiver", "albedo", 0.8, 1.0, r->albedo, e);
+        rc = read_rgb(o, "receiver", "albedo", 0.8, 1.0, r->albedo, e);
     r->enabled = rc == REFRACT_E_OK;
     return rc;
 }
@@ -286,7 +287,7 @@ enum refract_code scene_parse_brdf(const cJSON *obj, const char *path, struct sc
     if (rc == REFRACT_E_OK)
         rc = jr_enum(o, p, "type", false, SCENE_BRDF_GGX, types, &kind, e);
     if (rc == REFRACT_E_OK)
-        rc = scene_read_rgb(o, p, "color", 1.0, 1.0, b->color, e);
+        rc = read_rgb(o, p, "color", 1.0, 1.0, b->color, e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(o, p, "roughness", false, 0.1, 0.01, 1.0, &b->roughness, e);
     if (rc == REFRACT_E_OK)
