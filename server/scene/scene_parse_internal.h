@@ -43,10 +43,6 @@ enum refract_code scene_parse_lightsim(const cJSON *o, struct scene_lightsim *ls
 enum refract_code scene_parse_brdf(const cJSON *obj, const char *path, struct scene_brdf *b,
                                    struct err *e);
 
-/* A colour under key: a number (grey) or [r, g, b], each in 0..max; absent -> def grey. */
-enum refract_code scene_read_rgb(const cJSON *obj, const char *path, const char *key, double def,
-                                 double max, double out[3], struct err *e);
-
 /* LIMIT_EXCEEDED: "<path>: <given> exceeds the limit <limit_name> = <value>; start
  * refractd with <flag> to raise it". */
 enum refract_code scene_limit_error(struct err *e, const char *path, const char *given,

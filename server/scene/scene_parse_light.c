@@ -22,8 +22,9 @@ static const cJSON *member(const cJSON *obj, const char *key)
     return cJSON_IsObject(obj) ? cJSON_GetObjectItemCaseSensitive(obj, key) : NULL;
 }
 
-enum refract_code scene_read_rgb(const cJSON *obj, const char *path, const char *key, double def,
-                                 double max, double out[3], struct err *e)
+/* A colour under key: a number (grey) or [r, g, b], each in 0..max; absent -> def grey. */
+static enum refract_code read_rgb(const cJSON *obj, const char *path, const char *key, double def,
+                                  double max, double out[3], struct err *e)
 {
     const cJSON *item = member(obj, key);
     char p[256], got[80];
@@ -125,7 +126,7 @@ enum refract_code scene_parse_light(const cJSON *o, const char *path, int index,
     if (rc == REFRACT_E_OK && l->kind == SCENE_LIGHT_SPOT)
         rc = jr_number(o, path, "angle_deg", false, 30.0, 1.0, 89.0, &l->spot_angle_deg, e);
     if (rc == REFRACT_E_OK)
-        rc = scene_read_rgb(o, path, "color", 1.0, 1e3, l->color, e);
+        rc = read_rgb(o, path, "color", 1.0, 1e3, l->color, e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(o, path, "intensity", false, 1.0, 0.0, 1e6, &l->intensity, e);
     return rc;
@@ -163,6 +164,16 @@ enum refract_code scene_parse_lights(const cJSON *arr, struct scene *s, struct e
 
 /* ---- receiver ---- */
 
+/* Corner c (0..7; bit 0 picks max x, bit 1 max y, bit 2 max z) of o's bounds, in world
+ * space. */
+static vec3 world_corner(const struct scene_object *o, int c)
+{
+    vec3 p = {(c & 1) ? o->bounds_max.x : o->bounds_min.x,
+              (c & 2) ? o->bounds_max.y : o->bounds_min.y,
+              (c & 4) ? o->bounds_max.z : o->bounds_min.z};
+    return xform_point_to_world(&o->world_from_object, p);
+}
+
 /* 1.5 times the largest |x| or |z| that any object's world bounding box reaches, so the
  * plane catches the shadow and caustic of everything above it. */
 static double default_half_size(const struct scene *s)
@@ -171,10 +182,7 @@ static double default_half_size(const struct scene *s)
     for (size_t i = 0; i < s->object_count; i++) {
         const struct scene_object *o = &s->objects[i];
         for (int c = 0; c < 8; c++) {
-            vec3 p = {(c & 1) ? o->bounds_max.x : o->bounds_min.x,
-                      (c & 2) ? o->bounds_max.y : o->bounds_min.y,
-                      (c & 4) ? o->bounds_max.z : o->bounds_min.z};
-            vec3 w = xform_point_to_world(&o->world_from_object, p);
+            vec3 w = world_corner(o, c);
             reach = fmax(reach, fmax(fabs(w.x), fabs(w.z)));
         }
     }
@@ -190,12 +198,8 @@ static enum refract_code check_below_objects(const struct scene *s, double heigh
     for (size_t i = 0; i < s->object_count; i++) {
         const struct scene_object *o = &s->objects[i];
         double low = INFINITY;
-        for (int c = 0; c < 8; c++) {
-            vec3 p = {(c & 1) ? o->bounds_max.x : o->bounds_min.x,
-                      (c & 2) ? o->bounds_max.y : o->bounds_min.y,
-                      (c & 4) ? o->bounds_max.z : o->bounds_min.z};
-            low = fmin(low, xform_point_to_world(&o->world_from_object, p).y);
-        }
+        for (int c = 0; c < 8; c++)
+            low = fmin(low, world_corner(o, c).y);
         if (height > low + 1e-9)
             return err_set(e, REFRACT_E_INVALID_FIELD,
                            "receiver.height: %g is above the bottom of object %zu (\"%s\")'s "
@@ -226,7 +230,7 @@ enum refract_code scene_parse_receiver(const cJSON *o, struct scene *s, struct e
     else if (rc == REFRACT_E_OK)
         rc = jr_number_gt(o, "receiver", "half_size", true, 1.0, 0.0, m, &r->half_size, e);
     if (rc == REFRACT_E_OK)
-        rc = scene_read_rgb(o, "receiver", "albedo", 0.8, 1.0, r->albedo, e);
+        rc = read_rgb(o, "receiver", "albedo", 0.8, 1.0, r->albedo, e);
     r->enabled = rc == REFRACT_E_OK;
     return rc;
 }
@@ -283,7 +287,7 @@ enum refract_code scene_parse_brdf(const cJSON *obj, const char *path, struct sc
     if (rc == REFRACT_E_OK)
         rc = jr_enum(o, p, "type", false, SCENE_BRDF_GGX, types, &kind, e);
     if (rc == REFRACT_E_OK)
-        rc = scene_read_rgb(o, p, "color", 1.0, 1.0, b->color, e);
+        rc = read_rgb(o, p, "color", 1.0, 1.0, b->color, e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(o, p, "roughness", false, 0.1, 0.01, 1.0, &b->roughness, e);
     if (rc == REFRACT_E_OK)

@@ -7,46 +7,8 @@
 
 #include "scene/font5x7.h"
 #include "scene/scene.h"
+#include "scene_test_util.h"
 #include "test.h"
-
-#define BOUNDS "\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}"
-#define OBJ(fields) "{\"objects\": [{" BOUNDS ", " fields "}]}"
-
-static struct scene *parse(const char *doc)
-{
-    struct scene *s = NULL;
-    struct err e;
-    err_clear(&e);
-    enum refract_code rc = scene_parse(doc, strlen(doc), NULL, &s, &e);
-    CHECK_MSG(rc == REFRACT_E_OK, "%s\n  -> %s", doc, e.msg);
-    return s;
-}
-
-/* Evaluates channel ch of object 0 into a new buffer; the caller frees it. */
-static float *eval(const struct scene *s, enum scene_channel ch, scene_volume_lookup_fn lookup,
-                   void *ctx)
-{
-    const struct scene_object *o = &s->objects[0];
-    size_t n = (size_t)o->resolution[0] * o->resolution[1] * o->resolution[2];
-    float *out = malloc(n * (size_t)scene_channel_components(ch) * sizeof *out);
-    struct err e;
-    err_clear(&e);
-    enum refract_code rc = scene_field_eval(s, o, ch, lookup, ctx, out, &e);
-    CHECK_MSG(rc == REFRACT_E_OK, "%s", e.msg);
-    return out;
-}
-
-static size_t voxel_index(const struct scene_object *o, int i, int j, int k)
-{
-    return ((size_t)k * o->resolution[1] + (size_t)j) * o->resolution[0] + (size_t)i;
-}
-
-static vec3 centre(const struct scene_object *o, int i, int j, int k)
-{
-    vec3 vs = scene_object_voxel_size(o);
-    return vec3_make(o->bounds_min.x + (i + 0.5) * vs.x, o->bounds_min.y + (j + 0.5) * vs.y,
-                     o->bounds_min.z + (k + 0.5) * vs.z);
-}
 
 /* A small deterministic generator for test points. */
 static double rnd(unsigned *state)
@@ -314,10 +276,10 @@ static void shape_bounds_contain_the_solid(void)
 
 static void later_layers_override_earlier_ones(void)
 {
-    struct scene *s = parse(OBJ("\"resolution\": 8, \"ior\": [1.2, {\"shape\": \"sphere\", "
-                                "\"radius\": 0.5, \"inside\": 1.5}, 1.3, {\"shape\": \"box\", "
-                                "\"center\": [-0.75, -0.75, -0.75], \"size\": [0.5, 0.5, 0.5], "
-                                "\"inside\": 1.7}]"));
+    struct scene *s = parse_ok(OBJ("\"resolution\": 8, \"ior\": [1.2, {\"shape\": \"sphere\", "
+                                   "\"radius\": 0.5, \"inside\": 1.5}, 1.3, {\"shape\": \"box\", "
+                                   "\"center\": [-0.75, -0.75, -0.75], \"size\": [0.5, 0.5, 0.5], "
+                                   "\"inside\": 1.7}]"));
     if (s == NULL)
         return;
     float *n = eval(s, SCENE_CH_IOR, NULL, NULL);
@@ -332,8 +294,8 @@ static void later_layers_override_earlier_ones(void)
 
 static void shape_layer_blends_inside_over_previous_value(void)
 {
-    struct scene *s = parse(OBJ("\"resolution\": 8, \"ior\": [1.2, {\"shape\": \"sphere\", "
-                                "\"radius\": 0.5, \"inside\": 1.5}]"));
+    struct scene *s = parse_ok(OBJ("\"resolution\": 8, \"ior\": [1.2, {\"shape\": \"sphere\", "
+                                   "\"radius\": 0.5, \"inside\": 1.5}]"));
     if (s == NULL)
         return;
     float *n = eval(s, SCENE_CH_IOR, NULL, NULL);
@@ -346,8 +308,8 @@ static void shape_layer_blends_inside_over_previous_value(void)
 
 static void outside_value_replaces_previous_value_outside_the_shape(void)
 {
-    struct scene *s = parse(OBJ("\"resolution\": 8, \"ior\": [1.1, {\"shape\": \"sphere\", "
-                                "\"radius\": 0.5, \"inside\": 1.5, \"outside\": 1.3}]"));
+    struct scene *s = parse_ok(OBJ("\"resolution\": 8, \"ior\": [1.1, {\"shape\": \"sphere\", "
+                                   "\"radius\": 0.5, \"inside\": 1.5, \"outside\": 1.3}]"));
     if (s == NULL)
         return;
     float *n = eval(s, SCENE_CH_IOR, NULL, NULL);
@@ -363,10 +325,11 @@ static void coverage_is_one_half_at_the_surface(void)
 {
     /* Voxels are 0.25 wide; the sphere about voxel centre (0.125, 0.125, 0.125) with
      * radius 0.5 passes exactly through the centre of voxel (6, 4, 4). */
-    struct scene *s = parse(OBJ("\"resolution\": 8, \"ior\": {\"shape\": \"sphere\", \"center\": "
-                                "[0.125, 0.125, 0.125], \"radius\": 0.5, \"inside\": 1.5}, "
-                                "\"opaque\": {\"shape\": \"sphere\", \"center\": [0.125, 0.125, "
-                                "0.125], \"radius\": 0.5, \"inside\": [1, 0.5, 0]}"));
+    struct scene *s =
+        parse_ok(OBJ("\"resolution\": 8, \"ior\": {\"shape\": \"sphere\", \"center\": "
+                     "[0.125, 0.125, 0.125], \"radius\": 0.5, \"inside\": 1.5}, "
+                     "\"opaque\": {\"shape\": \"sphere\", \"center\": [0.125, 0.125, "
+                     "0.125], \"radius\": 0.5, \"inside\": [1, 0.5, 0]}"));
     if (s == NULL)
         return;
     const struct scene_object *o = &s->objects[0];
@@ -392,9 +355,9 @@ static void coverage_ramp_is_linear_in_the_signed_distance(void)
 {
     /* A box face at x = 0.3 between voxel centres 0.125 and 0.375 (h = 0.25): the
      * centre at 0.375 is 0.075 outside, so c = 0.5 - 0.075 / 0.25 = 0.2. */
-    struct scene *s = parse(OBJ("\"resolution\": 8, \"attenuation\": {\"shape\": \"box\", "
-                                "\"center\": [-0.35, 0, 0], \"size\": [1.3, 4, 4], \"inside\": "
-                                "[10, 20, 30]}"));
+    struct scene *s = parse_ok(OBJ("\"resolution\": 8, \"attenuation\": {\"shape\": \"box\", "
+                                   "\"center\": [-0.35, 0, 0], \"size\": [1.3, 4, 4], \"inside\": "
+                                   "[10, 20, 30]}"));
     if (s == NULL)
         return;
     const struct scene_object *o = &s->objects[0];
@@ -425,7 +388,7 @@ static void row_skipping_matches_per_voxel_evaluation(void)
                       "[0.4, 0], [0.1, 0.3], [0.3, 0.9], [0, 1.1]], \"inside\": 1.6},"
                       " {\"shape\": \"text\", \"text\": \"Ag\", \"center\": [-0.4, 0.3, 0.1], "
                       "\"height\": 0.5, \"depth\": 0.3, \"inside\": 2.0}]}]}";
-    struct scene *s = parse(doc);
+    struct scene *s = parse_ok(doc);
     if (s == NULL)
         return;
     const struct scene_object *o = &s->objects[0];
@@ -455,8 +418,8 @@ static void row_skipping_matches_per_voxel_evaluation(void)
 
 static void unused_channels_evaluate_to_their_base_values(void)
 {
-    struct scene *s = parse("{\"ambient_ior\": 1.33, \"objects\": [{" BOUNDS ", \"resolution\": "
-                            "4, \"emission\": 0.5}]}");
+    struct scene *s = parse_ok("{\"ambient_ior\": 1.33, \"objects\": [{" BOUNDS ", \"resolution\": "
+                               "4, \"emission\": 0.5}]}");
     if (s == NULL)
         return;
     const struct scene_object *o = &s->objects[0];
@@ -485,7 +448,7 @@ static void unused_channels_evaluate_to_their_base_values(void)
 
 static void constant_opaque_layer_covers_everything(void)
 {
-    struct scene *s = parse(OBJ("\"resolution\": 2, \"opaque\": [0.5, 0.25, 1]"));
+    struct scene *s = parse_ok(OBJ("\"resolution\": 2, \"opaque\": [0.5, 0.25, 1]"));
     if (s == NULL)
         return;
     float *op = eval(s, SCENE_CH_OPAQUE, NULL, NULL);
@@ -497,9 +460,9 @@ static void constant_opaque_layer_covers_everything(void)
 
 static void luneburg_field_matches_grin_ior_at_voxel_centres(void)
 {
-    struct scene *s = parse("{\"objects\": [{\"bounds\": {\"min\": [-1.05, -1.05, -1.05], "
-                            "\"max\": [1.05, 1.05, 1.05]}, \"resolution\": 33, \"ior\": "
-                            "{\"profile\": \"luneburg\", \"radius\": 1}}]}");
+    struct scene *s = parse_ok("{\"objects\": [{\"bounds\": {\"min\": [-1.05, -1.05, -1.05], "
+                               "\"max\": [1.05, 1.05, 1.05]}, \"resolution\": 33, \"ior\": "
+                               "{\"profile\": \"luneburg\", \"radius\": 1}}]}");
     if (s == NULL)
         return;
     const struct scene_object *o = &s->objects[0];
@@ -520,9 +483,10 @@ static void luneburg_field_matches_grin_ior_at_voxel_centres(void)
 
 static void profile_layer_overrides_everything_before_it(void)
 {
-    struct scene *s = parse(OBJ("\"resolution\": 8, \"ior\": [{\"shape\": \"sphere\", \"radius\": "
-                                "0.5, \"inside\": 3}, {\"profile\": \"linear\", \"n0\": 1.5, "
-                                "\"gradient\": [0.25, 0, 0]}]"));
+    struct scene *s =
+        parse_ok(OBJ("\"resolution\": 8, \"ior\": [{\"shape\": \"sphere\", \"radius\": "
+                     "0.5, \"inside\": 3}, {\"profile\": \"linear\", \"n0\": 1.5, "
+                     "\"gradient\": [0.25, 0, 0]}]"));
     if (s == NULL)
         return;
     const struct scene_object *o = &s->objects[0];
@@ -554,9 +518,10 @@ static const struct scene_volume *lookup(void *ctx, const char *name)
 
 static void volume_with_the_object_resolution_is_copied_exactly(void)
 {
-    struct scene *s = parse("{\"objects\": [{\"bounds\": {\"min\": [0, 0, 0], \"max\": [3, 2, 1]}, "
-                            "\"resolution\": [6, 5, 4], \"ior\": {\"volume\": \"dens\", \"scale\": "
-                            "0.5, \"offset\": 1}}]}");
+    struct scene *s =
+        parse_ok("{\"objects\": [{\"bounds\": {\"min\": [0, 0, 0], \"max\": [3, 2, 1]}, "
+                 "\"resolution\": [6, 5, 4], \"ior\": {\"volume\": \"dens\", \"scale\": "
+                 "0.5, \"offset\": 1}}]}");
     if (s == NULL)
         return;
     float data[6 * 5 * 4];
@@ -576,8 +541,8 @@ static void volume_with_the_object_resolution_is_copied_exactly(void)
 
 static void volume_of_another_resolution_is_interpolated_trilinearly(void)
 {
-    struct scene *s = parse(OBJ("\"resolution\": [4, 8, 6], \"attenuation\": {\"volume\": "
-                                "\"rgb\"}, \"emission\": {\"volume\": \"grey\"}"));
+    struct scene *s = parse_ok(OBJ("\"resolution\": [4, 8, 6], \"attenuation\": {\"volume\": "
+                                   "\"rgb\"}, \"emission\": {\"volume\": \"grey\"}"));
     if (s == NULL)
         return;
     const struct scene_object *o = &s->objects[0];
@@ -618,7 +583,7 @@ static void volume_of_another_resolution_is_interpolated_trilinearly(void)
 static void volume_values_are_clamped_to_the_channel_range(void)
 {
     struct scene *s =
-        parse(OBJ("\"resolution\": 2, \"attenuation\": {\"volume\": \"v\", \"offset\": -5}"));
+        parse_ok(OBJ("\"resolution\": 2, \"attenuation\": {\"volume\": \"v\", \"offset\": -5}"));
     if (s == NULL)
         return;
     float data[8] = {1, 2, 3, 4, 5, 6, 7, 8};
@@ -633,7 +598,7 @@ static void volume_values_are_clamped_to_the_channel_range(void)
 
 static void missing_volume_is_a_conflict_naming_the_upload(void)
 {
-    struct scene *s = parse(OBJ("\"resolution\": 2, \"ior\": [1.2, {\"volume\": \"density\"}]"));
+    struct scene *s = parse_ok(OBJ("\"resolution\": 2, \"ior\": [1.2, {\"volume\": \"density\"}]"));
     if (s == NULL)
         return;
     float out[8];
@@ -651,7 +616,7 @@ static void missing_volume_is_a_conflict_naming_the_upload(void)
 
 static void volume_with_wrong_components_is_a_conflict(void)
 {
-    struct scene *s = parse(OBJ("\"resolution\": 2, \"ior\": {\"volume\": \"rgb\"}"));
+    struct scene *s = parse_ok(OBJ("\"resolution\": 2, \"ior\": {\"volume\": \"rgb\"}"));
     if (s == NULL)
         return;
     float data[24] = {0};
@@ -672,7 +637,7 @@ static void missing_volumes_lists_each_missing_name_once(void)
         "\"a\"}, {\"volume\": \"b\"}], \"attenuation\": {\"volume\": \"a\"}}, {" BOUNDS
         ", \"resolution\": 2, \"emission\": {\"volume\": \"c\"}, \"opaque\": "
         "{\"volume\": \"d\"}}]}";
-    struct scene *s = parse(doc);
+    struct scene *s = parse_ok(doc);
     if (s == NULL)
         return;
     float data[8] = {0};
@@ -697,8 +662,9 @@ static void missing_volumes_lists_each_missing_name_once(void)
 
 static void voxel_size_is_extent_over_resolution(void)
 {
-    struct scene *s = parse("{\"objects\": [{\"bounds\": {\"min\": [0, 0, 0], \"max\": [1, 2, 3]}, "
-                            "\"resolution\": [10, 40, 20], \"ior\": 1.5}]}");
+    struct scene *s =
+        parse_ok("{\"objects\": [{\"bounds\": {\"min\": [0, 0, 0], \"max\": [1, 2, 3]}, "
+                 "\"resolution\": [10, 40, 20], \"ior\": 1.5}]}");
     if (s == NULL)
         return;
     vec3 vs = scene_object_voxel_size(&s->objects[0]);
@@ -731,7 +697,7 @@ static void evaluates_a_128_cubed_glass_block_with_lettering_quickly(void)
         "   \"inside\": [1.2, 0.25, 0.35]}, {\"shape\": \"text\", \"text\": \"REFRACT\", "
         "\"height\": "
         "0.35, \"depth\": 0.2, \"inside\": [0.2, 0.9, 2.5]}]}]}";
-    struct scene *s = parse(doc);
+    struct scene *s = parse_ok(doc);
     if (s == NULL)
         return;
     double t0 = seconds();

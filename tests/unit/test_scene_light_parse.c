@@ -7,49 +7,12 @@
 #include <string.h>
 
 #include "scene/scene.h"
+#include "scene_test_util.h"
 #include "test.h"
 
-#define BOUNDS "\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}"
-#define OBJ(fields) "{\"objects\": [{" BOUNDS ", " fields "}]}"
-/* A document with top-level keys `top` and one valid object. */
-#define TOP(top) "{" top ", \"objects\": [{" BOUNDS ", \"ior\": 1.5}]}"
 #define LIGHTS(list) TOP("\"lights\": [" list "]")
 #define SUN "{\"type\": \"directional\", \"direction\": [0, -1, 0]}"
 #define BUMPY "\"shape\": \"bumpy_sphere\", \"radius\": 0.5"
-
-static struct scene *parse_ok(const char *doc)
-{
-    struct scene *s = NULL;
-    struct err e;
-    err_clear(&e);
-    enum refract_code rc = scene_parse(doc, strlen(doc), NULL, &s, &e);
-    CHECK_MSG(rc == REFRACT_E_OK && s != NULL, "%s\n  -> %s", doc, e.msg);
-    return s;
-}
-
-struct bad_case {
-    const char *doc;
-    enum refract_code code;
-    const char *path; /* the message must start with this */
-    const char *also; /* and contain this, when not NULL */
-};
-
-static void check_bad(const struct bad_case *c)
-{
-    struct scene *s = NULL;
-    struct err e;
-    err_clear(&e);
-    enum refract_code rc = scene_parse(c->doc, strlen(c->doc), NULL, &s, &e);
-    CHECK_MSG(rc == c->code, "%s\n  -> code %s, expected %s: %s", c->doc, err_code_json(rc),
-              err_code_json(c->code), e.msg);
-    CHECK_MSG(s == NULL, "%s: *out set on failure", c->doc);
-    CHECK_MSG(strncmp(e.msg, c->path, strlen(c->path)) == 0,
-              "%s\n  -> \"%s\" should start with \"%s\"", c->doc, e.msg, c->path);
-    if (c->also != NULL)
-        CHECK_MSG(strstr(e.msg, c->also) != NULL, "%s\n  -> \"%s\" lacks \"%s\"", c->doc, e.msg,
-                  c->also);
-    scene_destroy(s);
-}
 
 /* clang-format off */
 static const struct bad_case bad_cases[] = {
@@ -232,7 +195,7 @@ static const struct bad_case bad_cases[] = {
 static void rejects_each_bad_document_with_exact_code_and_path(void)
 {
     for (size_t i = 0; i < sizeof bad_cases / sizeof bad_cases[0]; i++)
-        check_bad(&bad_cases[i]);
+        check_bad(&bad_cases[i], NULL);
 }
 
 static void without_the_new_keys_there_are_no_lights_no_receiver_and_default_settings(void)

@@ -8,50 +8,12 @@
 #include <string.h>
 
 #include "scene/scene.h"
+#include "scene_test_util.h"
 #include "scene/scene_reference.h"
 #include "test.h"
 
-#define BOUNDS "\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}"
-#define OBJ(fields) "{\"objects\": [{" BOUNDS ", \"resolution\": 8, " fields "}]}"
-
-static struct scene *parse(const char *doc)
-{
-    struct scene *s = NULL;
-    struct err e;
-    err_clear(&e);
-    enum refract_code rc = scene_parse(doc, strlen(doc), NULL, &s, &e);
-    CHECK_MSG(rc == REFRACT_E_OK, "%s\n  -> %s", doc, e.msg);
-    return s;
-}
-
-static size_t voxels(const struct scene_object *o)
-{
-    return (size_t)o->resolution[0] * o->resolution[1] * o->resolution[2];
-}
-
-static float *eval(const struct scene *s, enum scene_channel ch, scene_volume_lookup_fn lookup,
-                   void *ctx)
-{
-    const struct scene_object *o = &s->objects[0];
-    float *out = malloc(voxels(o) * (size_t)scene_channel_components(ch) * sizeof *out);
-    struct err e;
-    err_clear(&e);
-    enum refract_code rc = scene_field_eval(s, o, ch, lookup, ctx, out, &e);
-    CHECK_MSG(rc == REFRACT_E_OK, "%s", e.msg);
-    return out;
-}
-
-static size_t idx(const struct scene_object *o, int i, int j, int k)
-{
-    return ((size_t)k * o->resolution[1] + (size_t)j) * o->resolution[0] + (size_t)i;
-}
-
-static vec3 centre(const struct scene_object *o, int i, int j, int k)
-{
-    vec3 vs = scene_object_voxel_size(o);
-    return vec3_make(o->bounds_min.x + (i + 0.5) * vs.x, o->bounds_min.y + (j + 0.5) * vs.y,
-                     o->bounds_min.z + (k + 0.5) * vs.z);
-}
+/* OBJ at resolution 8. */
+#define OBJ8(fields) OBJ("\"resolution\": 8, " fields)
 
 static void channel_table_covers_the_new_channels(void)
 {
@@ -65,7 +27,7 @@ static void channel_table_covers_the_new_channels(void)
 
 static void unused_channels_evaluate_to_zero(void)
 {
-    struct scene *s = parse(OBJ("\"ior\": 1.5"));
+    struct scene *s = parse_ok(OBJ8("\"ior\": 1.5"));
     if (s == NULL)
         return;
     float *sc = eval(s, SCENE_CH_SCATTERING, NULL, NULL);
@@ -85,13 +47,13 @@ static void unused_channels_evaluate_to_zero(void)
 /* Smoke: an object of scattering only, a constant RGB with a sphere of another value. */
 static void scattering_layers_give_rgb_and_zero(void)
 {
-    struct scene *s = parse(OBJ("\"scattering\": [[0.1, 0.2, 0.3], {\"shape\": \"sphere\", "
-                                "\"radius\": 0.5, \"inside\": 7}]"));
+    struct scene *s = parse_ok(OBJ8("\"scattering\": [[0.1, 0.2, 0.3], {\"shape\": \"sphere\", "
+                                    "\"radius\": 0.5, \"inside\": 7}]"));
     if (s == NULL)
         return;
     const struct scene_object *o = &s->objects[0];
     float *sc = eval(s, SCENE_CH_SCATTERING, NULL, NULL);
-    const float *corner = sc + 4 * idx(o, 0, 0, 0), *mid = sc + 4 * idx(o, 4, 4, 4);
+    const float *corner = sc + 4 * voxel_index(o, 0, 0, 0), *mid = sc + 4 * voxel_index(o, 4, 4, 4);
     CHECK_NEAR(corner[0], 0.1, 1e-7);
     CHECK_NEAR(corner[1], 0.2, 1e-7);
     CHECK_NEAR(corner[2], 0.3, 1e-7);
@@ -108,9 +70,9 @@ static void scattering_layers_give_rgb_and_zero(void)
  * The sphere's boundary is anti-aliased over one voxel, as for every channel. */
 static void anisotropy_is_one_float_per_voxel_with_shape_coverage(void)
 {
-    struct scene *s = parse(OBJ("\"scattering\": 1, \"anisotropy\": [0.3, {\"shape\": "
-                                "\"sphere\", \"radius\": 0.6, \"inside\": -0.8, \"outside\": "
-                                "0.9}]"));
+    struct scene *s = parse_ok(OBJ8("\"scattering\": 1, \"anisotropy\": [0.3, {\"shape\": "
+                                    "\"sphere\", \"radius\": 0.6, \"inside\": -0.8, \"outside\": "
+                                    "0.9}]"));
     if (s == NULL)
         return;
     const struct scene_object *o = &s->objects[0];
@@ -123,7 +85,7 @@ static void anisotropy_is_one_float_per_voxel_with_shape_coverage(void)
                 double d = vec3_length(centre(o, i, j, k)) - 0.6;
                 double c = fmin(fmax(0.5 - d / h, 0.0), 1.0);
                 double want = c * -0.8 + (1 - c) * 0.9;
-                bad += fabs(g[idx(o, i, j, k)] - want) > 1e-6;
+                bad += fabs(g[voxel_index(o, i, j, k)] - want) > 1e-6;
             }
         }
     }
@@ -145,9 +107,9 @@ static const struct scene_volume *lookup(void *ctx, const char *name)
 
 static void volumes_fill_scattering_and_clamp_anisotropy(void)
 {
-    struct scene *s = parse("{\"objects\": [{" BOUNDS ", \"resolution\": 2, \"scattering\": "
-                            "{\"volume\": \"v\", \"scale\": 2}, \"anisotropy\": {\"volume\": "
-                            "\"v\", \"offset\": -1}}]}");
+    struct scene *s = parse_ok("{\"objects\": [{" BOUNDS ", \"resolution\": 2, \"scattering\": "
+                               "{\"volume\": \"v\", \"scale\": 2}, \"anisotropy\": {\"volume\": "
+                               "\"v\", \"offset\": -1}}]}");
     if (s == NULL)
         return;
     /* A 2^3 volume: x fastest; values 0.25 .. 1.75 along the voxels, so g = v - 1. */
@@ -267,8 +229,8 @@ static void bumpy_sphere_bounds_hold_the_whole_solid(void)
             double theta = a * M_PI / 180, phi = b * M_PI / 180;
             vec3 u = spherical(1.0, theta, phi);
             vec3 p = vec3_add(sh.center, vec3_scale(u, bumpy_radius(&sh, u)));
-            outside += p.x < lo.x || p.y < lo.y || p.z < lo.z || p.x > hi.x || p.y > hi.y ||
-                       p.z > hi.z;
+            outside +=
+                p.x < lo.x || p.y < lo.y || p.z < lo.z || p.x > hi.x || p.y > hi.y || p.z > hi.z;
             reach = fmax(reach, vec3_length(vec3_sub(p, sh.center)));
         }
     }
@@ -280,9 +242,10 @@ static void bumpy_sphere_bounds_hold_the_whole_solid(void)
  * equal the coverage computed voxel by voxel from the SDF. */
 static void bumpy_sphere_field_equals_voxelwise_coverage(void)
 {
-    struct scene *s = parse("{\"objects\": [{" BOUNDS ", \"resolution\": 40, \"ior\": {\"shape\": "
-                            "\"bumpy_sphere\", \"radius\": 0.6, \"bump_amplitude\": 0.3, "
-                            "\"bump_frequency\": 5, \"inside\": 1.5}}]}");
+    struct scene *s =
+        parse_ok("{\"objects\": [{" BOUNDS ", \"resolution\": 40, \"ior\": {\"shape\": "
+                 "\"bumpy_sphere\", \"radius\": 0.6, \"bump_amplitude\": 0.3, "
+                 "\"bump_frequency\": 5, \"inside\": 1.5}}]}");
     if (s == NULL)
         return;
     const struct scene_object *o = &s->objects[0];
@@ -295,7 +258,7 @@ static void bumpy_sphere_field_equals_voxelwise_coverage(void)
             for (int i = 0; i < 40; i++) {
                 double c = fmin(fmax(0.5 - scene_shape_sdf(sh, centre(o, i, j, k)) / h, 0), 1);
                 double want = c * 1.5 + (1 - c) * 1.0;
-                bad += fabs(n[idx(o, i, j, k)] - want) > 1e-6;
+                bad += fabs(n[voxel_index(o, i, j, k)] - want) > 1e-6;
                 inside += c == 1.0;
             }
         }
@@ -310,8 +273,8 @@ static void bumpy_sphere_field_equals_voxelwise_coverage(void)
 
 static void reference_grids_carry_scattering_and_anisotropy(void)
 {
-    struct scene *s = parse(OBJ("\"ior\": 1.33, \"scattering\": [0.5, 0.25, 0.125], "
-                                "\"anisotropy\": 0.3"));
+    struct scene *s = parse_ok(OBJ8("\"ior\": 1.33, \"scattering\": [0.5, 0.25, 0.125], "
+                                    "\"anisotropy\": 0.3"));
     if (s == NULL)
         return;
     struct scene_reference r;
@@ -334,9 +297,9 @@ static void reference_grids_carry_scattering_and_anisotropy(void)
     }
     scene_destroy(s);
 
-    s = parse(OBJ("\"ior\": 1.33"));
-    if (s != NULL && scene_reference_build(s, SCENE_REFERENCE_VOXELS, NULL, NULL, &r, &e) ==
-                         REFRACT_E_OK) {
+    s = parse_ok(OBJ8("\"ior\": 1.33"));
+    if (s != NULL &&
+        scene_reference_build(s, SCENE_REFERENCE_VOXELS, NULL, NULL, &r, &e) == REFRACT_E_OK) {
         CHECK(r.objects[0].grid->scattering == NULL);
         CHECK(r.objects[0].grid->anisotropy == NULL);
         scene_reference_free(&r);

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "scene/scene.h"
+#include "scene_test_util.h"
 #include "test.h"
 
 /* The base scene: glass sphere over a receiver, smoke in a second object. Cases are
@@ -20,19 +21,9 @@
     "\"scattering\": 0.3, \"transform\": {\"translate\": [2, 0, 0]}}"
 #define BASE "{\"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", " SMOKE "]}"
 
-static struct scene *parse(const char *doc)
-{
-    struct scene *s = NULL;
-    struct err e;
-    err_clear(&e);
-    enum refract_code rc = scene_parse(doc, strlen(doc), NULL, &s, &e);
-    CHECK_MSG(rc == REFRACT_E_OK, "%s\n  -> %s", doc, e.msg);
-    return s;
-}
-
 static uint64_t hash_of(const char *doc, bool *ok)
 {
-    struct scene *s = parse(doc);
+    struct scene *s = parse_ok(doc);
     *ok = s != NULL;
     uint64_t h = s ? scene_transport_hash(s) : 0;
     scene_destroy(s);
@@ -244,7 +235,7 @@ static void bumpy_sphere_defaults_hash_like_their_spelling(void)
  * field by field hashes equal, and dropping one layer from the copy changes it. */
 static void hash_reads_the_structs_not_their_addresses(void)
 {
-    struct scene *s = parse(BASE);
+    struct scene *s = parse_ok(BASE);
     if (s == NULL)
         return;
     uint64_t h = scene_transport_hash(s);
@@ -281,7 +272,7 @@ static void needs_light_simulation_for_scattering_or_a_receiver(void)
          false},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        struct scene *s = parse(cases[i].doc);
+        struct scene *s = parse_ok(cases[i].doc);
         if (s == NULL)
             continue;
         CHECK_MSG(scene_needs_light_simulation(s) == cases[i].needs, "%s: expected %s",
