@@ -40,6 +40,8 @@ struct http_config {
 
 struct http_server;
 struct irradiance_cache;
+struct event_hub;
+struct view_registry;
 
 /* Where the server gets its state. All borrowed. */
 struct http_app {
@@ -47,6 +49,8 @@ struct http_app {
     struct gpu *gpu;
     struct render *render; /* used on the GPU thread only */
     struct irradiance_cache *irradiance;
+    struct event_hub *events;     /* what changed (server/events/events.h); may be NULL */
+    struct view_registry *views;  /* view sessions (server/view/, docs/views.md) */
 };
 
 /* Starts listening. Returns a new server (stop with http_server_stop) or NULL with e

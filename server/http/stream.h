@@ -43,6 +43,10 @@ struct http_stream_ops {
     ssize_t (*produce)(void *ctx, struct http_stream *s, char *buf, size_t max);
     /* Called once, when the last reference goes: free ctx. May be NULL. */
     void (*free)(void *ctx);
+    /* > 0: a stream asleep this long is woken (produce is called again, and decides
+     * whether to send a keep-alive: a comment for SSE, the newest frame again for MJPEG).
+     * One timer thread in stream.c serves every stream. 0 = never. */
+    int keepalive_ms;
 };
 
 /* Answers req with a streaming body (status 200, unknown length, so the body ends when
