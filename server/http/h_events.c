@@ -33,8 +33,8 @@
 #include "http_internal.h"
 #include "stream.h"
 
-#define SSE_BATCH 16            /* events a stream holds at most */
-#define SSE_KEEPALIVE_MS 15000  /* docs/views.md: a comment every 15 s */
+#define SSE_BATCH 16           /* events a stream holds at most */
+#define SSE_KEEPALIVE_MS 15000 /* docs/views.md: a comment every 15 s */
 #define SSE_ITEM_MAX (EVENT_DATA_MAX + 256)
 
 /* ---- one stream --------------------------------------------------------------------- */
@@ -151,7 +151,7 @@ static const struct http_stream_ops sse_ops = {
 /* ---- the server's streams and its one hub listener ---------------------------------- */
 
 struct sse_entry {
-    struct http_stream *stream; /* a reference */
+    struct http_stream *stream;  /* a reference */
     char scene[EVENT_SCENE_MAX]; /* "" = every event */
 };
 
@@ -325,8 +325,8 @@ static enum MHD_Result open_stream(struct http_request *req, const char *scene)
         item_set(st, ": events of %s%s after id %" PRIu64 "\n\n", scene ? "scene " : "refractd",
                  scene ? scene : "", st->cursor);
     }
-    static const char *const headers[] = {"Cache-Control", "no-store", "X-Accel-Buffering", "no",
-                                          NULL};
+    /* stream.c sends Cache-Control: no-store; a proxy must not buffer the events. */
+    static const char *const headers[] = {"X-Accel-Buffering", "no", NULL};
     struct http_stream *s = NULL;
     enum MHD_Result r = http_respond_stream(req, "text/event-stream", headers, &sse_ops, st, &s);
     if (s == NULL)

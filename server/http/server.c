@@ -23,6 +23,7 @@
 #include "../core/log.h"
 #include "http_internal.h"
 #include "routes.h"
+#include "stream.h"
 
 struct http_server {
     struct MHD_Daemon *daemon;
@@ -31,7 +32,13 @@ struct http_server {
     int port;
     struct http_sse *sse;       /* the event streams (h_events.c) */
     atomic_int active_requests; /* request states alive (begun, not completed) */
+    struct http_stream_set *streams;
 };
+
+struct http_stream_set *http_server_streams(const struct http_server *srv)
+{
+    return srv->streams;
+}
 
 static void request_free(struct http_request *req)
 {
@@ -295,8 +302,14 @@ struct http_server *http_server_start(const struct http_config *cfg, const struc
     srv->cfg = *cfg;
     srv->app = *app;
     apply_defaults(&srv->cfg);
+    srv->streams = http_stream_set_create(e);
+    if (srv->streams == NULL) {
+        free(srv);
+        return NULL;
+    }
     srv->sse = http_sse_create(app->events, e);
     if (srv->sse == NULL) {
+        http_stream_set_destroy(srv->streams);
         free(srv);
         return NULL;
     }
@@ -305,6 +318,7 @@ struct http_server *http_server_start(const struct http_config *cfg, const struc
         err_set(e, REFRACT_E_USAGE, "--bind %s: not an IPv4 address (e.g. 127.0.0.1 or 0.0.0.0)",
                 srv->cfg.bind_address);
         http_sse_destroy(srv->sse);
+        http_stream_set_destroy(srv->streams);
         free(srv);
         return NULL;
     }
@@ -321,6 +335,7 @@ struct http_server *http_server_start(const struct http_config *cfg, const struc
                 "with --port, or --port 0 for any free port)",
                 srv->cfg.bind_address, cfg->port);
         http_sse_destroy(srv->sse);
+        http_stream_set_destroy(srv->streams);
         free(srv);
         return NULL;
     }
@@ -343,6 +358,12 @@ void http_server_quiesce(struct http_server *s)
         close(fd);
 }
 
+void http_server_end_streams(struct http_server *s)
+{
+    if (s != NULL)
+        http_stream_set_end_all(s->streams);
+}
+
 bool http_server_wait_idle(struct http_server *s, int timeout_ms)
 {
     for (int waited = 0; waited < timeout_ms; waited += 10) {
@@ -360,5 +381,6 @@ void http_server_stop(struct http_server *s)
         return;
     MHD_stop_daemon(s->daemon);
     http_sse_destroy(s->sse); /* after the daemon: no handler opens a stream any more */
+    http_stream_set_destroy(s->streams);
     free(s);
 }
