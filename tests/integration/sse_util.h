@@ -43,7 +43,7 @@ struct sse_client {
     CURLcode result;
     long status;
     char content_type[128];
-    int comments;          /* comment lines seen */
+    int comments; /* comment lines seen */
     char last_comment[256];
 };
 
@@ -131,8 +131,7 @@ static inline bool sse_take_block(struct sse_client *c, struct sse_event *ev)
             has_type = true;
         } else if (name_len == 4 && strncmp(line, "data", 4) == 0) {
             size_t used = strlen(ev->data);
-            snprintf(ev->data + used, sizeof ev->data - used, "%s%s", has_data ? "\n" : "",
-                     value);
+            snprintf(ev->data + used, sizeof ev->data - used, "%s%s", has_data ? "\n" : "", value);
             has_data = true;
         }
         line = nl ? nl + 1 : NULL;
@@ -147,8 +146,7 @@ static inline bool sse_take_block(struct sse_client *c, struct sse_event *ev)
 
 /* The next event within timeout_s: SSE_EVENT (ev filled), SSE_TIMEOUT, or SSE_ENDED (the
  * body ended and everything in it was read). Comments are counted, not returned. */
-static inline enum sse_result sse_next(struct sse_client *c, struct sse_event *ev,
-                                       double timeout_s)
+static inline enum sse_result sse_next(struct sse_client *c, struct sse_event *ev, double timeout_s)
 {
     double until = sse_now() + timeout_s;
     for (;;) {
@@ -245,8 +243,7 @@ static inline double sse_num(const cJSON *o, const char *key)
 /* Reads events until one of type `type` (returned in ev, true) or timeout/end (false);
  * every event read on the way is appended to log (may be NULL) up to *count < max. */
 static inline bool sse_until(struct sse_client *c, const char *type, double timeout_s,
-                             struct sse_event *ev, struct sse_event *log, size_t *count,
-                             size_t max)
+                             struct sse_event *ev, struct sse_event *log, size_t *count, size_t max)
 {
     double until = sse_now() + timeout_s;
     for (;;) {

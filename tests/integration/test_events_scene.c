@@ -73,8 +73,8 @@ static size_t check_recompute(const struct sse_event *log, size_t count, size_t 
     }
     CHECK_MSG(progress_events >= 2, "%d irradiance.progress events (queued and computing)",
               progress_events);
-    CHECK_MSG(i < count && strcmp(log[i].type, "irradiance.ready") == 0,
-              "after the progress: %s", i < count ? log[i].type : "(nothing)");
+    CHECK_MSG(i < count && strcmp(log[i].type, "irradiance.ready") == 0, "after the progress: %s",
+              i < count ? log[i].type : "(nothing)");
     if (i >= count)
         return i;
     cJSON *d = cJSON_Parse(log[i].data);
@@ -95,9 +95,8 @@ static void status_key(const char *body, char *key)
     cJSON_Delete(root);
 }
 
-static void create_publishes_created_then_irradiance(struct test_daemon *d,
-                                                     struct sse_client *all, char *id,
-                                                     double *generation)
+static void create_publishes_created_then_irradiance(struct test_daemon *d, struct sse_client *all,
+                                                     char *id, double *generation)
 {
     CHECK_CONTAINS(all->content_type, "text/event-stream");
     char *doc = beam_scene(sun_down);
@@ -208,9 +207,9 @@ static void uploads_publish_updates(struct test_daemon *d, const char *other)
     struct sse_client c;
     CHECK(sse_open(&c, d, path, NULL));
     static const float ramp[8] = {0, 1, 2, 3, 4, 5, 6, 7};
-    CHECK_INT(refract_volume_upload(d->client, other, "ramp", (const int[3]){2, 2, 2}, 1, ramp,
-                                    NULL),
-              REFRACT_E_OK);
+    CHECK_INT(
+        refract_volume_upload(d->client, other, "ramp", (const int[3]){2, 2, 2}, 1, ramp, NULL),
+        REFRACT_E_OK);
     static float sky[8 * 4 * 4];
     for (size_t i = 0; i < sizeof sky / sizeof sky[0]; i++)
         sky[i] = 0.5f;
@@ -258,8 +257,8 @@ static void bad_resume_points(struct test_daemon *d)
     EXPECT_ERROR(d, "GET", "/v1/events?since=-1", NULL, 400, "invalid_field", "since", "-1");
     EXPECT_ERROR(d, "GET", "/v1/events?since=1.5", NULL, 400, "invalid_field", "since");
     EXPECT_ERROR(d, "GET", "/v1/events?since=", NULL, 400, "invalid_field", "since");
-    EXPECT_ERROR(d, "GET", "/v1/events?since=99999999999999999999999", NULL, 400,
-                 "invalid_field", "since");
+    EXPECT_ERROR(d, "GET", "/v1/events?since=99999999999999999999999", NULL, 400, "invalid_field",
+                 "since");
     EXPECT_ERROR(d, "GET", "/v1/scenes/no_such_scene/events", NULL, 404, "scene_not_found",
                  "no_such_scene");
     EXPECT_ERROR(d, "POST", "/v1/events", NULL, 405, "method_not_allowed", "GET");
