@@ -269,9 +269,22 @@ static bool parse_event_id(const char *text, uint64_t *out)
 static bool resume_point(struct http_request *req, uint64_t *since, bool *has,
                          enum MHD_Result *answer)
 {
+    static const char *const allowed[] = {"since", NULL};
+    const char *unknown = http_query_unknown(req, allowed);
+    if (unknown) {
+        *answer = http_respond_error(req, REFRACT_E_UNKNOWN_FIELD,
+                                     "query parameter \"%.64s\" is not known here; allowed: since",
+                                     unknown);
+        return false;
+    }
     const char *header = MHD_lookup_connection_value(req->conn, MHD_HEADER_KIND, "Last-Event-ID");
-    const char *query = MHD_lookup_connection_value(req->conn, MHD_GET_ARGUMENT_KIND, "since");
-    *has = header != NULL || query != NULL;
+    const char *query = NULL;
+    size_t query_len = 0;
+    bool has_query = MHD_lookup_connection_value_n(req->conn, MHD_GET_ARGUMENT_KIND, "since", 5,
+                                                   &query, &query_len) == MHD_YES;
+    if (has_query && query == NULL)
+        query = ""; /* "?since" without a value */
+    *has = header != NULL || has_query;
     if (header) {
         if (parse_event_id(header, since))
             return true;
