@@ -22,8 +22,8 @@
  */
 #include <errno.h>
 #include <inttypes.h>
-#include <stdarg.h>
 #include <pthread.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -121,9 +121,9 @@ static ssize_t sse_produce(void *ctx, struct http_stream *s, char *buf, size_t m
             break;
         if (next_event_item(st))
             continue;
-        /* Nothing new. Woken by the keep-alive timer (asleep SSE_KEEPALIVE_MS) or by an
-         * event this stream skips: only the first sends the comment (the margin allows
-         * for the timer's granularity). */
+        /* Nothing new: woken by the keep-alive timer (asleep SSE_KEEPALIVE_MS; the
+         * margin allows for its one-second tick) or by the wake that follows the opening,
+         * and only the first sends the comment. */
         if (used == 0 && now - st->last_write_ms >= SSE_KEEPALIVE_MS * 9 / 10) {
             item_set(st, ": keep-alive\n\n");
             continue;
