@@ -76,9 +76,8 @@ static void case_run(struct gpu_work *w, struct gpu *gpu)
 
 static struct hard_hit hard_from_gpu(const struct render_trace_hit *h)
 {
-    struct hard_hit out = {.status = h->status,
-                           .optical_path_length = h->optical_path_length,
-                           .steps = h->steps};
+    struct hard_hit out = {
+        .status = h->status, .optical_path_length = h->optical_path_length, .steps = h->steps};
     for (int k = 0; k < 3; k++) {
         out.origin[k] = h->exit_origin[k];
         out.direction[k] = h->exit_direction[k];
@@ -152,8 +151,8 @@ static void compare_view(struct gpu_case *c, const struct scene_reference *ref)
     }
     printf("%-30s view %dx%d%s: %5.1f%% of pixels within 1e-3; worst %.2e\n", c->name, w, h,
            c->view_inside ? " (camera inside)" : "", 100.0 * close / (w * h), worst);
-    CHECK_MSG(close >= c->pixel_fraction * w * h, "%s: %d of %d pixels within 1e-3", c->name,
-              close, w * h);
+    CHECK_MSG(close >= c->pixel_fraction * w * h, "%s: %d of %d pixels within 1e-3", c->name, close,
+              w * h);
 }
 
 static void run_case(struct gpu *gpu, struct gpu_case *c, const char *camera)
@@ -181,7 +180,7 @@ static void run_case(struct gpu *gpu, struct gpu_case *c, const char *camera)
 }
 
 #define CAMERA(eye, at)                                                                            \
-    "\"camera\": {\"eye\": " eye ", \"look_at\": " at ", \"fov_y_deg\": 50, \"width\": 32, "      \
+    "\"camera\": {\"eye\": " eye ", \"look_at\": " at ", \"fov_y_deg\": 50, \"width\": 32, "       \
     "\"height\": 24}"
 #define OUTSIDE CAMERA("[0.6, 0.5, 3]", "[0, 0, 0]")
 

@@ -68,13 +68,13 @@ static inline void hard_check_hit(const char *what, int ray, const struct hard_h
     CHECK_MSG(hard_finite3(h->origin) && hard_finite3(h->direction) &&
                   hard_finite3(h->transmittance) && isfinite(h->optical_path_length),
               "%s ray %d: non-finite output (origin %g %g %g, dir %g %g %g, T %g %g %g, opl %g)",
-              what, ray, h->origin[0], h->origin[1], h->origin[2], h->direction[0],
-              h->direction[1], h->direction[2], h->transmittance[0], h->transmittance[1],
-              h->transmittance[2], h->optical_path_length);
+              what, ray, h->origin[0], h->origin[1], h->origin[2], h->direction[0], h->direction[1],
+              h->direction[2], h->transmittance[0], h->transmittance[1], h->transmittance[2],
+              h->optical_path_length);
     double len = sqrt(h->direction[0] * h->direction[0] + h->direction[1] * h->direction[1] +
                       h->direction[2] * h->direction[2]);
-    CHECK_MSG(fabs(len - 1.0) <= fmax(tol, 1e-9) * 10.0, "%s ray %d: |exit_direction| = %.9g",
-              what, ray, len);
+    CHECK_MSG(fabs(len - 1.0) <= fmax(tol, 1e-9) * 10.0, "%s ray %d: |exit_direction| = %.9g", what,
+              ray, len);
     for (int c = 0; c < 3; c++)
         CHECK_MSG(h->transmittance[c] >= 0.0 && h->transmittance[c] <= 1.0 + tol,
                   "%s ray %d: transmittance[%d] = %.9g", what, ray, c, h->transmittance[c]);
@@ -128,45 +128,46 @@ static inline bool hard_reference(const struct scene *s, struct scene_reference 
 
 /* A glass block n = 1.5 that fills its bounds (exact faces, no field interfaces). */
 #define HARD_BLOCK                                                                                 \
-    "{\"render\": {\"max_steps\": 400}, \"objects\": [{\"bounds\": {\"min\": [-0.5, -0.5, "       \
+    "{\"render\": {\"max_steps\": 400}, \"objects\": [{\"bounds\": {\"min\": [-0.5, -0.5, "        \
     "-0.5], \"max\": [0.5, 0.5, 0.5]}, \"resolution\": 8, \"ior\": 1.5}]}"
 /* A glass rod 4 long and 0.2 across: a light pipe (total internal reflection at its sides). */
 #define HARD_ROD                                                                                   \
-    "{\"objects\": [{\"bounds\": {\"min\": [-2, -0.1, -0.1], \"max\": [2, 0.1, 0.1]}, "           \
+    "{\"objects\": [{\"bounds\": {\"min\": [-2, -0.1, -0.1], \"max\": [2, 0.1, 0.1]}, "            \
     "\"resolution\": [40, 4, 4], \"ior\": 1.5}]}"
 /* A glass sphere in a field (smoothed interface) for rays that graze its rim. */
 #define HARD_SPHERE(n)                                                                             \
-    "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": "   \
+    "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": "    \
     "24, \"ior\": {\"shape\": \"sphere\", \"radius\": 0.8, \"inside\": " n "}}]}"
 /* A slab 1 -> 3 -> 1 inside the field, 1 thick (16 voxels), filling the bounds sideways. */
 #define HARD_JUMP3                                                                                 \
-    "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": "   \
+    "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": "    \
     "32, \"ior\": {\"shape\": \"box\", \"size\": [4, 4, 1], \"inside\": 3}}]}"
 /* A spherical glass shell `t` thick (object units; the voxel is 2/24 = 0.0833). */
 #define HARD_SHELL(outer, inner)                                                                   \
-    "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": "   \
-    "24, \"ior\": [{\"shape\": \"sphere\", \"radius\": " outer ", \"inside\": 1.5}, "             \
+    "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": "    \
+    "24, \"ior\": [{\"shape\": \"sphere\", \"radius\": " outer ", \"inside\": 1.5}, "              \
     "{\"shape\": \"sphere\", \"radius\": " inner ", \"inside\": 1}]}]}"
 /* A linear GRIN n = 1 + 1.9 (y + 1): from 1 to 4.8 over two units, 0.24 per voxel at 16^3
  * (twelve times the boundary threshold). */
 #define HARD_STEEP                                                                                 \
-    "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": "   \
-    "16, \"smoothing_sigma\": 0, \"ior\": {\"profile\": \"linear\", \"center\": [0, -1, 0], \"n0\": 1, \"gradient\": "   \
+    "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": "    \
+    "16, \"smoothing_sigma\": 0, \"ior\": {\"profile\": \"linear\", \"center\": [0, -1, 0], "      \
+    "\"n0\": 1, \"gradient\": "                                                                    \
     "[0, 1.9, 0]}}]}"
 /* An unsmoothed sphere: the index jumps 1 -> 2 between neighbouring voxels. */
 #define HARD_STEP_SPHERE                                                                           \
-    "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": "   \
-    "16, \"smoothing_sigma\": 0, \"ior\": {\"shape\": \"sphere\", \"radius\": 0.7, \"inside\": " \
+    "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": "    \
+    "16, \"smoothing_sigma\": 0, \"ior\": {\"shape\": \"sphere\", \"radius\": 0.7, \"inside\": "   \
     "2}}]}"
 /* Index-matched absorbing blocks (n = 1): no attenuation, and the scene's largest. */
 #define HARD_ABSORBER(sigma)                                                                       \
-    "{\"objects\": [{\"bounds\": {\"min\": [-0.5, -0.5, -0.5], \"max\": [0.5, 0.5, 0.5]}, "       \
+    "{\"objects\": [{\"bounds\": {\"min\": [-0.5, -0.5, -0.5], \"max\": [0.5, 0.5, 0.5]}, "        \
     "\"resolution\": 8, \"ior\": 1.5, \"attenuation\": " sigma "}]}"
 /* Two index-1 slabs in an ambient index 2 facing each other across a gap 0.01 wide: a ray
  * in the gap reflects totally off one face, then the other, ~200 times without a step. */
 #define HARD_MIRRORS                                                                               \
-    "{\"ambient_ior\": 2, \"objects\": [{\"bounds\": {\"min\": [-1, 0.005, -1], \"max\": [1, "    \
-    "0.5, 1]}, \"resolution\": 4, \"ior\": 1}, {\"bounds\": {\"min\": [-1, -0.5, -1], \"max\": " \
+    "{\"ambient_ior\": 2, \"objects\": [{\"bounds\": {\"min\": [-1, 0.005, -1], \"max\": [1, "     \
+    "0.5, 1]}, \"resolution\": 4, \"ior\": 1}, {\"bounds\": {\"min\": [-1, -0.5, -1], \"max\": "   \
     "[1, -0.005, 1]}, \"resolution\": 4, \"ior\": 1}]}"
 
 #endif

@@ -53,8 +53,8 @@ static void check_run(const char *what, const struct lightsim_fields *f,
               st->done, st->steps, budget);
     if (st->patches_live > 0)
         CHECK_MSG(st->steps == budget && st->flux_live[0] > 0.0,
-                  "%s: %d patches live after %lld of %lld steps", what, st->patches_live,
-                  st->steps, budget);
+                  "%s: %d patches live after %lld of %lld steps", what, st->patches_live, st->steps,
+                  budget);
     else
         CHECK(st->flux_live[0] == 0.0);
     CHECK_MSG(lightsim_stats_imbalance(st) <= 1e-9, "%s: bookkeeping off by %g", what,
@@ -120,8 +120,7 @@ static void point_light_inside_a_glass_ball(void)
     double voxel = v.grid.voxel, one = 1.0, outside = 1.0 - R;
     long n_in, n_out;
     double w_in = worst_inverse_square(&v, q, 4 * voxel, 0.6 - 4 * voxel, constant_fn, &one, &n_in);
-    double w_out =
-        worst_inverse_square(&v, q, 0.6 + 4 * voxel, 1.0, constant_fn, &outside, &n_out);
+    double w_out = worst_inverse_square(&v, q, 0.6 + 4 * voxel, 1.0, constant_fn, &outside, &n_out);
     printf("point in glass: reflected %.4f of flux_in (R = %.4f); E r^2 inside within %.3f of 1 "
            "(%ld voxels), outside within %.3f of 1 - R (%ld voxels); %.2f s\n",
            refl, R, w_in, n_in, w_out, n_out, fx_seconds() - t0);

@@ -273,8 +273,8 @@ static void a_jump_from_1_to_3_at_the_faces_matches_fresnel(void)
     for (int i = 0; i < 3; i++) {
         struct reftrace_settings s = c.ref.settings;
         s.integrator = integrators[i];
-        struct reftrace_result r = trace("n = 3 block", i, &c, &s, (vec3){0.1, 0.2, -2},
-                                         (vec3){0, 0, 1}, false);
+        struct reftrace_result r =
+            trace("n = 3 block", i, &c, &s, (vec3){0.1, 0.2, -2}, (vec3){0, 0, 1}, false);
         CHECK_INT(r.status, RAY_EXITED);
         CHECK_NEAR(r.transmittance.y, 0.5625, 1e-12);
         CHECK_NEAR(r.optical_path_length, 1.5 + 3.0, 1e-9);
@@ -342,8 +342,8 @@ static void thin_shells_keep_energy_bounded(void)
         for (int j = 0; j < 17; j++) {
             double b = 0.05 * j;
             struct reftrace_settings s = c.ref.settings;
-            struct reftrace_result r =
-                trace("thin shell", k * 100 + j, &c, &s, (vec3){b, 0.02, -3}, (vec3){0, 0, 1}, false);
+            struct reftrace_result r = trace("thin shell", k * 100 + j, &c, &s, (vec3){b, 0.02, -3},
+                                             (vec3){0, 0, 1}, false);
             CHECK(r.status == RAY_EXITED);
             CHECK_MSG(r.transmittance.x >= 0.8, "shell %d, b = %.2f: T = %.5f", k, b,
                       r.transmittance.x);
@@ -514,8 +514,8 @@ static void zero_and_enormous_attenuation(void)
         for (int i = 0; i < 3; i++) {
             struct reftrace_settings s = c.ref.settings;
             s.integrator = integrators[i];
-            struct reftrace_result r = trace("attenuation", k * 3 + i, &c, &s,
-                                             (vec3){0.1, 0.1, -2}, (vec3){0, 0, 1}, false);
+            struct reftrace_result r = trace("attenuation", k * 3 + i, &c, &s, (vec3){0.1, 0.1, -2},
+                                             (vec3){0, 0, 1}, false);
             if (k < 2) {
                 CHECK_INT(r.status, RAY_EXITED);
                 CHECK_NEAR(r.transmittance.x, 0.9216 * exp(-2.0 * k), 1e-9);
@@ -545,8 +545,8 @@ static void ray_reflecting_between_objects_ends_at_the_entry_cap(void)
     for (int i = 0; i < 3; i++) {
         struct reftrace_settings s = c.ref.settings;
         s.integrator = integrators[i];
-        struct reftrace_result r = trace("mirrors", i, &c, &s, (vec3){-0.9, 0, 0.1},
-                                         (vec3){1, 1, 0}, true);
+        struct reftrace_result r =
+            trace("mirrors", i, &c, &s, (vec3){-0.9, 0, 0.1}, (vec3){1, 1, 0}, true);
         CHECK_INT(r.status, RAY_MAX_STEPS);
         CHECK_INT(r.steps, 0);
         CHECK_NEAR(r.transmittance.x, 1.0, 0.0);
