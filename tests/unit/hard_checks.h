@@ -142,7 +142,8 @@ static inline bool hard_reference(const struct scene *s, struct scene_reference 
 #define HARD_JUMP3                                                                                 \
     "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": "    \
     "32, \"ior\": {\"shape\": \"box\", \"size\": [4, 4, 1], \"inside\": 3}}]}"
-/* A spherical glass shell `t` thick (object units; the voxel is 2/24 = 0.0833). */
+/* A spherical glass shell between radii `inner` and `outer` (object units; the voxel is
+ * 2/24 = 0.0833). */
 #define HARD_SHELL(outer, inner)                                                                   \
     "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": "    \
     "24, \"ior\": [{\"shape\": \"sphere\", \"radius\": " outer ", \"inside\": 1.5}, "              \
@@ -159,7 +160,8 @@ static inline bool hard_reference(const struct scene *s, struct scene_reference 
     "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": "    \
     "16, \"smoothing_sigma\": 0, \"ior\": {\"shape\": \"sphere\", \"radius\": 0.7, \"inside\": "   \
     "2}}]}"
-/* Index-matched absorbing blocks (n = 1): no attenuation, and the scene's largest. */
+/* A glass block n = 1.5 filling its bounds with a constant attenuation `sigma` per world
+ * unit (0, 2 and the scene's largest, 1e5, in the tests). */
 #define HARD_ABSORBER(sigma)                                                                       \
     "{\"objects\": [{\"bounds\": {\"min\": [-0.5, -0.5, -0.5], \"max\": [0.5, 0.5, 0.5]}, "        \
     "\"resolution\": 8, \"ior\": 1.5, \"attenuation\": " sigma "}]}"

@@ -118,8 +118,8 @@ static void ray_trapped_in_a_block_ends_at_its_budget_where_the_billiard_says(vo
         double tol = integrators[i] == REFTRACE_ADAPTIVE ? 1e-7 : 1e-9;
         check_vec(r.exit_origin, x, tol);
         check_vec(r.exit_direction, dir, 1e-9);
-        printf("trapped (%s): %d steps, path %.4f = %.1f box widths\n", integrator_names[i],
-               r.steps, r.optical_path_length / 1.5, r.optical_path_length / 1.5);
+        printf("trapped (%s): %d steps, path %.4f (the box is 1 wide)\n", integrator_names[i],
+               r.steps, r.optical_path_length / 1.5);
     }
     /* A budget of one step ends the same way after one step. */
     struct reftrace_settings s = c.ref.settings;
