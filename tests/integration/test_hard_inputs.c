@@ -25,6 +25,7 @@
 #include "daemon.h"
 #include "expect.h"
 #include "io/io_image.h"
+#include "irradiance_util.h"
 #include "test.h"
 
 static const char *const daemon_args[] = {"--max-steps", "5000", "--max-rays", "16", NULL};
@@ -199,8 +200,9 @@ static cJSON *trace_ok(struct test_daemon *d, const char *id, const char *reques
     return root;
 }
 
-/* Renders EXR and checks every pixel: finite and within [0, environment maximum]. */
-static void render_ok(struct test_daemon *d, const char *id, const char *request, const char *what)
+/* Renders EXR and checks every pixel: finite and within [0, bound]. */
+static void render_bounded(struct test_daemon *d, const char *id, const char *request,
+                           const char *what, float bound)
 {
     struct refract_image img = {0};
     int rc = refract_render(d->client, id, request, &img);
@@ -215,13 +217,18 @@ static void render_ok(struct test_daemon *d, const char *id, const char *request
         for (int c = 0; c < 3; c++) {
             float v = px.rgba[4 * i + c];
             bad += !isfinite(v);
-            bright += isfinite(v) && (v < -1e-6f || v > 1.0f + 1e-4f);
+            bright += isfinite(v) && (v < -1e-6f || v > bound);
         }
     CHECK_MSG(n > 0 && bad == 0, "%s: %zu non-finite pixel values of %zu", what, bad, 3 * n);
-    CHECK_MSG(bright == 0, "%s: %zu pixel values outside [0, 1] (environment maximum)", what,
-              bright);
+    CHECK_MSG(bright == 0, "%s: %zu pixel values outside [0, %g]", what, bright, bound);
     io_image_free(&px);
     refract_image_free(&img);
+}
+
+/* Without lights or emission no pixel is brighter than the environment's maximum, 1. */
+static void render_ok(struct test_daemon *d, const char *id, const char *request, const char *what)
+{
+    render_bounded(d, id, request, what, 1.0f + 1e-4f);
 }
 
 static int count_status(const cJSON *root, const char *status)
@@ -240,23 +247,24 @@ static int count_status(const cJSON *root, const char *status)
     "{\"rays\": [" RAY("[0, 0.1, -3]", "[0, 0, 1]") ", " RAY("[0, 0, 0]", "[1, 0.1, 0]") ", " RAY( \
         "[0.3, -0.2, 0.1]",                                                                        \
         "[-0.2, 1, 0.3]") ", " RAY("[1e5, 0, 0]",                                                  \
-                                   "[-1, 1e-6, 0]") ", " RAY("[0, 0, 4]", "[1e300, 1e300, "        \
-                                                                          "-1e308]") ", " RAY("[0" \
-                                                                                              ", " \
-                                                                                              "0." \
-                                                                                              "2," \
-                                                                                              " 4" \
-                                                                                              "]", \
-                                                                                              "[1" \
-                                                                                              "e-" \
-                                                                                              "11" \
-                                                                                              ", " \
-                                                                                              "0," \
-                                                                                              " -" \
-                                                                                              "1e" \
-                                                                                              "-1" \
-                                                                                              "1"  \
-                                                                                              "]") "]}"
+                                   "[-1, 1e-6, 0]") ", " RAY("[0, 0, 4]",                          \
+                                                             "[1e300, 1e300, "                     \
+                                                             "-1e308]") ", " RAY("[0"              \
+                                                                                 ", "              \
+                                                                                 "0."              \
+                                                                                 "2,"              \
+                                                                                 " 4"              \
+                                                                                 "]",              \
+                                                                                 "[1"              \
+                                                                                 "e-"              \
+                                                                                 "11"              \
+                                                                                 ", "              \
+                                                                                 "0,"              \
+                                                                                 " -"              \
+                                                                                 "1e"              \
+                                                                                 "-1"              \
+                                                                                 "1"               \
+                                                                                 "]") "]}"
 
 /* Scenes just inside each rule: accepted, and every output finite. */
 static void accepted_extremes_give_finite_output(struct test_daemon *d)
@@ -339,6 +347,50 @@ static void trapped_rays_end_on_their_budget(struct test_daemon *d)
         "camera inside the block");
 }
 
+/* Lights inside the volume, through the daemon's light simulation and irradiance cache: a
+ * point light at the centre of a scattering box (seen from outside and from inside), one at
+ * the centre of a glass ball over a receiver, and a direct light (a scene that needs no
+ * simulation) placed exactly at the camera inside a glass block. The irradiance becomes
+ * ready, and every pixel is finite and >= 0 (the lights make them brighter than the
+ * environment, so the upper bound is only a sanity bound). */
+static void lights_inside_the_volume_render_finite(struct test_daemon *d)
+{
+    section("lights inside the volume");
+    static const char *const scenes[3] = {
+        "{\"camera\": {\"width\": 16, \"height\": 12}, \"objects\": [{\"bounds\": {\"min\": "
+        "[-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 16, \"attenuation\": 0.2, "
+        "\"scattering\": 1.0}], \"lights\": [{\"type\": \"point\", \"position\": [0, 0, 0], "
+        "\"intensity\": 2}], \"lightsim\": {\"resolution\": 16, \"initial_patches\": 8}}",
+        "{\"camera\": {\"width\": 16, \"height\": 12, \"eye\": [0, 1.5, 3.5]}, \"objects\": "
+        "[{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 16, "
+        "\"ior\": {\"shape\": \"sphere\", \"radius\": 0.7, \"inside\": 1.5}}], \"receiver\": "
+        "{\"height\": -1}, \"lights\": [{\"type\": \"point\", \"position\": [0, 0, 0]}], "
+        "\"lightsim\": {\"resolution\": 16, \"initial_patches\": 8}}",
+        "{\"camera\": {\"width\": 16, \"height\": 12, \"eye\": [0.1, 0, 0.2]}, \"objects\": "
+        "[{\"bounds\": {\"min\": [-0.5, -0.5, -0.5], \"max\": [0.5, 0.5, 0.5]}, "
+        "\"resolution\": 8, \"ior\": 1.5, \"brdf\": {\"type\": \"lambert\"}}], \"lights\": "
+        "[{\"type\": \"point\", \"position\": [0.1, 0, 0.2], \"intensity\": 5}]}",
+    };
+    static const char *const names[3] = {"point light in smoke", "point light in a glass ball",
+                                         "direct light at the camera"};
+    for (int i = 0; i < 3; i++) {
+        char id[REFRACT_ID_SIZE] = "";
+        section_cases++;
+        if (!test_create_scene(d, scenes[i], id)) {
+            CHECK_MSG(false, "%s: not accepted", names[i]);
+            continue;
+        }
+        if (i < 2)
+            cJSON_Delete(irr_wait_ready(d, id, 60.0));
+        render_bounded(d, id, "{\"format\": \"exr\"}", names[i], 1e6f);
+        if (i == 0)
+            render_bounded(d, id,
+                           "{\"format\": \"exr\", \"camera\": {\"eye\": [0.3, 0.2, 0.5], "
+                           "\"look_at\": [0, 0, 0]}}",
+                           "camera and light in smoke", 1e6f);
+    }
+}
+
 static void degenerate_requests_get_clear_errors(struct test_daemon *d)
 {
     section("POST /v1/scenes, degenerate");
@@ -362,6 +414,7 @@ int main(void)
     degenerate_requests_get_clear_errors(&d);
     accepted_extremes_give_finite_output(&d);
     trapped_rays_end_on_their_budget(&d);
+    lights_inside_the_volume_render_finite(&d);
     section("");
     /* still healthy, and a clean stop: nothing above crashed it */
     free(EXPECT_STATUS(&d, "GET", "/v1/health", NULL, 200));
