@@ -29,6 +29,7 @@ struct config {
     char port_file[512];  /* "" = none */
     int max_scenes;
     long long max_env_pixels;
+    unsigned long long max_storage_bytes; /* 0 = unlimited */
     int log_level;
     bool help, version;
 };
