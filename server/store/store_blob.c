@@ -58,10 +58,12 @@ int store_upload_tmp_create(struct store *s, char *path_out, size_t size, struct
     return store_tmp_create(s, "upload", path_out, size, e);
 }
 
-enum refract_code store_storage_check_locked(struct store *s, size_t bytes, struct err *e)
+enum refract_code store_storage_check_locked(struct store *s, size_t bytes, size_t credit,
+                                             struct err *e)
 {
     unsigned long long max = s->desc.max_storage_bytes;
-    if (max == 0 || s->blob_bytes + bytes <= max)
+    unsigned long long after = s->blob_bytes + bytes - (credit < s->blob_bytes ? credit : s->blob_bytes);
+    if (max == 0 || after <= max)
         return REFRACT_E_OK;
     return err_set(e, REFRACT_E_STORAGE,
                    "storing %zu more bytes would exceed the data directory's limit: %llu of "
@@ -77,7 +79,7 @@ static bool file_exists(const char *path)
 }
 
 enum refract_code store_blob_commit_locked(struct store *s, const char *tmp_path, const char *hash,
-                                           size_t bytes, struct err *e)
+                                           size_t bytes, size_t credit, struct err *e)
 {
     char path[STORE_PATH_MAX], dir[STORE_PATH_MAX];
     store_blob_path(s, hash, path, sizeof path);
@@ -85,7 +87,7 @@ enum refract_code store_blob_commit_locked(struct store *s, const char *tmp_path
         unlink(tmp_path); /* the same content is stored already */
         return REFRACT_E_OK;
     }
-    enum refract_code rc = store_storage_check_locked(s, bytes, e);
+    enum refract_code rc = store_storage_check_locked(s, bytes, credit, e);
     if (rc != REFRACT_E_OK) {
         unlink(tmp_path);
         return rc;
@@ -152,7 +154,7 @@ enum refract_code store_blob_write_locked(struct store *s, const void *data, siz
         left -= (size_t)n;
     }
     close(fd);
-    return store_blob_commit_locked(s, tmp, hash_out, len, e);
+    return store_blob_commit_locked(s, tmp, hash_out, len, 0, e);
 }
 
 void store_blob_release_locked(struct store *s, const char *hash)

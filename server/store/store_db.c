@@ -381,3 +381,24 @@ long long store_db_upload_count_locked(struct store *s)
     sqlite3_finalize(q);
     return n;
 }
+
+size_t store_db_replace_credit_locked(struct store *s, const char *scene, const char *kind,
+                                      const char *name)
+{
+    struct err e;
+    sqlite3_stmt *q = prepare(s,
+                              "SELECT u.bytes, (SELECT COUNT(*) FROM uploads WHERE blob = u.blob)"
+                              " + (SELECT COUNT(*) FROM job_frames WHERE blob = u.blob)"
+                              " FROM uploads u WHERE u.scene = ?1 AND u.kind = ?2 AND u.name = ?3",
+                              &e);
+    if (q == NULL)
+        return 0;
+    sqlite3_bind_text(q, 1, scene, -1, SQLITE_STATIC);
+    sqlite3_bind_text(q, 2, kind, -1, SQLITE_STATIC);
+    sqlite3_bind_text(q, 3, name, -1, SQLITE_STATIC);
+    size_t credit = 0;
+    if (sqlite3_step(q) == SQLITE_ROW && sqlite3_column_int64(q, 1) == 1)
+        credit = (size_t)sqlite3_column_int64(q, 0);
+    sqlite3_finalize(q);
+    return credit;
+}

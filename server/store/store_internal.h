@@ -63,6 +63,10 @@ enum refract_code store_db_scene_delete_locked(struct store *s, const char *id,
 enum refract_code store_db_upload_put_locked(struct store *s, const struct store_upload_row *row,
                                              char old_blob[SHA256_HEX_SIZE], struct err *e);
 bool store_db_blob_referenced_locked(struct store *s, const char *hash);
+/* The bytes that replacing upload (scene, kind, name) would free: its blob's size when no
+ * other row names that blob, else 0. */
+size_t store_db_replace_credit_locked(struct store *s, const char *scene, const char *kind,
+                                      const char *name);
 typedef void (*store_db_scene_fn)(struct store *s, const char *id, const char *json, size_t len,
                                   int64_t created, uint64_t generation, void *ctx);
 typedef void (*store_db_upload_fn)(struct store *s, const struct store_upload_row *row, void *ctx);
@@ -86,9 +90,10 @@ int store_tmp_create(struct store *s, const char *stem, char *path_out, size_t s
 /* Moves the finished file tmp_path (fsynced here) to blobs/<aa>/<hash>, fsyncing the
  * directories, unless that blob exists (then tmp_path is removed). Consumes tmp_path
  * either way. Fails with STORAGE when over --max-storage-bytes (message names the flag
- * and the use). */
+ * and the use; `credit` bytes that the commit will free, a replaced upload's blob, count as
+ * free). */
 enum refract_code store_blob_commit_locked(struct store *s, const char *tmp_path, const char *hash,
-                                           size_t bytes, struct err *e);
+                                           size_t bytes, size_t credit, struct err *e);
 /* Writes bytes as a new blob (hashing them); hash_out gets its address. */
 enum refract_code store_blob_write_locked(struct store *s, const void *data, size_t len,
                                           char hash_out[SHA256_HEX_SIZE], struct err *e);
@@ -101,7 +106,8 @@ void store_blob_sweep_locked(struct store *s);
 enum refract_code store_blob_map(const struct store *s, const char *hash, size_t bytes,
                                  void **map, struct err *e);
 /* The storage limit check alone (for an upload that may add `bytes`). */
-enum refract_code store_storage_check_locked(struct store *s, size_t bytes, struct err *e);
+enum refract_code store_storage_check_locked(struct store *s, size_t bytes, size_t credit,
+                                             struct err *e);
 
 /* ---- store_migrate.c ---- */
 /* Converts the file layout of before issue 5 (<data>/scenes/<id>/...) into rows and

@@ -182,7 +182,8 @@ enum refract_code store_volume_put_file(struct store *s, const char *id, const c
     pthread_mutex_lock(&s->lock);
     enum refract_code rc = volume_room_locked(s, id, name, e);
     if (rc == REFRACT_E_OK)
-        rc = store_blob_commit_locked(s, tmp_path, info->sha256, info->bytes, e);
+        rc = store_blob_commit_locked(s, tmp_path, info->sha256, info->bytes,
+                                      store_db_replace_credit_locked(s, id, "volume", name), e);
     else
         unlink(tmp_path);
     void *map = NULL;
@@ -319,7 +320,10 @@ enum refract_code store_env_put_file(struct store *s, const char *id, const char
         rc = err_set(e, REFRACT_E_SCENE_NOT_FOUND, "no scene with id \"%s\"", id);
     }
     if (rc == REFRACT_E_OK)
-        rc = store_blob_commit_locked(s, tmp_path, sha256, len, e);
+        rc = store_blob_commit_locked(s, tmp_path, sha256, len,
+                                      store_db_replace_credit_locked(s, id, "environment",
+                                                                     "environment"),
+                                      e);
     if (rc == REFRACT_E_OK)
         rc = finish_env_locked(s, id, env, e);
     pthread_mutex_unlock(&s->lock);

@@ -234,6 +234,11 @@ static void durability(void)
     CHECK(test_create_scene(&c, scene_json, id));
     CHECK_INT(put_volume(&c, id, "other", other, &body), 201);
     free(body);
+    /* Replacing an upload frees its old blob. */
+    CHECK_INT(put_volume(&c, id, "other", kept, &body), 201);
+    free(body);
+    CHECK_NEAR(storage_number(&c, "used_bytes"), (double)COUNT * 4, 0.0);
+    CHECK_INT(count_files(dir, true, NULL), 1);
     CHECK_INT(test_daemon_stop(&c), 0);
     free(kept);
     free(other);
