@@ -105,8 +105,8 @@ static bool parse_query(struct http_request *req, struct io_volume_desc *d)
     MHD_get_connection_values(req->conn, MHD_GET_ARGUMENT_KIND, find_unknown_query, &u);
     if (u.first_unknown) {
         http_respond_error(req, REFRACT_E_UNKNOWN_FIELD,
-                           "query parameter \"%s\" is not known here; allowed: format, dims, "
-                           "type, components, scale, offset",
+                           "query parameter \"%s\" is not known here; allowed: dims, components, "
+                           "type, format, scale, offset",
                            u.first_unknown);
         return false;
     }
