@@ -124,13 +124,13 @@ int main(int argc, char **argv)
                 snprintf(path, sizeof path, "/v1/scenes/%s/volumes/bench", id);
             } else {
                 wire = count * 4;
-                snprintf(path, sizeof path, "/v1/scenes/%s/volumes/bench?dims=%d,%d,%d", id,
-                         side, side, side);
+                snprintf(path, sizeof path, "/v1/scenes/%s/volumes/bench?dims=%d,%d,%d", id, side,
+                         side, side);
             }
             struct refract_response resp;
             double t0 = now_s();
-            int rc = refract_request(c, "PUT", path, gz ? (const void *)gz : (const void *)v,
-                                     wire, "application/octet-stream", &resp);
+            int rc = refract_request(c, "PUT", path, gz ? (const void *)gz : (const void *)v, wire,
+                                     "application/octet-stream", &resp);
             times[r] = now_s() - t0;
             if (rc != REFRACT_E_OK || resp.status != 201) {
                 fprintf(stderr, "upload failed: %s %s\n", refract_errmsg(c),

@@ -99,7 +99,7 @@ static bool choose_format(struct http_request *req, enum io_volume_format *f)
  * (?component=3) is an error, not silently the default. */
 static bool parse_query(struct http_request *req, struct io_volume_desc *d)
 {
-    static const char *const allowed[] = {"format", "dims",  "type", "components",
+    static const char *const allowed[] = {"format", "dims",   "type", "components",
                                           "scale",  "offset", NULL};
     struct unknown_query u = {allowed, NULL};
     MHD_get_connection_values(req->conn, MHD_GET_ARGUMENT_KIND, find_unknown_query, &u);
@@ -233,8 +233,8 @@ bool http_volume_upload(struct http_request *req, const char *name, struct store
     int fd = store_upload_tmp_create(req->app->store, blob_path, sizeof blob_path, &e);
     struct io_volume_info info;
     bool canonical = false;
-    enum refract_code rc = fd < 0 ? e.code
-                                  : io_volume_decode(req->upload_path, &d, fd, &info, &canonical, &e);
+    enum refract_code rc =
+        fd < 0 ? e.code : io_volume_decode(req->upload_path, &d, fd, &info, &canonical, &e);
     if (fd >= 0)
         close(fd);
     if (rc == REFRACT_E_OK)
@@ -252,8 +252,8 @@ bool http_volume_upload(struct http_request *req, const char *name, struct store
     if (rc == REFRACT_E_OK) {
         struct store_upload_info stored;
         info_to_store(&info, d.format, &stored);
-        rc = store_volume_put_file(req->app->store, req->params[0], name, &stored, blob_path,
-                                   out, &e);
+        rc = store_volume_put_file(req->app->store, req->params[0], name, &stored, blob_path, out,
+                                   &e);
     }
     if (rc != REFRACT_E_OK) {
         *answer = http_respond_err(req, &e);

@@ -134,7 +134,8 @@ static exr_result_t define_part(exr_context_t ctxt, const struct exr_layout *lo,
     int part = 0;
     char name[32] = "rgba";
     if (parts > 1)
-        snprintf(name, sizeof name, "slice%d", exr_get_count(ctxt, &part) == EXR_ERR_SUCCESS ? part : 0);
+        snprintf(name, sizeof name, "slice%d",
+                 exr_get_count(ctxt, &part) == EXR_ERR_SUCCESS ? part : 0);
     exr_result_t rv = exr_add_part(ctxt, name, EXR_STORAGE_SCANLINE, &part);
     if (rv == EXR_ERR_SUCCESS)
         rv = exr_initialize_required_attr_simple(ctxt, part, lo->width, lo->height,
@@ -212,14 +213,12 @@ enum refract_code io_encode_exr_channels(const float *pixels, int width, int hei
                                          const char *const *names, const char *const *attrs,
                                          void **out_bytes, size_t *out_len, struct err *e)
 {
-    return io_encode_exr_parts(pixels, width, height, 1, nch, names, attrs, out_bytes, out_len,
-                               e);
+    return io_encode_exr_parts(pixels, width, height, 1, nch, names, attrs, out_bytes, out_len, e);
 }
 
 enum refract_code io_encode_exr_parts(const float *pixels, int width, int height, int parts,
-                                      int nch, const char *const *names,
-                                      const char *const *attrs, void **out_bytes,
-                                      size_t *out_len, struct err *e)
+                                      int nch, const char *const *names, const char *const *attrs,
+                                      void **out_bytes, size_t *out_len, struct err *e)
 {
     *out_bytes = NULL;
     *out_len = 0;

@@ -52,7 +52,7 @@ enum io_sample_type {
 struct io_volume_desc {
     enum io_volume_format format;
     int dims[3];
-    int components; /* 1 or 3; 0 = from the file (raw: 1) */
+    int components;           /* 1 or 3; 0 = from the file (raw: 1) */
     enum io_sample_type type; /* raw only */
     double scale, offset;     /* value = offset + scale * sample */
     int max_resolution;       /* voxels per axis */
@@ -66,9 +66,9 @@ struct io_volume_info {
     enum io_sample_type source_type;
     double min[3], max[3]; /* per component, after scale and offset */
     double min_all, max_all;
-    uint64_t fnv1a64;          /* of the canonical bytes */
+    uint64_t fnv1a64;             /* of the canonical bytes */
     char sha256[SHA256_HEX_SIZE]; /* of the canonical bytes */
-    size_t bytes;              /* canonical bytes: voxels * components * 4 */
+    size_t bytes;                 /* canonical bytes: voxels * components * 4 */
 };
 
 /* Decodes the file src_path (src_bytes long) described by d, writing the canonical blob
@@ -76,9 +76,9 @@ struct io_volume_info {
  * 0), nothing is written and *source_is_canonical is set: the caller keeps the source
  * file (and its own hash of it) instead; info->sha256 is then empty. Borrows everything
  * until return. */
-enum refract_code io_volume_decode(const char *src_path, const struct io_volume_desc *d,
-                                   int dst_fd, struct io_volume_info *info,
-                                   bool *source_is_canonical, struct err *e);
+enum refract_code io_volume_decode(const char *src_path, const struct io_volume_desc *d, int dst_fd,
+                                   struct io_volume_info *info, bool *source_is_canonical,
+                                   struct err *e);
 
 /* "float32", "float16", ... ; and the reverse (false when unknown). */
 const char *io_sample_type_name(enum io_sample_type t);

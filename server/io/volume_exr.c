@@ -33,7 +33,8 @@ static void on_error(exr_const_context_t ctxt, exr_result_t code, const char *ms
     if (s->have_error)
         return;
     s->have_error = true;
-    err_set(s->e, code == EXR_ERR_OUT_OF_MEMORY ? REFRACT_E_OUT_OF_MEMORY : REFRACT_E_INVALID_VOLUME,
+    err_set(s->e,
+            code == EXR_ERR_OUT_OF_MEMORY ? REFRACT_E_OUT_OF_MEMORY : REFRACT_E_INVALID_VOLUME,
             "OpenEXR: %s (%s)", msg ? msg : "", exr_get_error_code_as_string(code));
 }
 
@@ -60,7 +61,8 @@ static enum refract_code fail(struct exr_src *s, exr_result_t rv, const char *wh
 {
     if (!s->have_error) {
         s->have_error = true;
-        err_set(s->e, rv == EXR_ERR_OUT_OF_MEMORY ? REFRACT_E_OUT_OF_MEMORY : REFRACT_E_INVALID_VOLUME,
+        err_set(s->e,
+                rv == EXR_ERR_OUT_OF_MEMORY ? REFRACT_E_OUT_OF_MEMORY : REFRACT_E_INVALID_VOLUME,
                 "EXR volume: %s failed: %s (truncated or corrupt file?)", what,
                 exr_get_default_error_message(rv));
     }
@@ -163,7 +165,8 @@ static enum refract_code read_part(exr_context_t ctxt, int part, const struct pa
     for (int c = 0; c < comps; c++)
         if (!has_channel(chl, names[c]))
             return err_set(s->e, REFRACT_E_INVALID_VOLUME,
-                           "EXR volume: part %d lacks channel %s, which part 0 has", part, names[c]);
+                           "EXR volume: part %d lacks channel %s, which part 0 has", part,
+                           names[c]);
     size_t row_floats = (size_t)ps->width * (size_t)comps;
     float *buf = malloc(row_floats * (size_t)lines * sizeof *buf);
     if (buf == NULL)

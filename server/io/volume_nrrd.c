@@ -32,23 +32,52 @@ struct nrrd_header {
     bool gzip, big_endian;
 };
 
-static const char *const ignored_fields[] = {
-    "space", "space dimension", "space directions", "space origin", "space units",
-    "measurement frame", "spacings", "thicknesses", "axis mins", "axismins", "axis maxs",
-    "axismaxs", "centers", "centerings", "labels", "units", "kinds", "content", "min", "max",
-    "old min", "oldmin", "old max", "oldmax", "sample units", "sampleunits", "block size",
-    "blocksize", "number", NULL};
+static const char *const ignored_fields[] = {"space",
+                                             "space dimension",
+                                             "space directions",
+                                             "space origin",
+                                             "space units",
+                                             "measurement frame",
+                                             "spacings",
+                                             "thicknesses",
+                                             "axis mins",
+                                             "axismins",
+                                             "axis maxs",
+                                             "axismaxs",
+                                             "centers",
+                                             "centerings",
+                                             "labels",
+                                             "units",
+                                             "kinds",
+                                             "content",
+                                             "min",
+                                             "max",
+                                             "old min",
+                                             "oldmin",
+                                             "old max",
+                                             "oldmax",
+                                             "sample units",
+                                             "sampleunits",
+                                             "block size",
+                                             "blocksize",
+                                             "number",
+                                             NULL};
 
 static bool parse_type(const char *v, enum io_sample_type *t)
 {
     static const struct {
         const char *name;
         enum io_sample_type type;
-    } types[] = {{"uchar", IO_SAMPLE_UINT8},           {"unsigned char", IO_SAMPLE_UINT8},
-                 {"uint8", IO_SAMPLE_UINT8},           {"uint8_t", IO_SAMPLE_UINT8},
-                 {"ushort", IO_SAMPLE_UINT16},         {"unsigned short", IO_SAMPLE_UINT16},
-                 {"unsigned short int", IO_SAMPLE_UINT16}, {"uint16", IO_SAMPLE_UINT16},
-                 {"uint16_t", IO_SAMPLE_UINT16},       {"float", IO_SAMPLE_FLOAT32},
+    } types[] = {{"uchar", IO_SAMPLE_UINT8},
+                 {"unsigned char", IO_SAMPLE_UINT8},
+                 {"uint8", IO_SAMPLE_UINT8},
+                 {"uint8_t", IO_SAMPLE_UINT8},
+                 {"ushort", IO_SAMPLE_UINT16},
+                 {"unsigned short", IO_SAMPLE_UINT16},
+                 {"unsigned short int", IO_SAMPLE_UINT16},
+                 {"uint16", IO_SAMPLE_UINT16},
+                 {"uint16_t", IO_SAMPLE_UINT16},
+                 {"float", IO_SAMPLE_FLOAT32},
                  {"double", IO_SAMPLE_FLOAT64}};
     for (size_t i = 0; i < sizeof types / sizeof types[0]; i++) {
         if (strcmp(v, types[i].name) == 0) {
@@ -84,8 +113,7 @@ static enum refract_code parse_field(struct nrrd_header *h, const char *key, con
             h->sizes[i] = strtoll(p, &end, 10);
             if (end == p || h->sizes[i] < 1 || h->sizes[i] > 1000000)
                 return err_set(e, REFRACT_E_INVALID_VOLUME,
-                               "NRRD sizes \"%s\": expected %d positive integers", v,
-                               h->dimension);
+                               "NRRD sizes \"%s\": expected %d positive integers", v, h->dimension);
             p = end;
         }
         while (*p == ' ' || *p == '\t')
@@ -158,8 +186,7 @@ static enum refract_code parse_header(const unsigned char *src, size_t len, stru
         if (n > 0 && src[end - 1] == '\r')
             n--;
         if (n >= sizeof line)
-            return err_set(e, REFRACT_E_INVALID_VOLUME, "NRRD header line %d is too long",
-                           lineno);
+            return err_set(e, REFRACT_E_INVALID_VOLUME, "NRRD header line %d is too long", lineno);
         memcpy(line, src + pos, n);
         line[n] = '\0';
         pos = end + 1;
@@ -178,15 +205,16 @@ static enum refract_code parse_header(const unsigned char *src, size_t len, stru
         if (rc != REFRACT_E_OK)
             return rc;
     }
-    const char *missing = !h->has_type        ? "type"
-                          : !h->has_dimension ? "dimension"
-                          : !h->has_sizes     ? "sizes"
-                          : !h->has_encoding  ? "encoding"
+    const char *missing = !h->has_type                                          ? "type"
+                          : !h->has_dimension                                   ? "dimension"
+                          : !h->has_sizes                                       ? "sizes"
+                          : !h->has_encoding                                    ? "encoding"
                           : (!h->has_endian && volume_sample_size(h->type) > 1) ? "endian"
                                                                                 : NULL;
     if (missing)
-        return err_set(e, REFRACT_E_INVALID_VOLUME, "NRRD header: the required field \"%s\" is "
-                                                    "missing",
+        return err_set(e, REFRACT_E_INVALID_VOLUME,
+                       "NRRD header: the required field \"%s\" is "
+                       "missing",
                        missing);
     *data_offset = pos;
     return REFRACT_E_OK;
@@ -285,7 +313,8 @@ enum refract_code volume_decode_nrrd(const unsigned char *src, size_t len,
         return err_set(e, REFRACT_E_INVALID_VOLUME,
                        "the query says dims=%d,%d,%d but the NRRD sizes are %d %d %d", d->dims[0],
                        d->dims[1], d->dims[2], dims[0], dims[1], dims[2]);
-    size_t expected = (size_t)dims[0] * dims[1] * dims[2] * (size_t)comps * volume_sample_size(h.type);
+    size_t expected =
+        (size_t)dims[0] * dims[1] * dims[2] * (size_t)comps * volume_sample_size(h.type);
     volume_sink_init(sink, sink->fd, dims, comps, d->scale, d->offset);
     info->source_type = h.type;
     const unsigned char *data = src + offset;

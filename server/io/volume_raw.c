@@ -60,8 +60,8 @@ enum refract_code volume_decode_raw(const unsigned char *src, size_t len,
         return err_set(e, REFRACT_E_INVALID_VOLUME,
                        "the body has %zu bytes but dims=%d,%d,%d with %d component(s) of %s "
                        "need %zu; check dims, components, type and the file",
-                       len, d->dims[0], d->dims[1], d->dims[2], comps,
-                       io_sample_type_name(d->type), count * size);
+                       len, d->dims[0], d->dims[1], d->dims[2], comps, io_sample_type_name(d->type),
+                       count * size);
     volume_sink_init(sink, sink->fd, d->dims, comps, d->scale, d->offset);
     rc = volume_sink_put_bytes(sink, d->type, false, src, count, e);
     if (rc == REFRACT_E_OK)
@@ -70,9 +70,9 @@ enum refract_code volume_decode_raw(const unsigned char *src, size_t len,
     return rc;
 }
 
-enum refract_code io_volume_decode(const char *src_path, const struct io_volume_desc *d,
-                                   int dst_fd, struct io_volume_info *info,
-                                   bool *source_is_canonical, struct err *e)
+enum refract_code io_volume_decode(const char *src_path, const struct io_volume_desc *d, int dst_fd,
+                                   struct io_volume_info *info, bool *source_is_canonical,
+                                   struct err *e)
 {
     memset(info, 0, sizeof *info);
     *source_is_canonical = d->format == IO_VOLUME_RAW && d->type == IO_SAMPLE_FLOAT32 &&

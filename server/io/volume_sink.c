@@ -78,12 +78,12 @@ enum refract_code volume_sink_put(struct volume_sink *s, double sample, struct e
     if (!isfinite(f)) {
         size_t voxel = index / (size_t)s->components;
         size_t sx = (size_t)s->dims[0], sy = (size_t)s->dims[1];
-        return err_set(e, REFRACT_E_INVALID_VOLUME,
-                       "value %zu (voxel x=%zu y=%zu z=%zu, component %zu) is %s; volumes must "
-                       "hold finite values that fit in float32 after scale and offset",
-                       index, voxel % sx, (voxel / sx) % sy, voxel / (sx * sy),
-                       index % (size_t)s->components,
-                       isnan(sample) ? "NaN" : (isinf(sample) ? "infinite" : "out of float32 range"));
+        return err_set(
+            e, REFRACT_E_INVALID_VOLUME,
+            "value %zu (voxel x=%zu y=%zu z=%zu, component %zu) is %s; volumes must "
+            "hold finite values that fit in float32 after scale and offset",
+            index, voxel % sx, (voxel / sx) % sy, voxel / (sx * sy), index % (size_t)s->components,
+            isnan(sample) ? "NaN" : (isinf(sample) ? "infinite" : "out of float32 range"));
     }
     int c = (int)(index % (size_t)s->components);
     if (f < s->min[c])
@@ -106,8 +106,7 @@ enum refract_code volume_sink_finish(struct volume_sink *s, struct io_volume_inf
         return err_set(e, REFRACT_E_INVALID_VOLUME,
                        "the file ends after %zu of the %zu values its dimensions %d x %d x %d "
                        "with %d component(s) call for (truncated?)",
-                       s->written, s->expected, s->dims[0], s->dims[1], s->dims[2],
-                       s->components);
+                       s->written, s->expected, s->dims[0], s->dims[1], s->dims[2], s->components);
     memcpy(info->dims, s->dims, sizeof info->dims);
     info->components = s->components;
     info->min_all = INFINITY;
@@ -212,7 +211,7 @@ enum refract_code volume_check_dims(const struct io_volume_desc *d, const int di
             return err_set(e, REFRACT_E_LIMIT_EXCEEDED,
                            "%s: %d voxels along %c exceed the limit of %d (refractd "
                            "--max-resolution)",
-                           where, dims[a], "xyz"[a], d->max_resolution);
+                           where, dims[a], "xyz"[a], d -> max_resolution);
     }
     long long voxels = (long long)dims[0] * dims[1] * dims[2];
     if (d->max_voxels > 0 && voxels > d->max_voxels)

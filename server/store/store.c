@@ -70,7 +70,7 @@ void store_scene_release(struct store_scene *sc)
 /* A new version sharing `base`'s document, volumes and environment (new references);
  * base may be NULL. The caller fills or replaces what changes. */
 struct store_scene *store_version_new(struct store *s, const char *id,
-                                       const struct store_scene *base)
+                                      const struct store_scene *base)
 {
     struct store_scene *v = calloc(1, sizeof *v);
     if (v == NULL)
@@ -431,4 +431,3 @@ bool store_gpu_status_get(struct store *s, const char *id, struct store_gpu_stat
     pthread_mutex_unlock(&s->lock);
     return found;
 }
-

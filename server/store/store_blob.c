@@ -40,16 +40,15 @@ static void fsync_dir(const char *path)
     }
 }
 
-int store_tmp_create(struct store *s, const char *stem, char *path_out, size_t size,
-                     struct err *e)
+int store_tmp_create(struct store *s, const char *stem, char *path_out, size_t size, struct err *e)
 {
     snprintf(path_out, size, "%s/tmp/%s-XXXXXX", s->data_dir, stem);
     int fd = mkstemp(path_out);
     if (fd >= 0)
         fcntl(fd, F_SETFD, FD_CLOEXEC);
     if (fd < 0)
-        err_set(e, REFRACT_E_STORAGE, "cannot create a temporary file in %s/tmp: %s",
-                s->data_dir, strerror(errno));
+        err_set(e, REFRACT_E_STORAGE, "cannot create a temporary file in %s/tmp: %s", s->data_dir,
+                strerror(errno));
     return fd;
 }
 
@@ -62,7 +61,8 @@ enum refract_code store_storage_check_locked(struct store *s, size_t bytes, size
                                              struct err *e)
 {
     unsigned long long max = s->desc.max_storage_bytes;
-    unsigned long long after = s->blob_bytes + bytes - (credit < s->blob_bytes ? credit : s->blob_bytes);
+    unsigned long long after =
+        s->blob_bytes + bytes - (credit < s->blob_bytes ? credit : s->blob_bytes);
     if (max == 0 || after <= max)
         return REFRACT_E_OK;
     return err_set(e, REFRACT_E_STORAGE,
@@ -94,8 +94,8 @@ enum refract_code store_blob_commit_locked(struct store *s, const char *tmp_path
     }
     int fd = open(tmp_path, O_RDONLY | O_CLOEXEC);
     if (fd < 0 || fsync(fd) != 0) {
-        rc = err_set(e, REFRACT_E_STORAGE, "cannot flush %s to disk: %s", tmp_path,
-                     strerror(errno));
+        rc =
+            err_set(e, REFRACT_E_STORAGE, "cannot flush %s to disk: %s", tmp_path, strerror(errno));
         if (fd >= 0)
             close(fd);
         unlink(tmp_path);
@@ -259,8 +259,8 @@ void store_blob_sweep_locked(struct store *s)
                  temporaries, orphans);
 }
 
-enum refract_code store_blob_map(const struct store *s, const char *hash, size_t bytes,
-                                 void **map, struct err *e)
+enum refract_code store_blob_map(const struct store *s, const char *hash, size_t bytes, void **map,
+                                 struct err *e)
 {
     *map = NULL;
     char path[STORE_PATH_MAX];
@@ -283,8 +283,7 @@ enum refract_code store_blob_map(const struct store *s, const char *hash, size_t
         if (p == MAP_FAILED) {
             int saved = errno;
             close(fd);
-            return err_set(e, REFRACT_E_STORAGE, "cannot map blob %s: %s", path,
-                           strerror(saved));
+            return err_set(e, REFRACT_E_STORAGE, "cannot map blob %s: %s", path, strerror(saved));
         }
         *map = p;
     }

@@ -70,9 +70,8 @@ enum refract_code store_db_open(struct store *s, struct err *e)
 {
     char path[STORE_PATH_MAX];
     snprintf(path, sizeof path, "%s/refract.db", s->data_dir);
-    int rc = sqlite3_open_v2(path, &s->db,
-                             SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
-                             NULL);
+    int rc = sqlite3_open_v2(
+        path, &s->db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX, NULL);
     if (rc != SQLITE_OK) {
         err_set(e, REFRACT_E_STORAGE, "cannot open %s: %s (check the permissions of --data-dir)",
                 path, s->db ? sqlite3_errmsg(s->db) : sqlite3_errstr(rc));
@@ -90,8 +89,8 @@ enum refract_code store_db_open(struct store *s, struct err *e)
     if (code == REFRACT_E_OK)
         code = exec(s, schema_sql, e);
     char version[16] = "";
-    if (code == REFRACT_E_OK && store_db_meta_get_locked(s, "schema_version", version,
-                                                         sizeof version) &&
+    if (code == REFRACT_E_OK &&
+        store_db_meta_get_locked(s, "schema_version", version, sizeof version) &&
         strcmp(version, "1") != 0)
         code = err_set(e, REFRACT_E_STORAGE,
                        "%s has schema version %s; this refractd reads version 1 (a newer "
@@ -165,9 +164,9 @@ enum refract_code store_db_scene_put_locked(struct store *s, const struct store_
     return step_done(s, st, "saving a scene", e);
 }
 
-enum refract_code store_db_scene_delete_locked(struct store *s, const char *id,
-                                               bool keep_scene_row, char (**blobs)[SHA256_HEX_SIZE],
-                                               size_t *count, struct err *e)
+enum refract_code store_db_scene_delete_locked(struct store *s, const char *id, bool keep_scene_row,
+                                               char (**blobs)[SHA256_HEX_SIZE], size_t *count,
+                                               struct err *e)
 {
     if (blobs) {
         *blobs = NULL;
@@ -249,12 +248,12 @@ enum refract_code store_db_upload_put_locked(struct store *s, const struct store
     if (sqlite3_step(q) == SQLITE_ROW)
         snprintf(old_blob, SHA256_HEX_SIZE, "%s", (const char *)sqlite3_column_text(q, 0));
     sqlite3_finalize(q);
-    sqlite3_stmt *st = prepare(
-        s,
-        "INSERT OR REPLACE INTO uploads(scene, kind, name, dims_x, dims_y, dims_z, type,"
-        " components, min, max, checksum, blob, bytes, info, created)"
-        " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15)",
-        e);
+    sqlite3_stmt *st =
+        prepare(s,
+                "INSERT OR REPLACE INTO uploads(scene, kind, name, dims_x, dims_y, dims_z, type,"
+                " components, min, max, checksum, blob, bytes, info, created)"
+                " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15)",
+                e);
     if (st == NULL)
         return REFRACT_E_STORAGE;
     const struct store_upload_info *in = &row->info;

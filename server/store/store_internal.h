@@ -56,9 +56,9 @@ enum refract_code store_db_scene_put_locked(struct store *s, const struct store_
                                             struct err *e);
 /* Deletes the scene's row and its uploads' rows; *blobs (may be NULL) gets a new array of
  * the blob hashes those rows named (caller frees), *count their number. */
-enum refract_code store_db_scene_delete_locked(struct store *s, const char *id,
-                                               bool keep_scene_row, char (**blobs)[SHA256_HEX_SIZE],
-                                               size_t *count, struct err *e);
+enum refract_code store_db_scene_delete_locked(struct store *s, const char *id, bool keep_scene_row,
+                                               char (**blobs)[SHA256_HEX_SIZE], size_t *count,
+                                               struct err *e);
 /* Inserts or replaces an upload row; *old_blob gets the blob it replaced ("" if none). */
 enum refract_code store_db_upload_put_locked(struct store *s, const struct store_upload_row *row,
                                              char old_blob[SHA256_HEX_SIZE], struct err *e);
@@ -85,8 +85,7 @@ long long store_db_upload_count_locked(struct store *s);
 void store_blob_path(const struct store *s, const char *hash, char *out, size_t size);
 /* Creates <data>/tmp/<stem>-XXXXXX for writing; returns its fd (path in path_out) or -1
  * with e filled. */
-int store_tmp_create(struct store *s, const char *stem, char *path_out, size_t size,
-                     struct err *e);
+int store_tmp_create(struct store *s, const char *stem, char *path_out, size_t size, struct err *e);
 /* Moves the finished file tmp_path (fsynced here) to blobs/<aa>/<hash>, fsyncing the
  * directories, unless that blob exists (then tmp_path is removed). Consumes tmp_path
  * either way. Fails with STORAGE when over --max-storage-bytes (message names the flag
@@ -103,8 +102,8 @@ void store_blob_release_locked(struct store *s, const char *hash);
  * under <data>/irradiance, then every blob no row references, and counts what is left. */
 void store_blob_sweep_locked(struct store *s);
 /* Maps a blob read-only; checks its size. *map is NULL for 0 bytes. */
-enum refract_code store_blob_map(const struct store *s, const char *hash, size_t bytes,
-                                 void **map, struct err *e);
+enum refract_code store_blob_map(const struct store *s, const char *hash, size_t bytes, void **map,
+                                 struct err *e);
 /* The storage limit check alone (for an upload that may add `bytes`). */
 enum refract_code store_storage_check_locked(struct store *s, size_t bytes, size_t credit,
                                              struct err *e);

@@ -129,7 +129,8 @@ static enum refract_code migrate_scene(struct store *s, const char *scenes, cons
     size_t len = 0;
     if (io_read_file(path, STORE_MAX_JSON_BYTES, &json, &len, e) != REFRACT_E_OK)
         return REFRACT_E_OK; /* no document: nothing to convert */
-    struct store_scene v = {.json = json, .json_len = len,
+    struct store_scene v = {.json = json,
+                            .json_len = len,
                             .generation = atomic_fetch_add(&s->next_generation, 1),
                             .created_unix = (int64_t)time(NULL)};
     snprintf(v.id, sizeof v.id, "%.63s", id);

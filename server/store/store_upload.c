@@ -320,10 +320,9 @@ enum refract_code store_env_put_file(struct store *s, const char *id, const char
         rc = err_set(e, REFRACT_E_SCENE_NOT_FOUND, "no scene with id \"%s\"", id);
     }
     if (rc == REFRACT_E_OK)
-        rc = store_blob_commit_locked(s, tmp_path, sha256, len,
-                                      store_db_replace_credit_locked(s, id, "environment",
-                                                                     "environment"),
-                                      e);
+        rc = store_blob_commit_locked(
+            s, tmp_path, sha256, len,
+            store_db_replace_credit_locked(s, id, "environment", "environment"), e);
     if (rc == REFRACT_E_OK)
         rc = finish_env_locked(s, id, env, e);
     pthread_mutex_unlock(&s->lock);

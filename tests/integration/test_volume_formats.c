@@ -65,8 +65,8 @@ static long put(struct test_daemon *d, const char *name, const char *query, cons
                 size_t len, char **body)
 {
     char path[512];
-    snprintf(path, sizeof path, "/v1/scenes/%s/volumes/%s%s%s", scene_id, name,
-             query[0] ? "?" : "", query);
+    snprintf(path, sizeof path, "/v1/scenes/%s/volumes/%s%s%s", scene_id, name, query[0] ? "?" : "",
+             query);
     return upload_put(d, path, bytes, len, body);
 }
 
@@ -278,8 +278,8 @@ static void bad_files_get_precise_errors(struct test_daemon *d)
              v, sizeof v - 40, &len);
     expect_error(d, "truncated nrrd", "n", "", f, len, 400, "invalid_volume", "truncated");
     free(f);
-    f = nrrd("NRRD0004\ntype: int\ndimension: 3\nsizes: 5 4 3\nendian: little\nencoding: raw\n\n", v,
-             sizeof v, &len);
+    f = nrrd("NRRD0004\ntype: int\ndimension: 3\nsizes: 5 4 3\nendian: little\nencoding: raw\n\n",
+             v, sizeof v, &len);
     expect_error(d, "nrrd int", "n", "", f, len, 400, "invalid_volume", "NRRD type \"int\"");
     free(f);
     f = nrrd("NRRD0004\ntype: float\ndimension: 3\nsizes: 5 4 3\nendian: little\nencoding: raw\n"
@@ -289,22 +289,26 @@ static void bad_files_get_precise_errors(struct test_daemon *d)
     free(f);
     f = nrrd("NRRD0004\ntype: float\ndimension: 3\nsizes: 5 4 3\nendain: little\nencoding: raw\n\n",
              v, sizeof v, &len);
-    expect_error(d, "nrrd typo", "n", "", f, len, 400, "invalid_volume", "\"endain\" is not a field");
+    expect_error(d, "nrrd typo", "n", "", f, len, 400, "invalid_volume",
+                 "\"endain\" is not a field");
     free(f);
     size_t zlen = 0;
     unsigned char *z = upload_gzip(v, sizeof v, &zlen);
-    f = nrrd("NRRD0004\ntype: float\ndimension: 3\nsizes: 5 4 3\nendian: little\nencoding: gzip\n\n",
-             z, zlen / 2, &len);
+    f = nrrd(
+        "NRRD0004\ntype: float\ndimension: 3\nsizes: 5 4 3\nendian: little\nencoding: gzip\n\n", z,
+        zlen / 2, &len);
     expect_error(d, "truncated gzip", "n", "", f, len, 400, "invalid_volume", "truncated");
     free(f);
-    f = nrrd("NRRD0004\ntype: float\ndimension: 3\nsizes: 5 4 1\nendian: little\nencoding: gzip\n\n",
-             z, zlen, &len);
+    f = nrrd(
+        "NRRD0004\ntype: float\ndimension: 3\nsizes: 5 4 1\nendian: little\nencoding: gzip\n\n", z,
+        zlen, &len);
     expect_error(d, "lying gzip header", "n", "", f, len, 400, "invalid_volume", "more than");
     free(f);
     z[zlen / 2] ^= 0x5a;
     z[zlen / 2 + 1] ^= 0xa5;
-    f = nrrd("NRRD0004\ntype: float\ndimension: 3\nsizes: 5 4 3\nendian: little\nencoding: gzip\n\n",
-             z, zlen, &len);
+    f = nrrd(
+        "NRRD0004\ntype: float\ndimension: 3\nsizes: 5 4 3\nendian: little\nencoding: gzip\n\n", z,
+        zlen, &len);
     char *body = NULL;
     long st = put(d, "n", "", f, len, &body);
     CHECK_INT(st, 400); /* corrupt deflate data, or a wrong CRC: either is invalid_volume */

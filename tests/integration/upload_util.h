@@ -43,8 +43,7 @@ static inline uint64_t upload_fnv1a64(const void *data, size_t len)
 
 static inline void upload_fnv_hex(const float *values, size_t count, char out[17])
 {
-    snprintf(out, 17, "%016llx",
-             (unsigned long long)upload_fnv1a64(values, count * sizeof(float)));
+    snprintf(out, 17, "%016llx", (unsigned long long)upload_fnv1a64(values, count * sizeof(float)));
 }
 
 /* The string field `key` of a JSON body ("" when absent), copied into out. */
