@@ -20,6 +20,7 @@ struct volume_sink {
     size_t written;
     float buf[VOLUME_SINK_FLOATS];
     size_t used;
+    int comp; /* component of the next sample */
     struct sha256 sha;
     uint64_t fnv;
     double min[3], max[3];
