@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../events/events.h"
 #include "http_internal.h"
 
 /* True when the Content-Type is absent or application/octet-stream; otherwise answers 415
@@ -44,6 +45,7 @@ enum MHD_Result http_handle_volume_put(struct http_request *req)
     store_volume_release(vol);
     struct store_scene *now = store_scene_get(req->app->store, req->params[0]);
     if (now) {
+        http_publish_scene(req->app, EVENT_SCENE_UPDATED, now->id, now, "volume");
         http_prepare_scene(req->app, now);
         store_scene_release(now);
     }
@@ -68,6 +70,7 @@ enum MHD_Result http_handle_environment_put(struct http_request *req)
         return http_respond_err(req, &e);
     struct store_scene *now = store_scene_get(req->app->store, req->params[0]);
     if (now) {
+        http_publish_scene(req->app, EVENT_SCENE_UPDATED, now->id, now, "environment");
         http_prepare_scene(req->app, now);
         store_scene_release(now);
     }

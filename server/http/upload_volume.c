@@ -27,24 +27,6 @@
 static const double physical_min[SCENE_CH_COUNT] = {1.0, 0.0, 0.0, 0.0, 0.0, -0.99};
 static const double physical_max[SCENE_CH_COUNT] = {5.0, 1e5, 1e6, 1.0, 1e5, 0.99};
 
-struct unknown_query {
-    const char *const *allowed;
-    const char *first_unknown;
-};
-
-static enum MHD_Result find_unknown_query(void *cls, enum MHD_ValueKind kind, const char *key,
-                                          const char *value)
-{
-    (void)kind;
-    (void)value;
-    struct unknown_query *u = cls;
-    for (const char *const *a = u->allowed; *a; a++)
-        if (strcmp(*a, key) == 0)
-            return MHD_YES;
-    u->first_unknown = key;
-    return MHD_NO;
-}
-
 static bool parse_dims(const char *text, int dims[3])
 {
     char *end = NULL;
@@ -102,13 +84,12 @@ static bool parse_query(struct http_request *req, struct io_volume_desc *d)
 {
     static const char *const allowed[] = {"format", "dims",   "type", "components",
                                           "scale",  "offset", NULL};
-    struct unknown_query u = {allowed, NULL};
-    MHD_get_connection_values(req->conn, MHD_GET_ARGUMENT_KIND, find_unknown_query, &u);
-    if (u.first_unknown) {
+    const char *unknown = http_query_unknown(req, allowed);
+    if (unknown) {
         http_respond_error(req, REFRACT_E_UNKNOWN_FIELD,
                            "query parameter \"%s\" is not known here; allowed: dims, components, "
                            "type, format, scale, offset",
-                           u.first_unknown);
+                           unknown);
         return false;
     }
     *d = (struct io_volume_desc){.scale = 1.0,
