@@ -18,6 +18,8 @@ PACKAGES=(
     libmicrohttpd-dev libcjson-dev libcurl4-openssl-dev
     # images: OpenImageIO (PNG, JPEG, HDR) and OpenEXR's C API
     libopenimageio-dev libopenexr-dev
+    # data directory metadata (SQLite, WAL) and NRRD gzip volumes (zlib)
+    libsqlite3-dev zlib1g-dev
 )
 
 missing=()
