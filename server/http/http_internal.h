@@ -11,6 +11,7 @@
 #include <cjson/cJSON.h>
 #include <microhttpd.h>
 
+#include "../view/view_source.h"
 #include "http.h"
 
 #define HTTP_MAX_PARAMS 3
@@ -128,14 +129,10 @@ enum MHD_Result http_handle_irradiance_get(struct http_request *req);
 enum MHD_Result http_handle_irradiance_exr(struct http_request *req);
 
 /* ---- irradiance (h_irradiance.c) ---- */
-struct irradiance_source;
-/* What the irradiance cache needs of a version (borrowed for as long as v). */
-void http_irradiance_source(struct store_scene *v, struct irradiance_source *out);
 /* The irradiance status body (docs/api.md) of a version. */
 cJSON *http_irradiance_status(const struct http_app *app, struct store_scene *v);
-/* The renderer's description of a version (render_scene_source.generation is the
- * version's data_generation: a lights change does not rebuild the scene's GPU data). */
-struct render_scene_source http_scene_source(struct store_scene *v);
+/* A version as render and irradiance source: view_scene_source and
+ * view_irradiance_source (server/view/view_source.h, shared with the view sessions). */
 
 /* Looks up the scene named by the first path parameter; answers 404 and returns NULL when
  * it does not exist. Returns a new reference. */
