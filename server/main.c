@@ -8,7 +8,8 @@
  * waits for SIGINT or SIGTERM.
  *
  * Shutdown order:
- *   1. stop accepting connections (quiesce);
+ *   1. stop accepting connections (quiesce) and end every open stream (frame streams,
+ *      event streams: a suspended stream connection would never complete);
  *   2. stop the GPU thread (gpu_stop): pending requests complete with "shutting_down",
  *      which resumes every suspended connection; the renderer frees its GL objects on the
  *      GPU thread, then the context is destroyed. The gpu struct stays valid: resumed
@@ -27,6 +28,7 @@
 #include "cache/irradiance_cache.h"
 #include "config.h"
 #include "core/log.h"
+#include "events/events.h"
 #include "http/http.h"
 #include "lightsim/gpu/lightsim_gpu.h"
 #include "render/render.h"
@@ -166,6 +168,13 @@ static int run(const struct config *cfg)
         gpu_destroy(gpu, &final);
         return 1;
     }
+    struct event_hub *events = event_hub_create(0, &e);
+    if (events == NULL) {
+        log_error("main", "events: %s", e.msg);
+        gpu_destroy(gpu, &final);
+        store_close(store);
+        return 1;
+    }
     struct irradiance_cache_desc idesc = cfg->irradiance;
     idesc.data_dir = cfg->data_dir;
     fw.irradiance = irradiance_cache_create(&idesc, gpu, &e);
@@ -173,18 +182,23 @@ static int run(const struct config *cfg)
         log_error("main", "irradiance cache: %s", e.msg);
         gpu_destroy(gpu, &final);
         store_close(store);
+        event_hub_destroy(events);
         return 1;
     }
     if (cfg->scene_dir[0])
         load_scene_dir(store, cfg->scene_dir);
-    struct http_app app = {
-        .store = store, .gpu = gpu, .render = rcw.render, .irradiance = fw.irradiance};
+    struct http_app app = {.store = store,
+                           .gpu = gpu,
+                           .render = rcw.render,
+                           .irradiance = fw.irradiance,
+                           .events = events};
     struct http_server *http = http_server_start(&cfg->http, &app, &e);
     if (http == NULL) {
         log_error("main", "%s", e.msg);
         gpu_destroy(gpu, &final);
         irradiance_cache_destroy(fw.irradiance);
         store_close(store);
+        event_hub_destroy(events);
         return 1;
     }
     int port = http_server_port(http);
@@ -198,13 +212,15 @@ static int run(const struct config *cfg)
     sigwait(&stop_signals, &sig);
     log_info("main", "signal %d: shutting down", sig);
     http_server_quiesce(http);
-    gpu_stop(gpu, &final); /* resumed requests still read gpu_info: free it after HTTP */
+    http_server_end_streams(http); /* no stream may keep its connection suspended */
+    gpu_stop(gpu, &final);         /* resumed requests still read gpu_info: free it after HTTP */
     if (!http_server_wait_idle(http, 3000))
         log_warn("main", "requests still in progress after 3 s; closing them");
     http_server_stop(http);
     gpu_destroy(gpu, NULL);
     irradiance_cache_destroy(fw.irradiance); /* finishes writing volumes to disk */
     store_close(store);
+    event_hub_destroy(events); /* last: the cache's worker publishes until it stops */
     log_info("main", "stopped");
     return 0;
 }

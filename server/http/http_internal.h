@@ -83,6 +83,9 @@ enum MHD_Result http_respond_bytes(struct http_request *req, unsigned status, vo
                                    const char *const *headers /* name, value, ..., NULL */);
 enum MHD_Result http_respond_empty(struct http_request *req, unsigned status);
 
+/* The server's open streams (stream.h). */
+struct http_stream_set *http_server_streams(const struct http_server *srv);
+
 /* ---- GPU hand-off (server.c) ---- */
 
 /* Submits req->work (its run set by the caller) with the request deadline and suspends
