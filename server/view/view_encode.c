@@ -33,14 +33,13 @@ static struct view_frame *encode(const struct view_job *job, struct err *e)
     double t0 = gpu_time_ms();
     uint8_t *px = malloc((size_t)r->width * (size_t)r->height * 4);
     if (px == NULL) {
-        err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory encoding a %dx%d view frame",
-                r->width, r->height);
+        err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory encoding a %dx%d view frame", r->width,
+                r->height);
         return NULL;
     }
-    io_tonemap_srgb8(r->rgba, r->width, r->height, job->settings.exposure_ev,
-                     job->settings.tonemap == SCENE_TONEMAP_FILMIC ? IO_TONEMAP_FILMIC
-                                                                   : IO_TONEMAP_CLAMP,
-                     px);
+    io_tonemap_srgb8(
+        r->rgba, r->width, r->height, job->settings.exposure_ev,
+        job->settings.tonemap == SCENE_TONEMAP_FILMIC ? IO_TONEMAP_FILMIC : IO_TONEMAP_CLAMP, px);
     void *bytes = NULL;
     size_t len = 0;
     enum refract_code rc =
@@ -103,8 +102,8 @@ struct view_encoder *view_encoder_create(struct view_registry *r, int threads, s
     for (int i = 0; i < threads; i++) {
         int rc = pthread_create(&enc->threads[i], NULL, encoder_main, enc);
         if (rc != 0) {
-            err_set(e, REFRACT_E_INTERNAL, "cannot start view encoder thread %d of %d: %s",
-                    i + 1, threads, strerror(rc));
+            err_set(e, REFRACT_E_INTERNAL, "cannot start view encoder thread %d of %d: %s", i + 1,
+                    threads, strerror(rc));
             view_encoder_destroy(enc);
             return NULL;
         }

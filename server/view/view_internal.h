@@ -34,9 +34,9 @@ struct view_session {
     bool ended;
     uint64_t change_gen, full_gen, preview_gen;
     bool in_flight;
-    int64_t next_start_ms;     /* max_fps spacing: no frame starts before this */
+    int64_t next_start_ms;      /* max_fps spacing: no frame starts before this */
     double last_full_render_ms; /* progressive: previews only when full frames are slow */
-    int64_t last_activity_ms;  /* the last request, or when the last stream left */
+    int64_t last_activity_ms;   /* the last request, or when the last stream left */
     int watcher_count;
     struct view_frame *frame; /* the newest; owned reference or NULL */
     uint64_t seq;
@@ -57,9 +57,9 @@ struct view_job {
     struct render_view_result result;
     const char *irradiance;
     enum view_frame_kind kind;
-    uint64_t change_gen;          /* what the frame shows */
+    uint64_t change_gen;           /* what the frame shows */
     struct view_settings settings; /* snapshot at the frame's start */
-    struct view_job *next; /* encoder queue */
+    struct view_job *next;         /* encoder queue */
 };
 
 struct view_registry {
@@ -67,8 +67,8 @@ struct view_registry {
     int event_token; /* 0 = not listening */
 
     pthread_mutex_t mu;
-    pthread_cond_t wake;  /* the scheduler: something changed (CLOCK_MONOTONIC) */
-    pthread_cond_t idle;  /* in_flight reached 0 */
+    pthread_cond_t wake;            /* the scheduler: something changed (CLOCK_MONOTONIC) */
+    pthread_cond_t idle;            /* in_flight reached 0 */
     struct view_session **sessions; /* desc.max_views slots, in creation order */
     int count;
     int in_flight; /* frame jobs alive */

@@ -91,8 +91,8 @@ static void on_event(void *ctx, const struct event *ev)
 {
     struct view_registry *r = ctx;
     bool deleted = strcmp(ev->type, EVENT_SCENE_DELETED) == 0;
-    bool changed = strcmp(ev->type, EVENT_SCENE_UPDATED) == 0 ||
-                   strcmp(ev->type, EVENT_IRRADIANCE_READY) == 0;
+    bool changed =
+        strcmp(ev->type, EVENT_SCENE_UPDATED) == 0 || strcmp(ev->type, EVENT_IRRADIANCE_READY) == 0;
     if ((!deleted && !changed) || ev->scene[0] == '\0')
         return;
     pthread_mutex_lock(&r->mu);
@@ -148,8 +148,7 @@ struct view_registry *view_registry_create(const struct view_registry_desc *desc
     }
     int rc = pthread_create(&r->scheduler, NULL, view_scheduler_main, r);
     if (rc != 0) {
-        err_set(e, REFRACT_E_INTERNAL, "cannot start the view scheduler thread: %s",
-                strerror(rc));
+        err_set(e, REFRACT_E_INTERNAL, "cannot start the view scheduler thread: %s", strerror(rc));
         view_registry_destroy(r);
         return NULL;
     }

@@ -185,7 +185,8 @@ static int64_t scan_locked(struct view_registry *r, int64_t now, struct view_job
 
 static void sleep_until_locked(struct view_registry *r, int64_t at_ms)
 {
-    struct timespec ts = {.tv_sec = (time_t)(at_ms / 1000), .tv_nsec = (long)(at_ms % 1000) * 1000000};
+    struct timespec ts = {.tv_sec = (time_t)(at_ms / 1000),
+                          .tv_nsec = (long)(at_ms % 1000) * 1000000};
     pthread_cond_timedwait(&r->wake, &r->mu, &ts);
 }
 

@@ -91,9 +91,9 @@ static void note_build(struct store *store, const struct store_scene *v,
 
 enum refract_code view_render_version(struct render *r, struct irradiance_cache *c,
                                       struct store *store, struct store_scene *v,
-                                      struct render_view_request *req,
-                                      struct render_light *lights, struct render_view_result *out,
-                                      const char **irradiance, struct err *e)
+                                      struct render_view_request *req, struct render_light *lights,
+                                      struct render_view_result *out, const char **irradiance,
+                                      struct err *e)
 {
     struct render_scene_source src = view_scene_source(v);
     struct irradiance_source isrc;

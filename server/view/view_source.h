@@ -30,8 +30,8 @@ void view_irradiance_source(struct store_scene *v, struct irradiance_source *out
  * "not-needed". out->rgba is new (caller frees). Errors are render_view's. */
 enum refract_code view_render_version(struct render *r, struct irradiance_cache *c,
                                       struct store *store, struct store_scene *v,
-                                      struct render_view_request *req,
-                                      struct render_light *lights, struct render_view_result *out,
-                                      const char **irradiance, struct err *e);
+                                      struct render_view_request *req, struct render_light *lights,
+                                      struct render_view_result *out, const char **irradiance,
+                                      struct err *e);
 
 #endif
