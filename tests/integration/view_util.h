@@ -353,4 +353,14 @@ static inline void mjpeg_close(struct mjpeg_stream *s)
     s->fd = -1;
 }
 
+/* Closes the connection with a reset (SO_LINGER 0), as a client that vanished: the
+ * daemon's next write to it fails at once. */
+static inline void mjpeg_abort(struct mjpeg_stream *s)
+{
+    struct linger lg = {.l_onoff = 1, .l_linger = 0};
+    if (s->fd >= 0)
+        setsockopt(s->fd, SOL_SOCKET, SO_LINGER, &lg, sizeof lg);
+    mjpeg_close(s);
+}
+
 #endif
