@@ -90,8 +90,9 @@ int main(void)
            made_bytes / 1024, before, after, growth / 1024);
     CHECK_MSG(made_bytes > 2e6, "the frames made only %.0f bytes: too few to see growth",
               made_bytes);
-    CHECK_MSG(growth < made_bytes / 5, "VmRSS grew by %.0f KiB while %.0f KiB of frames were "
-                                       "made for a stalled client",
+    CHECK_MSG(growth < made_bytes / 5,
+              "VmRSS grew by %.0f KiB while %.0f KiB of frames were "
+              "made for a stalled client",
               growth / 1024, made_bytes / 1024);
 
     /* Reading again: the newest frame arrives, the ones in between were skipped. */
@@ -105,8 +106,8 @@ int main(void)
         last = f.seq;
         free(f.jpeg);
     }
-    printf("  the slow client then received %d frames, the last seq %lld of %.0f\n", received,
-           last, seq);
+    printf("  the slow client then received %d frames, the last seq %lld of %.0f\n", received, last,
+           seq);
     CHECK(last == (long long)seq);
     CHECK_MSG(received <= FRAMES + 10 - 20, "%d frames received of %d made: too few were skipped",
               received, FRAMES + 10);

@@ -27,7 +27,10 @@ static const struct json_error_case body_cases[] = {
     {__LINE__, "{\"width\": 0}", 400, "invalid_field", {"width"}},
     {__LINE__, "{\"height\": 2.5}", 400, "invalid_field", {"height"}},
     {__LINE__, "{\"width\": 5000}", 422, "limit_exceeded", {"width", "--max-image-dim"}},
-    {__LINE__, "{\"width\": 1000, \"height\": 1000}", 422, "limit_exceeded",
+    {__LINE__,
+     "{\"width\": 1000, \"height\": 1000}",
+     422,
+     "limit_exceeded",
      {"--max-image-pixels"}},
     {__LINE__, "{\"exposure\": 30}", 400, "invalid_field", {"exposure"}},
     {__LINE__, "{\"tonemap\": \"aces\"}", 400, "invalid_field", {"tonemap", "filmic"}},
@@ -121,8 +124,7 @@ static void unknown_ids(struct test_daemon *d)
     EXPECT_ERROR(d, "PATCH", "/v1/views/v0123456789abcdef", "{}", 404, "not_found", vid);
     EXPECT_ERROR(d, "DELETE", "/v1/views/v0123456789abcdef", NULL, 404, "not_found", vid);
     EXPECT_ERROR(d, "GET", "/v1/views/v0123456789abcdef/stream", NULL, 404, "not_found", vid);
-    EXPECT_ERROR(d, "PUT", "/v1/views/v0123456789abcdef", "{}", 405, "method_not_allowed",
-                 "PATCH");
+    EXPECT_ERROR(d, "PUT", "/v1/views/v0123456789abcdef", "{}", 405, "method_not_allowed", "PATCH");
     EXPECT_ERROR(d, "POST", "/v1/views", "{}", 405, "method_not_allowed", "GET");
 }
 

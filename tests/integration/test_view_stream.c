@@ -50,9 +50,9 @@ static double mean_value(const struct io_image *a)
 static void frames_follow_patches(struct test_daemon *d, const char *scene)
 {
     char vid[32];
-    CHECK_INT(view_open(d, scene, "{\"width\": 64, \"height\": 48, \"progressive\": false}", vid,
-                        NULL),
-              201);
+    CHECK_INT(
+        view_open(d, scene, "{\"width\": 64, \"height\": 48, \"progressive\": false}", vid, NULL),
+        201);
     CHECK_INT(strlen(vid), 17);
     CHECK(vid[0] == 'v' && strspn(vid + 1, "0123456789abcdef") == 16);
     struct mjpeg_stream s;
@@ -142,8 +142,7 @@ static void progressive_previews(struct test_daemon *d, const char *scene)
     /* 256x192 full frames take longer than 20 ms on llvmpipe and on most GPUs' first
      * frames; the preview rule is checked against the render time the status reports. */
     char vid[32];
-    CHECK_INT(view_open(d, scene, "{\"width\": 256, \"height\": 192, \"max_fps\": 120}", vid,
-                        NULL),
+    CHECK_INT(view_open(d, scene, "{\"width\": 256, \"height\": 192, \"max_fps\": 120}", vid, NULL),
               201);
     struct mjpeg_stream s;
     CHECK_INT(mjpeg_open(d, vid, 0, &s), 200);
@@ -152,8 +151,8 @@ static void progressive_previews(struct test_daemon *d, const char *scene)
     free(first.jpeg);
     double seq = view_wait_seq(d, vid, (double)first.seq, 10000);
     cJSON *st = view_status(d, vid);
-    const cJSON *ms = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItem(st, "frame"),
-                                                       "render_ms");
+    const cJSON *ms =
+        cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItem(st, "frame"), "render_ms");
     double render_ms = cJSON_IsNumber(ms) ? ms->valuedouble : 0;
     cJSON_Delete(st);
     int previews = 0, fulls = 0, width = 0;

@@ -122,7 +122,7 @@ static inline double view_wait_seq(struct test_daemon *d, const char *vid, doubl
 
 struct mjpeg_stream {
     int fd;
-    int status;   /* the HTTP status */
+    int status; /* the HTTP status */
     char content_type[128];
     bool chunked;
     bool first_chunk;
