@@ -7,6 +7,7 @@
  *     image limits (--max-image-dim, --max-image-pixels, --max-steps);
  *   - an unknown scene (404 scene_not_found), an unknown view id on every view route
  *     (404 not_found naming the id), methods the routes do not have (405);
+ *   - the stream's query: frames out of range or not a number, an unknown parameter;
  *   - more sessions than --max-views (422 limit_exceeded naming the flag);
  *   - the view status echoes what was set, and the quality presets act on the scene's
  *     render settings with explicit fields winning.
@@ -128,6 +129,21 @@ static void unknown_ids(struct test_daemon *d)
     EXPECT_ERROR(d, "POST", "/v1/views", "{}", 405, "method_not_allowed", "GET");
 }
 
+static void stream_queries(struct test_daemon *d, const char *scene)
+{
+    section("GET /v1/views/{vid}/stream?...");
+    char vid[32], path[128];
+    CHECK_INT(view_open(d, scene, "{\"width\": 16, \"height\": 12}", vid, NULL), 201);
+    snprintf(path, sizeof path, "/v1/views/%s/stream?frames=0", vid);
+    EXPECT_ERROR(d, "GET", path, NULL, 400, "invalid_field", "frames", "1..1000000");
+    snprintf(path, sizeof path, "/v1/views/%s/stream?frames=two", vid);
+    EXPECT_ERROR(d, "GET", path, NULL, 400, "invalid_field", "frames", "two");
+    snprintf(path, sizeof path, "/v1/views/%s/stream?frame=1", vid);
+    EXPECT_ERROR(d, "GET", path, NULL, 400, "unknown_field", "frame", "allowed: frames");
+    snprintf(path, sizeof path, "/v1/views/%s", vid);
+    free(EXPECT_STATUS(d, "DELETE", path, NULL, 204));
+}
+
 static void too_many_views(struct test_daemon *d, const char *scene)
 {
     section("--max-views 3");
@@ -168,6 +184,7 @@ int main(void)
     section("view status");
     status_echoes_settings(&d, scene);
     unknown_ids(&d);
+    stream_queries(&d, scene);
     too_many_views(&d, scene);
     section("");
     CHECK_INT(test_daemon_stop(&d), 0);

@@ -9,6 +9,7 @@
  *     take over 20 ms, and the full frame follows; without progressive, no previews;
  *   - nothing changes -> no new frame within 2 s, and the status' seq stays;
  *   - 8 viewers of one scene (two sessions) plus viewers of another scene all get frames;
+ *   - ?frames=2 ends the stream after two frames;
  *   - DELETE ends the open streams, and the session answers 404 afterwards.
  */
 #include <math.h>
@@ -93,12 +94,32 @@ static void frames_follow_patches(struct test_daemon *d, const char *scene)
     CHECK(cJSON_IsNumber(streams) && streams->valueint == 1);
     cJSON_Delete(st);
 
+    /* ?frames=2: two frames (the newest, then the next), then the body ends. */
+    char snap[128];
+    snprintf(snap, sizeof snap, "/v1/views/%s/stream?frames=2", vid);
+    struct mjpeg_stream two;
+    CHECK(mjpeg_connect(d, snap, 0, &two) && mjpeg_read_head(&two, 10000) == 200);
+    CHECK_INT(mjpeg_next(&two, &extra, 10000), 1);
+    free(extra.jpeg);
+    CHECK_INT(view_patch(d, vid, "{\"exposure\": 0.5}"), 200);
+    CHECK_INT(mjpeg_next(&two, &extra, 30000), 1);
+    free(extra.jpeg);
+    CHECK_INT(mjpeg_next(&two, &extra, 10000), -1);
+    CHECK(two.eof);
+    mjpeg_close(&two);
+
     /* DELETE ends the stream; the session is gone. */
     char path[96], *body = NULL;
     snprintf(path, sizeof path, "/v1/views/%s", vid);
     CHECK_INT(test_request(d, "DELETE", path, NULL, &body), 204);
     free(body);
-    CHECK_INT(mjpeg_next(&s, &extra, 5000), -1);
+    int rc_end = 1; /* a frame made before the DELETE may still come first */
+    for (int i = 0; i < 3 && rc_end == 1; i++) {
+        rc_end = mjpeg_next(&s, &extra, 5000);
+        if (rc_end == 1)
+            free(extra.jpeg);
+    }
+    CHECK_INT(rc_end, -1);
     CHECK(s.eof);
     CHECK_INT(test_request(d, "GET", path, NULL, &body), 404);
     CHECK(test_error_is(body, "not_found", vid));
