@@ -122,11 +122,6 @@ enum refract_code http_parse_image_options(const cJSON *root, double *exposure_e
                                            enum scene_tonemap *tonemap, int *jpeg_quality,
                                            struct err *e);
 
-/* The first query parameter of req that is not in allowed (NULL-terminated), or NULL. A
- * misspelt parameter is an error, never silently the default. The string is
- * libmicrohttpd's, valid while the request is. */
-const char *http_query_unknown(struct http_request *req, const char *const *allowed);
-
 /* Parses a render request against the scene's defaults. An empty body means "{}". */
 enum refract_code http_parse_render_request(const char *body, size_t len, const struct scene *scene,
                                             const struct http_config *cfg,
@@ -146,6 +141,10 @@ enum refract_code http_parse_trace_request(const char *body, size_t len, const s
                                            struct scene_render_settings *settings,
                                            struct render_trace_ray **rays, size_t *count,
                                            struct err *e);
+
+/* The first query parameter of req that is not in `allowed` (NULL-terminated), or NULL:
+ * a misspelt parameter is an error, never silently its default. */
+const char *http_query_unknown(struct http_request *req, const char *const *allowed);
 
 /* ---- handlers ---- */
 enum MHD_Result http_handle_health(struct http_request *req);

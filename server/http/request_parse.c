@@ -231,6 +231,8 @@ enum refract_code http_parse_trace_request(const char *body, size_t len, const s
     return REFRACT_E_OK;
 }
 
+/* ---- query parameters ---- */
+
 struct unknown_query {
     const char *const *allowed;
     const char *first_unknown;
