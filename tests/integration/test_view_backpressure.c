@@ -63,8 +63,10 @@ int main(void)
      * growth; the daemon gets none (harmless without ASan). */
     const char *asan = getenv("ASAN_OPTIONS");
     char opts[512];
-    snprintf(opts, sizeof opts, "%s%squarantine_size_mb=0", asan ? asan : "",
-             asan && asan[0] ? ":" : "");
+    snprintf(opts, sizeof opts,
+             "%s%squarantine_size_mb=0:thread_local_quarantine_size_kb=0:allocator_release_to_os_"
+             "interval_ms=0",
+             asan ? asan : "", asan && asan[0] ? ":" : "");
     setenv("ASAN_OPTIONS", opts, 1);
     struct test_daemon d;
     if (!test_daemon_start(&d, NULL))

@@ -7,7 +7,8 @@
  *     brighter one;
  *   - progressive: the first frame after a change is a half-size preview when full frames
  *     take over 20 ms, and the full frame follows; without progressive, no previews;
- *   - nothing changes -> no new frame within 2 s, and the status' seq stays;
+ *   - nothing changes (a PATCH to the values it has included) -> no new frame within 2 s,
+ *     and the status' seq stays;
  *   - 8 viewers of one scene (two sessions) plus viewers of another scene all get frames;
  *   - ?frames=2 ends the stream after two frames;
  *   - DELETE ends the open streams, and the session answers 404 afterwards.
@@ -87,6 +88,7 @@ static void frames_follow_patches(struct test_daemon *d, const char *scene)
     /* Nothing changes: nothing is sent, and the seq stays. */
     double seq_before = view_wait_seq(d, vid, (double)f3.seq, 10000);
     struct mjpeg_frame extra;
+    CHECK_INT(view_patch(d, vid, "{\"exposure\": 1.0}"), 200); /* the value it has */
     CHECK_INT(mjpeg_next(&s, &extra, 2000), 0);
     cJSON *st = view_status(d, vid);
     CHECK(view_status_seq(st) == seq_before);
