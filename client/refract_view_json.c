@@ -92,46 +92,46 @@ char *refract_view_options_json(const struct refract_view_options *opts)
     }
 }
 
-static void copy_member(char *dst, size_t dst_size, const cJSON *obj, const char *key)
+static void json_string_into(char *dst, size_t dst_size, const cJSON *obj, const char *key)
 {
     const cJSON *item = cJSON_GetObjectItemCaseSensitive(obj, key);
 
     snprintf(dst, dst_size, "%s", cJSON_IsString(item) ? item->valuestring : "");
 }
 
-static double number_member(const cJSON *obj, const char *key)
+static double json_number_or(const cJSON *obj, const char *key)
 {
     const cJSON *item = cJSON_GetObjectItemCaseSensitive(obj, key);
 
     return cJSON_IsNumber(item) ? item->valuedouble : -1.0;
 }
 
-static long long count_member(const cJSON *obj, const char *key)
+static long long json_count_or(const cJSON *obj, const char *key)
 {
-    double v = number_member(obj, key);
+    double v = json_number_or(obj, key);
 
     return v >= 0 && v < 9.0e18 ? (long long)v : -1;
 }
 
-static int int_member(const cJSON *obj, const char *key)
+static int json_int_or(const cJSON *obj, const char *key)
 {
-    double v = number_member(obj, key);
+    double v = json_number_or(obj, key);
 
     return v >= 0 && v < 2.0e9 ? (int)v : -1;
 }
 
 static void read_frame(const cJSON *frame, struct refract_view_frame *f)
 {
-    f->seq = count_member(frame, "seq");
-    copy_member(f->kind, sizeof(f->kind), frame, "kind");
-    f->width = int_member(frame, "width");
-    f->height = int_member(frame, "height");
-    f->render_ms = number_member(frame, "render_ms");
-    f->encode_ms = number_member(frame, "encode_ms");
-    f->bytes = count_member(frame, "bytes");
-    f->age_ms = number_member(frame, "age_ms");
-    copy_member(f->irradiance, sizeof(f->irradiance), frame, "irradiance");
-    f->scene_generation = count_member(frame, "scene_generation");
+    f->seq = json_count_or(frame, "seq");
+    json_string_into(f->kind, sizeof(f->kind), frame, "kind");
+    f->width = json_int_or(frame, "width");
+    f->height = json_int_or(frame, "height");
+    f->render_ms = json_number_or(frame, "render_ms");
+    f->encode_ms = json_number_or(frame, "encode_ms");
+    f->bytes = json_count_or(frame, "bytes");
+    f->age_ms = json_number_or(frame, "age_ms");
+    json_string_into(f->irradiance, sizeof(f->irradiance), frame, "irradiance");
+    f->scene_generation = json_count_or(frame, "scene_generation");
 }
 
 bool refract_view_from_json(const char *json, size_t len, struct refract_view *out, char *why,
@@ -152,18 +152,18 @@ bool refract_view_from_json(const char *json, size_t len, struct refract_view *o
         return refract_say(why, why_size, "id: expected a view id string of 1 to %zu characters",
                            sizeof(out->id) - 1);
     }
-    copy_member(out->id, sizeof(out->id), root, "id");
-    copy_member(out->scene, sizeof(out->scene), root, "scene");
-    out->width = int_member(root, "width");
-    out->height = int_member(root, "height");
-    copy_member(out->quality, sizeof(out->quality), root, "quality");
-    copy_member(out->state, sizeof(out->state), root, "state");
-    out->streams = int_member(root, "streams");
-    out->max_fps = number_member(root, "max_fps");
-    out->expires_in_s = number_member(root, "expires_in_s");
-    copy_member(out->renderer, sizeof(out->renderer), root, "renderer");
-    copy_member(out->stream, sizeof(out->stream), root, "stream");
-    copy_member(out->viewer, sizeof(out->viewer), root, "viewer");
+    json_string_into(out->id, sizeof(out->id), root, "id");
+    json_string_into(out->scene, sizeof(out->scene), root, "scene");
+    out->width = json_int_or(root, "width");
+    out->height = json_int_or(root, "height");
+    json_string_into(out->quality, sizeof(out->quality), root, "quality");
+    json_string_into(out->state, sizeof(out->state), root, "state");
+    out->streams = json_int_or(root, "streams");
+    out->max_fps = json_number_or(root, "max_fps");
+    out->expires_in_s = json_number_or(root, "expires_in_s");
+    json_string_into(out->renderer, sizeof(out->renderer), root, "renderer");
+    json_string_into(out->stream, sizeof(out->stream), root, "stream");
+    json_string_into(out->viewer, sizeof(out->viewer), root, "viewer");
     if (cJSON_IsObject(frame)) {
         out->has_frame = 1;
         read_frame(frame, &out->frame);
