@@ -293,7 +293,13 @@ static int save_frames(struct view_run *r, const struct refract_view_options *o)
     r->last_new_ms = now_ms();
     if (code == REFRACT_E_OK) {
         code = refract_view_stream(r->cli->client, r->view_id, on_frame, r);
-        if (code != REFRACT_E_OK)
+        if (code == REFRACT_E_TIMEOUT && r->saved < r->want)
+            code = cli_fail(code,
+                            "view: %ld of %ld frames, then silence: nothing the view shows "
+                            "changed; use --orbit, or change the camera or a light meanwhile "
+                            "(%s)",
+                            r->saved, r->want, refract_errmsg(r->cli->client));
+        else if (code != REFRACT_E_OK)
             code = cli_call_failed(r->cli, code);
         else if (r->code != REFRACT_E_OK)
             code = r->code;
