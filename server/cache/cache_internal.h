@@ -96,14 +96,14 @@ struct irr_note {
     uint64_t key;
     const char *state; /* progress: "queued" or "computing" */
     double progress;
-    double compute_ms;     /* ready */
-    bool loaded_from_disk; /* ready */
+    double compute_ms;         /* ready */
+    bool loaded_from_disk;     /* ready */
     char message[ERR_MSG_MAX]; /* failed */
 };
 
 struct irradiance_cache {
     pthread_mutex_t lock;
-    pthread_mutex_t publish_lock; /* taken before lock: notes leave in the order made */
+    pthread_mutex_t publish_lock;             /* taken before lock: notes leave in the order made */
     struct irr_note *notes_head, *notes_tail; /* (L) */
     pthread_cond_t wake;
     pthread_t worker;

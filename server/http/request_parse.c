@@ -74,7 +74,9 @@ enum refract_code http_parse_camera(const cJSON *root, const struct scene_camera
         if (rc == REFRACT_E_OK)
             rc = jr_vec3(c, "camera", "look_at", false, cam->look_at, -1e6, 1e6, &cam->look_at, e);
         if (rc == REFRACT_E_OK)
-            rc = jr_vec3(c, "camera", "up", false, cam->up, -1e6, 1e6, &cam->up, e);
+            /* jr_direction, as the scene parser: a zero or underflowing up vector was
+             * reported as "parallel to the view direction", which it is not. */
+            rc = jr_direction(c, "camera", "up", false, cam->up, &cam->up, e);
         if (rc == REFRACT_E_OK)
             rc = jr_number_gt(c, "camera", "fov_y_deg", false, cam->fov_y_deg, 0.1, 179.0,
                               &cam->fov_y_deg, e);
@@ -229,4 +231,31 @@ enum refract_code http_parse_trace_request(const char *body, size_t len, const s
     *rays = out;
     *count = (size_t)n;
     return REFRACT_E_OK;
+}
+
+/* ---- query parameters ---- */
+
+struct unknown_query {
+    const char *const *allowed;
+    const char *first_unknown;
+};
+
+static enum MHD_Result find_unknown_query(void *cls, enum MHD_ValueKind kind, const char *key,
+                                          const char *value)
+{
+    (void)kind;
+    (void)value;
+    struct unknown_query *u = cls;
+    for (const char *const *a = u->allowed; *a; a++)
+        if (strcmp(*a, key) == 0)
+            return MHD_YES;
+    u->first_unknown = key;
+    return MHD_NO;
+}
+
+const char *http_query_unknown(struct http_request *req, const char *const *allowed)
+{
+    struct unknown_query u = {allowed, NULL};
+    MHD_get_connection_values(req->conn, MHD_GET_ARGUMENT_KIND, find_unknown_query, &u);
+    return u.first_unknown;
 }

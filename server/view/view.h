@@ -129,7 +129,8 @@ const char *view_session_scene(const struct view_session *s);
 
 /* Copies the settings. */
 void view_session_settings(struct view_session *s, struct view_settings *out);
-/* Replaces the settings (PATCH; validated by the caller) and schedules a frame. */
+/* Replaces the settings (PATCH; validated by the caller) and schedules a frame, unless
+ * they equal the current ones (a PATCH that changes nothing renders nothing). */
 void view_session_update(struct view_session *s, const struct view_settings *st);
 
 /* The view status object (docs/views.md) as a new cJSON tree; scene (may be NULL: then

@@ -104,13 +104,42 @@ void view_session_changed_locked(struct view_session *s)
     s->change_gen++;
 }
 
+static bool vec3_equal(vec3 a, vec3 b)
+{
+    return a.x == b.x && a.y == b.y && a.z == b.z;
+}
+
+/* Field by field: the structs have padding. */
+static bool settings_equal(const struct view_settings *a, const struct view_settings *b)
+{
+    const struct scene_camera *ca = &a->camera, *cb = &b->camera;
+    const struct scene_render_settings *oa = &a->overrides, *ob = &b->overrides;
+    return vec3_equal(ca->eye, cb->eye) && vec3_equal(ca->look_at, cb->look_at) &&
+           vec3_equal(ca->up, cb->up) && ca->fov_y_deg == cb->fov_y_deg && ca->width == cb->width &&
+           ca->height == cb->height && a->exposure_ev == b->exposure_ev &&
+           a->tonemap == b->tonemap && a->quality == b->quality &&
+           a->has_integrator == b->has_integrator &&
+           (!a->has_integrator || oa->integrator == ob->integrator) && a->has_step == b->has_step &&
+           (!a->has_step || oa->step_voxels == ob->step_voxels) &&
+           a->has_max_steps == b->has_max_steps &&
+           (!a->has_max_steps || oa->max_steps == ob->max_steps) &&
+           a->has_boundary_threshold == b->has_boundary_threshold &&
+           (!a->has_boundary_threshold || oa->boundary_threshold == ob->boundary_threshold) &&
+           a->jpeg_quality == b->jpeg_quality && a->max_fps == b->max_fps &&
+           a->progressive == b->progressive;
+}
+
 void view_session_update(struct view_session *s, const struct view_settings *st)
 {
     pthread_mutex_lock(&s->mu);
-    s->settings = *st;
-    view_session_changed_locked(s);
+    bool changed = !settings_equal(&s->settings, st);
+    if (changed) {
+        s->settings = *st;
+        view_session_changed_locked(s);
+    }
     pthread_mutex_unlock(&s->mu);
-    view_registry_kick(s->reg);
+    if (changed)
+        view_registry_kick(s->reg);
 }
 
 void view_session_wake_watchers(struct view_session *s)

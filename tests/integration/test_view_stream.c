@@ -7,8 +7,10 @@
  *     brighter one;
  *   - progressive: the first frame after a change is a half-size preview when full frames
  *     take over 20 ms, and the full frame follows; without progressive, no previews;
- *   - nothing changes -> no new frame within 2 s, and the status' seq stays;
+ *   - nothing changes (a PATCH to the values it has included) -> no new frame within 2 s,
+ *     and the status' seq stays;
  *   - 8 viewers of one scene (two sessions) plus viewers of another scene all get frames;
+ *   - ?frames=2 ends the stream after two frames;
  *   - DELETE ends the open streams, and the session answers 404 afterwards.
  */
 #include <math.h>
@@ -50,9 +52,9 @@ static double mean_value(const struct io_image *a)
 static void frames_follow_patches(struct test_daemon *d, const char *scene)
 {
     char vid[32];
-    CHECK_INT(view_open(d, scene, "{\"width\": 64, \"height\": 48, \"progressive\": false}", vid,
-                        NULL),
-              201);
+    CHECK_INT(
+        view_open(d, scene, "{\"width\": 64, \"height\": 48, \"progressive\": false}", vid, NULL),
+        201);
     CHECK_INT(strlen(vid), 17);
     CHECK(vid[0] == 'v' && strspn(vid + 1, "0123456789abcdef") == 16);
     struct mjpeg_stream s;
@@ -86,6 +88,7 @@ static void frames_follow_patches(struct test_daemon *d, const char *scene)
     /* Nothing changes: nothing is sent, and the seq stays. */
     double seq_before = view_wait_seq(d, vid, (double)f3.seq, 10000);
     struct mjpeg_frame extra;
+    CHECK_INT(view_patch(d, vid, "{\"exposure\": 1.0}"), 200); /* the value it has */
     CHECK_INT(mjpeg_next(&s, &extra, 2000), 0);
     cJSON *st = view_status(d, vid);
     CHECK(view_status_seq(st) == seq_before);
@@ -93,12 +96,32 @@ static void frames_follow_patches(struct test_daemon *d, const char *scene)
     CHECK(cJSON_IsNumber(streams) && streams->valueint == 1);
     cJSON_Delete(st);
 
+    /* ?frames=2: two frames (the newest, then the next), then the body ends. */
+    char snap[128];
+    snprintf(snap, sizeof snap, "/v1/views/%s/stream?frames=2", vid);
+    struct mjpeg_stream two;
+    CHECK(mjpeg_connect(d, snap, 0, &two) && mjpeg_read_head(&two, 10000) == 200);
+    CHECK_INT(mjpeg_next(&two, &extra, 10000), 1);
+    free(extra.jpeg);
+    CHECK_INT(view_patch(d, vid, "{\"exposure\": 0.5}"), 200);
+    CHECK_INT(mjpeg_next(&two, &extra, 30000), 1);
+    free(extra.jpeg);
+    CHECK_INT(mjpeg_next(&two, &extra, 10000), -1);
+    CHECK(two.eof);
+    mjpeg_close(&two);
+
     /* DELETE ends the stream; the session is gone. */
     char path[96], *body = NULL;
     snprintf(path, sizeof path, "/v1/views/%s", vid);
     CHECK_INT(test_request(d, "DELETE", path, NULL, &body), 204);
     free(body);
-    CHECK_INT(mjpeg_next(&s, &extra, 5000), -1);
+    int rc_end = 1; /* a frame made before the DELETE may still come first */
+    for (int i = 0; i < 3 && rc_end == 1; i++) {
+        rc_end = mjpeg_next(&s, &extra, 5000);
+        if (rc_end == 1)
+            free(extra.jpeg);
+    }
+    CHECK_INT(rc_end, -1);
     CHECK(s.eof);
     CHECK_INT(test_request(d, "GET", path, NULL, &body), 404);
     CHECK(test_error_is(body, "not_found", vid));
@@ -142,8 +165,7 @@ static void progressive_previews(struct test_daemon *d, const char *scene)
     /* 256x192 full frames take longer than 20 ms on llvmpipe and on most GPUs' first
      * frames; the preview rule is checked against the render time the status reports. */
     char vid[32];
-    CHECK_INT(view_open(d, scene, "{\"width\": 256, \"height\": 192, \"max_fps\": 120}", vid,
-                        NULL),
+    CHECK_INT(view_open(d, scene, "{\"width\": 256, \"height\": 192, \"max_fps\": 120}", vid, NULL),
               201);
     struct mjpeg_stream s;
     CHECK_INT(mjpeg_open(d, vid, 0, &s), 200);
@@ -152,8 +174,8 @@ static void progressive_previews(struct test_daemon *d, const char *scene)
     free(first.jpeg);
     double seq = view_wait_seq(d, vid, (double)first.seq, 10000);
     cJSON *st = view_status(d, vid);
-    const cJSON *ms = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItem(st, "frame"),
-                                                       "render_ms");
+    const cJSON *ms =
+        cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItem(st, "frame"), "render_ms");
     double render_ms = cJSON_IsNumber(ms) ? ms->valuedouble : 0;
     cJSON_Delete(st);
     int previews = 0, fulls = 0, width = 0;

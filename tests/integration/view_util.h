@@ -122,7 +122,7 @@ static inline double view_wait_seq(struct test_daemon *d, const char *vid, doubl
 
 struct mjpeg_stream {
     int fd;
-    int status;   /* the HTTP status */
+    int status; /* the HTTP status */
     char content_type[128];
     bool chunked;
     bool first_chunk;
@@ -351,6 +351,16 @@ static inline void mjpeg_close(struct mjpeg_stream *s)
     if (s->fd >= 0)
         close(s->fd);
     s->fd = -1;
+}
+
+/* Closes the connection with a reset (SO_LINGER 0), as a client that vanished: the
+ * daemon's next write to it fails at once. */
+static inline void mjpeg_abort(struct mjpeg_stream *s)
+{
+    struct linger lg = {.l_onoff = 1, .l_linger = 0};
+    if (s->fd >= 0)
+        setsockopt(s->fd, SOL_SOCKET, SO_LINGER, &lg, sizeof lg);
+    mjpeg_close(s);
 }
 
 #endif
