@@ -126,6 +126,10 @@ enum MHD_Result http_handle_lights_put(struct http_request *req);
 enum MHD_Result http_handle_light_put(struct http_request *req);
 enum MHD_Result http_handle_irradiance_get(struct http_request *req);
 enum MHD_Result http_handle_irradiance_exr(struct http_request *req);
+/* The web viewer (h_web.c). */
+enum MHD_Result http_handle_web_index(struct http_request *req);
+enum MHD_Result http_handle_web_viewer(struct http_request *req);
+enum MHD_Result http_handle_web_asset(struct http_request *req);
 
 /* ---- irradiance (h_irradiance.c) ---- */
 struct irradiance_source;
