@@ -27,25 +27,28 @@
 
 #include "../core/err.h"
 
-#define EVENT_SCENE_MAX 64  /* = STORE_ID_MAX */
+#define EVENT_SCENE_MAX 64 /* = STORE_ID_MAX */
 #define EVENT_TYPE_MAX 32
 #define EVENT_DATA_MAX 1024 /* one JSON object, serialised */
 
 /* Event types (the SSE `event:` field). */
-#define EVENT_SCENE_CREATED "scene.created"           /* {"scene", "generation"} */
-#define EVENT_SCENE_UPDATED "scene.updated"           /* {"scene", "generation", "what"} */
-#define EVENT_SCENE_DELETED "scene.deleted"           /* {"scene"} */
-#define EVENT_IRRADIANCE_PROGRESS "irradiance.progress" /* {"scene", "light", "state", "progress", "key"} */
-#define EVENT_IRRADIANCE_READY "irradiance.ready"     /* {"scene", "light", "key", "compute_ms", "loaded_from_disk"} */
-#define EVENT_IRRADIANCE_FAILED "irradiance.failed"   /* {"scene", "light", "key", "message"} */
-#define EVENT_JOB_PROGRESS "job.progress"             /* issue 5: {"job", "scene", "done", "total", "eta_s", "state"} */
+#define EVENT_SCENE_CREATED "scene.created" /* {"scene", "generation"} */
+#define EVENT_SCENE_UPDATED "scene.updated" /* {"scene", "generation", "what"} */
+#define EVENT_SCENE_DELETED "scene.deleted" /* {"scene"} */
+#define EVENT_IRRADIANCE_PROGRESS                                                                  \
+    "irradiance.progress" /* {"scene", "light", "state", "progress", "key"} */
+#define EVENT_IRRADIANCE_READY                                                                     \
+    "irradiance.ready" /* {"scene", "light", "key", "compute_ms", "loaded_from_disk"} */
+#define EVENT_IRRADIANCE_FAILED "irradiance.failed" /* {"scene", "light", "key", "message"} */
+#define EVENT_JOB_PROGRESS                                                                         \
+    "job.progress" /* issue 5: {"job", "scene", "done", "total", "eta_s", "state"} */
 
 struct event {
-    uint64_t id;                   /* 1, 2, 3, ... */
-    int64_t time_ms;               /* wall clock, milliseconds since the Unix epoch */
-    char scene[EVENT_SCENE_MAX];   /* the scene it is about; "" = none (e.g. a job) */
-    char type[EVENT_TYPE_MAX];     /* one of the EVENT_* names */
-    char data[EVENT_DATA_MAX];     /* a JSON object */
+    uint64_t id;                 /* 1, 2, 3, ... */
+    int64_t time_ms;             /* wall clock, milliseconds since the Unix epoch */
+    char scene[EVENT_SCENE_MAX]; /* the scene it is about; "" = none (e.g. a job) */
+    char type[EVENT_TYPE_MAX];   /* one of the EVENT_* names */
+    char data[EVENT_DATA_MAX];   /* a JSON object */
 };
 
 struct event_hub;

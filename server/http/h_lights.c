@@ -130,7 +130,7 @@ static enum MHD_Result store_and_answer(struct http_request *req, cJSON *doc)
     if (rc != REFRACT_E_OK)
         return http_respond_err(req, &e);
     struct irradiance_source src;
-    http_irradiance_source(v, &src);
+    view_irradiance_source(v, &src);
     bool all_hit = irradiance_cache_request(req->app->irradiance, &src, true);
     cJSON *root = http_irradiance_status(req->app, v);
     store_scene_release(v);

@@ -61,6 +61,10 @@ struct http_server *http_server_start(const struct http_config *cfg, const struc
 int http_server_port(const struct http_server *s);
 /* Stops accepting new connections; connections in progress continue. */
 void http_server_quiesce(struct http_server *s);
+/* Ends every open stream (frame streams, event streams), so that no connection stays
+ * suspended by a stream; requests waiting for the GPU are not affected. For shutdown,
+ * after quiesce. */
+void http_server_end_streams(struct http_server *s);
 /* Waits up to timeout_ms until no request is in progress (answered or not). Returns true
  * when idle. Used at shutdown so connections resumed with "shutting_down" get answered. */
 bool http_server_wait_idle(struct http_server *s, int timeout_ms);

@@ -28,6 +28,12 @@ static const struct http_route routes[] = {
     {"PUT", "/v1/scenes/{id}/lights/{name}", http_handle_light_put, HTTP_BODY_JSON},
     {"GET", "/v1/scenes/{id}/irradiance", http_handle_irradiance_get, HTTP_BODY_NONE},
     {"GET", "/v1/scenes/{id}/irradiance/{light}.exr", http_handle_irradiance_exr, HTTP_BODY_NONE},
+    {"POST", "/v1/scenes/{id}/views", http_handle_view_create, HTTP_BODY_JSON},
+    {"GET", "/v1/views", http_handle_view_list, HTTP_BODY_NONE},
+    {"GET", "/v1/views/{vid}", http_handle_view_get, HTTP_BODY_NONE},
+    {"PATCH", "/v1/views/{vid}", http_handle_view_patch, HTTP_BODY_JSON},
+    {"DELETE", "/v1/views/{vid}", http_handle_view_delete, HTTP_BODY_NONE},
+    {"GET", "/v1/views/{vid}/stream", http_handle_view_stream, HTTP_BODY_NONE},
 };
 
 #define ROUTE_COUNT (sizeof routes / sizeof routes[0])

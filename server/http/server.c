@@ -23,6 +23,7 @@
 #include "../core/log.h"
 #include "http_internal.h"
 #include "routes.h"
+#include "stream.h"
 
 struct http_server {
     struct MHD_Daemon *daemon;
@@ -30,7 +31,13 @@ struct http_server {
     struct http_app app;
     int port;
     atomic_int active_requests; /* request states alive (begun, not completed) */
+    struct http_stream_set *streams;
 };
+
+struct http_stream_set *http_server_streams(const struct http_server *srv)
+{
+    return srv->streams;
+}
 
 static void request_free(struct http_request *req)
 {
@@ -293,10 +300,16 @@ struct http_server *http_server_start(const struct http_config *cfg, const struc
     srv->cfg = *cfg;
     srv->app = *app;
     apply_defaults(&srv->cfg);
+    srv->streams = http_stream_set_create(e);
+    if (srv->streams == NULL) {
+        free(srv);
+        return NULL;
+    }
     struct sockaddr_in addr = {.sin_family = AF_INET, .sin_port = htons((uint16_t)cfg->port)};
     if (inet_pton(AF_INET, srv->cfg.bind_address, &addr.sin_addr) != 1) {
         err_set(e, REFRACT_E_USAGE, "--bind %s: not an IPv4 address (e.g. 127.0.0.1 or 0.0.0.0)",
                 srv->cfg.bind_address);
+        http_stream_set_destroy(srv->streams);
         free(srv);
         return NULL;
     }
@@ -312,6 +325,7 @@ struct http_server *http_server_start(const struct http_config *cfg, const struc
                 "cannot listen on %s:%d (is the port taken by another process? pick another "
                 "with --port, or --port 0 for any free port)",
                 srv->cfg.bind_address, cfg->port);
+        http_stream_set_destroy(srv->streams);
         free(srv);
         return NULL;
     }
@@ -334,6 +348,12 @@ void http_server_quiesce(struct http_server *s)
         close(fd);
 }
 
+void http_server_end_streams(struct http_server *s)
+{
+    if (s != NULL)
+        http_stream_set_end_all(s->streams);
+}
+
 bool http_server_wait_idle(struct http_server *s, int timeout_ms)
 {
     for (int waited = 0; waited < timeout_ms; waited += 10) {
@@ -350,5 +370,6 @@ void http_server_stop(struct http_server *s)
     if (s == NULL)
         return;
     MHD_stop_daemon(s->daemon);
+    http_stream_set_destroy(s->streams);
     free(s);
 }

@@ -64,4 +64,19 @@ void http_stream_release(struct http_stream *s);
 /* True once the client has gone (the response was freed): wakers may drop the stream. */
 bool http_stream_closed(struct http_stream *s);
 
+/* ---- the server's set of streams (server.c owns one) ---- */
+
+/* Every open stream of a server, and the one thread that wakes sleeping streams for their
+ * keep-alive (it ticks once a second while there are streams, and sleeps otherwise). */
+struct http_stream_set;
+struct http_stream_set *http_stream_set_create(struct err *e);
+/* Ends every open stream: each one's next produce is replaced by HTTP_STREAM_END, and
+ * sleeping ones are woken for it; streams opened afterwards end at once. For shutdown,
+ * before libmicrohttpd is stopped (it must not be stopped with suspended connections). */
+void http_stream_set_end_all(struct http_stream_set *set);
+/* Stops the thread and drops the set's references. After MHD_stop_daemon. */
+void http_stream_set_destroy(struct http_stream_set *set);
+/* Open streams (not yet closed). */
+size_t http_stream_set_count(struct http_stream_set *set);
+
 #endif
