@@ -122,8 +122,8 @@ static int emit_all(FILE *out, int count, char **paths)
         fprintf(out, "\nconst struct http_web_file http_web_files[] = {\n");
         for (int i = 0; i < count; i++) {
             const char *name = base_name(paths[i]);
-            fprintf(out, "    {\"%s\", file_bytes_%d, %zu, \"%s\", \"\\\"%016llx\\\"\"},\n",
-                    name, i, lengths[i], content_type_of(name), (unsigned long long)hashes[i]);
+            fprintf(out, "    {\"%s\", file_bytes_%d, %zu, \"%s\", \"\\\"%016llx\\\"\"},\n", name,
+                    i, lengths[i], content_type_of(name), (unsigned long long)hashes[i]);
         }
         fprintf(out, "};\nconst size_t http_web_file_count = %d;\n", count);
     }

@@ -95,12 +95,23 @@ static void html_escape(const char *text, char *out, size_t size)
     for (const char *p = text; *p && used + 7 < size; p++) {
         const char *rep = NULL;
         switch (*p) {
-        case '&': rep = "&amp;"; break;
-        case '<': rep = "&lt;"; break;
-        case '>': rep = "&gt;"; break;
-        case '"': rep = "&quot;"; break;
-        case '\'': rep = "&#39;"; break;
-        default: break;
+        case '&':
+            rep = "&amp;";
+            break;
+        case '<':
+            rep = "&lt;";
+            break;
+        case '>':
+            rep = "&gt;";
+            break;
+        case '"':
+            rep = "&quot;";
+            break;
+        case '\'':
+            rep = "&#39;";
+            break;
+        default:
+            break;
         }
         if (rep) {
             size_t n = strlen(rep);
@@ -120,15 +131,15 @@ static enum MHD_Result respond_unknown_scene_html(struct http_request *req, cons
     char safe[HTTP_PARAM_MAX * 6];
     html_escape(id, safe, sizeof safe);
     static const char fmt[] =
-                     "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
-                     "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
-                     "<title>No such scene - Refract</title>"
-                     "<link rel=\"icon\" href=\"/assets/favicon.svg\">"
-                     "<link rel=\"stylesheet\" href=\"/assets/viewer.css\"></head>"
-                     "<body class=\"page\"><main class=\"notice\"><h1>No scene "
-                     "&ldquo;%s&rdquo;</h1><p>refractd has no scene with this id. "
-                     "<a href=\"/\">See the scenes it has</a>, or create one with "
-                     "<code>POST /v1/scenes</code>.</p></main></body></html>\n";
+        "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+        "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
+        "<title>No such scene - Refract</title>"
+        "<link rel=\"icon\" href=\"/assets/favicon.svg\">"
+        "<link rel=\"stylesheet\" href=\"/assets/viewer.css\"></head>"
+        "<body class=\"page\"><main class=\"notice\"><h1>No scene "
+        "&ldquo;%s&rdquo;</h1><p>refractd has no scene with this id. "
+        "<a href=\"/\">See the scenes it has</a>, or create one with "
+        "<code>POST /v1/scenes</code>.</p></main></body></html>\n";
     size_t size = sizeof fmt + strlen(safe);
     char *page = malloc(size);
     if (page == NULL)
@@ -139,8 +150,13 @@ static enum MHD_Result respond_unknown_scene_html(struct http_request *req, cons
         return http_respond_error(req, REFRACT_E_INTERNAL, "cannot format the 404 page");
     }
     log_info("http", "404 scene_not_found /viewer/{id}: no scene \"%s\" (HTML page)", id);
-    const char *headers[] = {"Cache-Control", "no-store", "X-Content-Type-Options", "nosniff",
-                             "Content-Security-Policy", content_security_policy, NULL};
+    const char *headers[] = {"Cache-Control",
+                             "no-store",
+                             "X-Content-Type-Options",
+                             "nosniff",
+                             "Content-Security-Policy",
+                             content_security_policy,
+                             NULL};
     return http_respond_bytes(req, MHD_HTTP_NOT_FOUND, page, (size_t)n, "text/html; charset=utf-8",
                               headers);
 }

@@ -1,6 +1,6 @@
 /*
- * routes.c - the route table of API v1 and of the web viewer, and path matching. proto/openapi.yaml documents
- * exactly these routes; tests/integration/test_openapi_contract.c checks both ways.
+ * routes.c - the route table of API v1 and of the web viewer, and path matching. proto/openapi.yaml
+ * documents exactly these routes; tests/integration/test_openapi_contract.c checks both ways.
  */
 #include <stdio.h>
 #include <string.h>

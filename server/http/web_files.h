@@ -10,11 +10,11 @@
 #include <stddef.h>
 
 struct http_web_file {
-    const char *name;                 /* base name, e.g. "viewer.js" */
-    const unsigned char *bytes;       /* static; `length` bytes (plus a NUL not counted) */
-    size_t length;                    /* bytes */
-    const char *content_type;         /* from the extension: "text/javascript; charset=utf-8" */
-    const char *etag;                 /* quoted strong ETag: FNV-1a 64 of the bytes, in hex */
+    const char *name;           /* base name, e.g. "viewer.js" */
+    const unsigned char *bytes; /* static; `length` bytes (plus a NUL not counted) */
+    size_t length;              /* bytes */
+    const char *content_type;   /* from the extension: "text/javascript; charset=utf-8" */
+    const char *etag;           /* quoted strong ETag: FNV-1a 64 of the bytes, in hex */
 };
 
 extern const struct http_web_file http_web_files[];

@@ -1,8 +1,8 @@
 // viewer.js - refractd's web viewer (docs/views.md, "The web viewer").
 //
 // The page at /viewer/{scene} opens a view session (POST /v1/scenes/{scene}/views, with an
-// image size that fits the window) or attaches to one (?view=VID), shows the session's
-// MJPEG stream in an <img>, and turns the mouse into camera changes (PATCH
+// image size that fits the window) or attaches to one (?view=VID), shows the frames of
+// the session's MJPEG stream in an <img> (read by mjpeg.js, which says why), and turns the mouse into camera changes (PATCH
 // /v1/views/{vid}): drag orbits around look_at, the wheel moves the eye along the view
 // direction, shift-drag or right-drag pans. The first light's direction is set with
 // PUT /v1/scenes/{scene}/lights/{name}. The status line shows what the view status
@@ -19,6 +19,8 @@
 (function () {
   // ---- settings ------------------------------------------------------------------------
 
+  // URL options: ?view=VID attaches to a session; ?size=WxH fixes the image size;
+  // ?quality=draft|normal|final starts with that preset (slow machines: draft).
   const MAX_WIDTH = 960;        // image size cap (pixels); ?size=WxH overrides
   const MAX_HEIGHT = 720;
   const MIN_SIDE = 64;
@@ -113,7 +115,9 @@
     light: null,         // the first light, as GET /v1/scenes/{id}/lights gave it
     lightCenter: [0, 0, 0],
     irradiance: { state: null, progress: null }, // from the events
-    samples: [],         // [time ms, frame seq] for the frame rate
+    frameTimes: [],      // when each frame was shown (ms), for the frame rate
+    shown: null,         // the frame on screen: {seq, kind, renderMs, irradiance, width, height}
+    stream: null,        // AbortController of the stream being read
     firstFrame: false,
     ended: false,
     renderer: null,
@@ -194,8 +198,9 @@
         }
       }
       if (status === null) {
-        const size = wantedSize();
-        status = (await api('POST', `/v1/scenes/${encodeURIComponent(sceneId)}/views`, size)).json;
+        const body = wantedSize();
+        if (query.get('quality')) body.quality = query.get('quality');
+        status = (await api('POST', `/v1/scenes/${encodeURIComponent(sceneId)}/views`, body)).json;
         state.ownView = true;
       }
       state.view = status.id;
@@ -214,37 +219,75 @@
     }
   }
 
+  // Reads the session's stream (mjpeg.js) and shows each frame in the <img>. Only the
+  // newest frame waits for the <img>: one that arrives while another is being decoded
+  // replaces the waiting one, so a slow page never builds a queue.
   function openStream(status) {
+    if (state.stream) state.stream.abort();
+    const stream = new AbortController();
+    state.stream = stream;
     state.firstFrame = false;
-    img.hidden = false;
     showSize(status.width, status.height);
-    // A new URL each time, so the browser opens a new connection rather than reusing a
-    // finished one from its image cache.
-    img.src = `${status.stream}?t=${Date.now()}`;
-    waitFirstFrame();
+    RefractMjpeg.read(status.stream, { signal: stream.signal, onFrame: showFrame })
+      .then(() => streamEnded(stream, null), (err) => streamEnded(stream, err));
   }
 
-  // An <img> of a multipart stream fires `load` irregularly across browsers; the first
-  // decoded frame is certain once naturalWidth is set.
-  function waitFirstFrame() {
-    const check = () => {
-      if (state.ended) return;
-      if (img.naturalWidth > 0) {
-        state.firstFrame = true;
-        hideOverlay();
-        return;
-      }
-      setTimeout(check, 100);
-    };
-    check();
-  }
-
-  img.addEventListener('error', () => {
-    if (state.ended || !state.view) return;
-    // The stream ended: the session expired or was deleted, or refractd restarted.
+  function streamEnded(stream, err) {
+    if (stream.signal.aborted || state.ended || !state.view) return;
+    // The session expired or was deleted, or refractd stopped.
     setConn('stream ended', 'error');
-    overlay('The frame stream ended.', true, { label: 'Reconnect', run: reconnect });
-  });
+    overlay(`The frame stream ended${err ? `: ${err.message}` : '.'}`, true,
+            { label: 'Reconnect', run: reconnect });
+  }
+
+  let waiting = null;   // the newest frame not yet handed to the <img>
+  let decoding = false;
+  let shownUrl = null;
+
+  function showFrame(frame) {
+    // The keep-alive resends the frame on screen: nothing to draw.
+    if (state.shown && frame.seq === state.shown.seq && !waiting) return;
+    waiting = frame;
+    if (!decoding) drawNext();
+  }
+
+  function drawNext() {
+    const frame = waiting;
+    waiting = null;
+    if (!frame) return;
+    decoding = true;
+    const url = URL.createObjectURL(frame.blob);
+    const done = (ok) => {
+      decoding = false;
+      if (ok) {
+        if (shownUrl) URL.revokeObjectURL(shownUrl);
+        shownUrl = url;
+        onShown(frame);
+      } else {
+        URL.revokeObjectURL(url);
+      }
+      drawNext();
+    };
+    img.onload = () => done(true);
+    img.onerror = () => done(false); // a part that is not a JPEG: keep the last good one
+    img.src = url;
+    img.hidden = false;
+  }
+
+  function onShown(frame) {
+    const now = performance.now();
+    state.shown = { seq: frame.seq, kind: frame.kind, renderMs: frame.renderMs,
+                    irradiance: frame.irradiance, width: img.naturalWidth, height: img.naturalHeight };
+    state.frameTimes.push(now);
+    while (state.frameTimes.length > 0 && now - state.frameTimes[0] > FPS_WINDOW_MS)
+      state.frameTimes.shift();
+    if (!state.firstFrame) {
+      state.firstFrame = true;
+      hideOverlay();
+      setConn('live', 'live');
+    }
+    renderStatus();
+  }
 
   async function reconnect() {
     try {
@@ -296,13 +339,6 @@
     if (!status || !status.id) return;
     state.status = status;
     if (status.renderer) state.renderer = status.renderer;
-    const f = status.frame;
-    if (f) {
-      const now = performance.now();
-      state.samples.push([now, f.seq]);
-      while (state.samples.length > 2 && now - state.samples[1][0] > FPS_WINDOW_MS)
-        state.samples.shift();
-    }
     if (state.firstFrame) {
       setConn(status.state === 'rendering' ? 'rendering' : 'live',
               status.state === 'rendering' ? 'rendering' : 'live');
@@ -310,20 +346,18 @@
     renderStatus();
   }
 
-  // Frames per second over the last few seconds, from the frame numbers the status gave.
+  // Frames shown per second over the last few seconds (0 while nothing changes: refractd
+  // sends a frame only when something visible changed).
   function fps() {
-    const s = state.samples;
-    if (s.length < 2) return 0;
     const now = performance.now();
-    const first = s[0];
-    const last = s[s.length - 1];
-    const span = Math.max(now - first[0], 1);
-    return Math.max(0, (last[1] - first[1]) * 1000 / span);
+    const recent = state.frameTimes.filter((t) => now - t <= FPS_WINDOW_MS);
+    return recent.length / (FPS_WINDOW_MS / 1000);
   }
 
   function irradianceText() {
     const f = state.status && state.status.frame;
-    const frameIrr = f ? f.irradiance : null;
+    const frameIrr = state.shown && state.shown.irradiance ? state.shown.irradiance
+                                                           : f ? f.irradiance : null;
     const ev = state.irradiance;
     if (ev.state === 'computing' || ev.state === 'queued') {
       const pct = ev.progress != null ? ` ${Math.round(ev.progress * 100)} %` : '';
@@ -338,11 +372,17 @@
     const f = st && st.frame;
     $('s-renderer').textContent = state.renderer || 'renderer …';
     $('s-renderer').title = state.renderer ? `GPU: ${state.renderer}` : '';
+    // The frame on screen, as its part's headers described it.
+    const sh = state.shown;
+    if (sh) {
+      $('s-frame').textContent = `frame ${sh.seq} · ${sh.width}×${sh.height} ${sh.kind || ''}`.trim();
+      if (sh.renderMs != null) {
+        $('s-render').textContent = `render ${sh.renderMs.toFixed(1)} ms`;
+        $('f-render').textContent = `${sh.renderMs.toFixed(1)} ms`;
+      }
+      $('f-seq').textContent = `${sh.seq}${sh.kind ? ` (${sh.kind})` : ''}`;
+    }
     if (f) {
-      $('s-frame').textContent = `frame ${f.seq} · ${f.width}×${f.height} ${f.kind}`;
-      $('s-render').textContent = `render ${f.render_ms.toFixed(1)} ms`;
-      $('f-seq').textContent = `${f.seq} (${f.kind})`;
-      $('f-render').textContent = `${f.render_ms.toFixed(1)} ms`;
       $('f-encode').textContent = `${f.encode_ms.toFixed(1)} ms · ${(f.bytes / 1024).toFixed(0)} KiB`;
     }
     const rate = fps();
@@ -457,8 +497,6 @@
     drag = { x: e.clientX, y: e.clientY, panning, id: e.pointerId };
     stage.setPointerCapture(e.pointerId);
     stage.classList.add(panning ? 'panning' : 'dragging');
-    stage.focus({ preventScroll: true });
-    e.preventDefault();
   });
   stage.addEventListener('pointermove', (e) => {
     if (!drag || e.pointerId !== drag.id) return;
@@ -591,7 +629,8 @@
       const first = lights && lights.lights && lights.lights[0];
       if (!first) {
         $('light-name').textContent = 'none';
-        $('light-note').textContent = 'This scene has no lights.';
+        $('light-note').textContent = 'This scene has no lights: it is lit by its environment only.';
+        for (const f of $('light-section').querySelectorAll('.field')) f.hidden = true;
         return;
       }
       state.light = first;
@@ -665,6 +704,7 @@
   // End the session we made; keepalive lets the request outlive the page.
   window.addEventListener('pagehide', () => {
     if (state.events) state.events.close();
+    if (state.stream) state.stream.abort();
     if (state.view && state.ownView) {
       fetch(`/v1/views/${state.view}`, { method: 'DELETE', keepalive: true }).catch(() => {});
       state.view = null;

@@ -30,8 +30,8 @@ const REFRACTD = process.env.REFRACTD;
 const SOURCE = process.env.REFRACT_SOURCE_DIR || path.resolve(HERE, '../..');
 const SCENE = process.env.REFRACT_BROWSER_SCENE || 'glass_block_lettering';
 const VIEWPORT = (() => {
-  const m = /^(\d+)x(\d+)$/.exec(process.env.REFRACT_BROWSER_VIEWPORT || '720x440');
-  return m ? { width: +m[1], height: +m[2] } : { width: 720, height: 440 };
+  const m = /^(\d+)x(\d+)$/.exec(process.env.REFRACT_BROWSER_VIEWPORT || '700x420');
+  return m ? { width: +m[1], height: +m[2] } : { width: 700, height: 420 };
 })();
 const ARTIFACTS = process.env.REFRACT_BROWSER_ARTIFACTS || path.join(os.tmpdir(), 'refract-browser-artifacts');
 
@@ -216,18 +216,20 @@ async function viewerState(page) {
     const v = window.refractViewer;
     if (!v) return null;
     return { view: v.view, firstFrame: v.firstFrame, status: v.status, camera: v.camera,
-             natural: document.getElementById('frame').naturalWidth };
+             shown: v.shown, natural: document.getElementById('frame').naturalWidth };
   });
 }
 
 const sameCamera = (a, b) => ['eye', 'look_at'].every((k) => a[k].every((x, i) => Math.abs(x - b[k][i]) < 1e-4));
 
-// The view shows the camera the page asked for, in a full frame, with nothing pending.
+// The view shows the camera the page asked for, in a full frame, with nothing pending,
+// and that frame is the one on the page.
 async function settled(page, afterSeq) {
   const s = await viewerState(page);
-  if (!s || !s.status || !s.status.frame || s.natural === 0) return null;
+  if (!s || !s.status || !s.status.frame || !s.shown || s.natural === 0) return null;
   const st = s.status;
   if (st.frame.seq <= afterSeq || st.state !== 'idle' || st.frame.kind !== 'full') return null;
+  if (s.shown.seq !== st.frame.seq) return null;
   if (!sameCamera(st.camera, s.camera)) return null;
   return s;
 }
@@ -251,6 +253,7 @@ async function run(dir) {
     throw err;
   } finally {
     const code = await stopDaemon(d);
+    note(`refractd stopped (exit status ${code})`);
     if (!check(code === 0, `refractd exits cleanly on SIGTERM (exit status ${code})`)) printLog(d);
   }
 }
@@ -359,6 +362,7 @@ async function runWithDaemon(d, chromium) {
       return r.status === 404;
     }).catch(() => false);
     check(gone, `closing the page deleted its view session ${vid}`);
+    note(`page closed; its session ${gone ? 'was deleted' : 'is still there'}`);
     check(pageErrors.length === 0, `no uncaught errors in the page: ${pageErrors.join('; ')}`);
 
     // 6. The other pages.
@@ -371,6 +375,7 @@ async function runWithDaemon(d, chromium) {
     await link.waitFor({ timeout: 10000 });
     check(await link.count() === 1, `the scene list links to /viewer/${SCENE}`);
     await p2.close();
+    note('404 page and scene list checked');
   } finally {
     await browser.close();
   }
