@@ -518,6 +518,7 @@ static void request_examples_are_present(const struct contract *c)
 
 #define VOLUME_NAME "density"
 #define LIGHT_NAME "sun"
+#define ASSET_NAME "viewer.js" /* the {file} of GET /assets/{file} */
 
 /* A small glass sphere whose default view is 64x48, so renders take milliseconds; its one
  * light is the {light} of the irradiance routes (it needs no light simulation, so those
@@ -528,8 +529,8 @@ static const char *const test_scene =
     "\"ior\": {\"shape\": \"sphere\", \"radius\": 0.8, \"inside\": 1.5}}], "
     "\"lights\": [{\"name\": \"sun\", \"type\": \"directional\", \"direction\": [0, -1, 0]}]}";
 
-/* Writes tmpl with {id}, {name} and {light} filled in. False (test failed) for another
- * parameter. */
+/* Writes tmpl with {id}, {name}, {light} and {file} filled in. False (test failed) for
+ * another parameter. */
 static bool fill_path(const char *tmpl, const char *id, char *out, size_t size)
 {
     size_t used = 0;
@@ -549,6 +550,10 @@ static bool fill_path(const char *tmpl, const char *id, char *out, size_t size)
             piece = LIGHT_NAME;
             len = strlen(LIGHT_NAME);
             p += 7;
+        } else if (strncmp(p, "{file}", 6) == 0) {
+            piece = ASSET_NAME;
+            len = strlen(ASSET_NAME);
+            p += 6;
         } else if (*p == '{') {
             CHECK_MSG(false, "path %s: unknown parameter at \"%s\"", tmpl, p);
             return false;
@@ -648,7 +653,11 @@ static void wrong_method_gives_405(struct test_daemon *d, const struct contract 
 
 static void undocumented_paths_give_404(struct test_daemon *d, const char *scene)
 {
-    static const char *const paths[] = {"/",
+    static const char *const paths[] = {"/index.html",
+                                        "/viewer",
+                                        "/viewer/{id}/x",
+                                        "/assets/nope.js",
+                                        "/assets/index.html",
                                         "/v1",
                                         "/v1/nope",
                                         "/v2/health",
