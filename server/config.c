@@ -77,6 +77,8 @@ static const struct option_def options[] = {
      "end a view session after S seconds without a request or an open stream (default 120)"},
     {"view-encoder-threads", OPT_INT, 1, 64, "N",
      "threads that tone-map and JPEG-encode view frames (default 2)"},
+    {"event-history", OPT_INT, 1, 1000000, "N",
+     "events kept for SSE clients that reconnect with Last-Event-ID (default 1024)"},
     {"log-level", OPT_LOG, 0, 0, "debug|info|warn|error", "log verbosity (default info)"},
     {"config", OPT_CONFIG, 0, 0, "FILE", "read 'key value' lines with these option names"},
     {"help", OPT_FLAG, 0, 0, NULL, "print this help"},
@@ -109,6 +111,7 @@ void config_defaults(struct config *c)
     c->views.max_views = 64;
     c->views.idle_timeout_s = 120;
     c->views.encoder_threads = 2;
+    c->event_history = 1024;
     c->max_env_pixels = 64ll << 20;
     c->http.max_image_pixels = 4096LL * 4096;
     c->log_level = LOG_INFO;
@@ -216,6 +219,8 @@ static void store_int(struct config *c, const char *name, long long v)
         c->views.idle_timeout_s = (double)v;
     else if (!strcmp(name, "view-encoder-threads"))
         c->views.encoder_threads = (int)v;
+    else if (!strcmp(name, "event-history"))
+        c->event_history = (size_t)v;
 }
 
 static enum refract_code config_parse_file(struct config *c, const char *path, struct err *e);

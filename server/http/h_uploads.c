@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../events/events.h"
 #include "http_internal.h"
 
 static bool parse_dims(const char *text, int dims[3])
@@ -210,6 +211,7 @@ enum MHD_Result http_handle_volume_put(struct http_request *req)
     store_volume_release(vol);
     struct store_scene *now = store_scene_get(req->app->store, req->params[0]);
     if (now) {
+        http_publish_scene(req->app, EVENT_SCENE_UPDATED, now->id, now, "volume");
         http_prepare_scene(req->app, now);
         store_scene_release(now);
     }
@@ -232,6 +234,7 @@ enum MHD_Result http_handle_environment_put(struct http_request *req)
         return http_respond_err(req, &e);
     struct store_scene *now = store_scene_get(req->app->store, req->params[0]);
     if (now) {
+        http_publish_scene(req->app, EVENT_SCENE_UPDATED, now->id, now, "environment");
         http_prepare_scene(req->app, now);
         store_scene_release(now);
     }

@@ -64,6 +64,7 @@ struct http_request {
     void *job; /* owned; freed by job_free */
     void (*job_free)(void *job);
     http_handler_fn on_resume; /* answers after the GPU finished */
+    struct http_sse *sse;      /* the server's event streams (h_events.c) */
 };
 
 /* ---- responses (respond.c) ---- */
@@ -167,6 +168,21 @@ enum MHD_Result http_handle_view_stream(struct http_request *req);
 enum MHD_Result http_handle_web_index(struct http_request *req);
 enum MHD_Result http_handle_web_viewer(struct http_request *req);
 enum MHD_Result http_handle_web_asset(struct http_request *req);
+enum MHD_Result http_handle_events(struct http_request *req);
+enum MHD_Result http_handle_scene_events(struct http_request *req);
+
+/* ---- events (h_events.c) ---- */
+struct http_sse;
+/* The server's Server-Sent Events streams and its one listener on hub (NULL: none; the
+ * event routes then answer 500). NULL with e filled on failure. */
+struct http_sse *http_sse_create(struct event_hub *hub, struct err *e);
+/* After MHD_stop_daemon: stops listening, releases the streams. NULL is a no-op. */
+void http_sse_destroy(struct http_sse *sse);
+/* Publishes a scene event (EVENT_SCENE_CREATED, _UPDATED, _DELETED) with data {"scene",
+ * "generation" (of version, when not NULL), "what" (when not NULL: "document", "volume",
+ * "environment", "lights")}. A no-op without a hub. */
+void http_publish_scene(const struct http_app *app, const char *type, const char *scene_id,
+                        const struct store_scene *version, const char *what);
 
 /* ---- irradiance (h_irradiance.c) ---- */
 /* The irradiance status body (docs/api.md) of a version. */

@@ -34,6 +34,8 @@ static const struct http_route routes[] = {
     {"PATCH", "/v1/views/{vid}", http_handle_view_patch, HTTP_BODY_JSON},
     {"DELETE", "/v1/views/{vid}", http_handle_view_delete, HTTP_BODY_NONE},
     {"GET", "/v1/views/{vid}/stream", http_handle_view_stream, HTTP_BODY_NONE},
+    {"GET", "/v1/scenes/{id}/events", http_handle_scene_events, HTTP_BODY_NONE},
+    {"GET", "/v1/events", http_handle_events, HTTP_BODY_NONE},
 };
 
 #define ROUTE_COUNT (sizeof routes / sizeof routes[0])
