@@ -84,6 +84,10 @@
       this.pending = Object.assign(this.pending || {}, fields);
       if (!this.inflight) this.flush();
     }
+    replace(body) { // for bodies that are whole documents, not fields to merge
+      this.pending = null;
+      this.push(body);
+    }
     async flush() {
       while (this.pending) {
         const body = this.pending;
@@ -97,7 +101,6 @@
         this.inflight = false;
       }
     }
-    get busy() { return this.inflight || this.pending !== null; }
   }
 
   // ---- state ---------------------------------------------------------------------------
@@ -296,14 +299,21 @@
       openStream(status);
     } catch (err) {
       if (err.status === 404 && state.ownView) {
+        stopSession();
         state.view = null;
-        state.timers.forEach(clearInterval);
-        state.timers = [];
         start();
       } else {
         overlay(`Cannot reconnect: ${err.message}`, true, { label: 'Reload', run: () => location.reload() });
       }
     }
+  }
+
+  // Stops polling and reading the stream (the session is gone, or the page goes).
+  function stopSession() {
+    state.timers.forEach(clearInterval);
+    state.timers = [];
+    if (state.stream) state.stream.abort();
+    state.stream = null;
   }
 
   async function poll() {
@@ -312,6 +322,7 @@
       onStatus((await api('GET', `/v1/views/${state.view}`)).json);
     } catch (err) {
       if (err.status === 404) {
+        stopSession();
         setConn('session ended', 'error');
         overlay('This view session has ended (idle too long, or deleted).', true,
                 { label: 'Start a new view', run: reconnect });
@@ -420,9 +431,14 @@
     (status) => onStatus(status),
     (err) => showError(err));
 
+  // A failed change: refractd's message (it says what was wrong) for a few seconds.
+  let toastTimer = 0;
   function showError(err) {
-    setConn('error', 'error');
-    $('light-note').textContent = err.message; // the last place a person looks for it
+    const t = $('toast');
+    t.textContent = err.message;
+    t.hidden = false;
+    clearTimeout(toastTimer);
+    toastTimer = setTimeout(() => { t.hidden = true; }, 8000);
     console.warn('refract viewer:', err.message);
   }
 
@@ -661,9 +677,8 @@
     showAngles(a);
     const body = lightWith(state.light, a.az, a.el);
     state.light = Object.assign({}, body, { name: state.light.name });
-    // Replace, not merge: each body is the whole light.
-    lightPutter.pending = null;
-    lightPutter.push(body);
+    lightPutter.replace(body); // each body is the whole light
+
   }
   $('azimuth').addEventListener('input', onLightInput);
   $('elevation').addEventListener('input', onLightInput);
@@ -704,13 +719,11 @@
   // End the session we made; keepalive lets the request outlive the page.
   window.addEventListener('pagehide', () => {
     if (state.events) state.events.close();
-    if (state.stream) state.stream.abort();
+    stopSession();
     if (state.view && state.ownView) {
       fetch(`/v1/views/${state.view}`, { method: 'DELETE', keepalive: true }).catch(() => {});
       state.view = null;
     }
-    state.timers.forEach(clearInterval);
-    state.timers = [];
   });
   // Back from the back/forward cache: the old session was deleted on pagehide.
   window.addEventListener('pageshow', (e) => {
@@ -718,6 +731,5 @@
   });
 
   $('scene-name').textContent = sceneId;
-  $('scene-id').textContent = '';
   start();
 })();
