@@ -22,8 +22,8 @@
  */
 #include <errno.h>
 #include <inttypes.h>
-#include <stdarg.h>
 #include <pthread.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -121,9 +121,9 @@ static ssize_t sse_produce(void *ctx, struct http_stream *s, char *buf, size_t m
             break;
         if (next_event_item(st))
             continue;
-        /* Nothing new. Woken by the keep-alive timer (asleep SSE_KEEPALIVE_MS) or by an
-         * event this stream skips: only the first sends the comment (the margin allows
-         * for the timer's granularity). */
+        /* Nothing new: woken by the keep-alive timer (asleep SSE_KEEPALIVE_MS; the
+         * margin allows for its one-second tick) or by the wake that follows the opening,
+         * and only the first sends the comment. */
         if (used == 0 && now - st->last_write_ms >= SSE_KEEPALIVE_MS * 9 / 10) {
             item_set(st, ": keep-alive\n\n");
             continue;
@@ -269,9 +269,22 @@ static bool parse_event_id(const char *text, uint64_t *out)
 static bool resume_point(struct http_request *req, uint64_t *since, bool *has,
                          enum MHD_Result *answer)
 {
+    static const char *const allowed[] = {"since", NULL};
+    const char *unknown = http_query_unknown(req, allowed);
+    if (unknown) {
+        *answer = http_respond_error(req, REFRACT_E_UNKNOWN_FIELD,
+                                     "query parameter \"%.64s\" is not known here; allowed: since",
+                                     unknown);
+        return false;
+    }
     const char *header = MHD_lookup_connection_value(req->conn, MHD_HEADER_KIND, "Last-Event-ID");
-    const char *query = MHD_lookup_connection_value(req->conn, MHD_GET_ARGUMENT_KIND, "since");
-    *has = header != NULL || query != NULL;
+    const char *query = NULL;
+    size_t query_len = 0;
+    bool has_query = MHD_lookup_connection_value_n(req->conn, MHD_GET_ARGUMENT_KIND, "since", 5,
+                                                   &query, &query_len) == MHD_YES;
+    if (has_query && query == NULL)
+        query = ""; /* "?since" without a value */
+    *has = header != NULL || has_query;
     if (header) {
         if (parse_event_id(header, since))
             return true;

@@ -79,35 +79,16 @@ struct volume_query {
     int components;
 };
 
-struct unknown_query {
-    const char *const *allowed;
-    const char *first_unknown;
-};
-
-static enum MHD_Result find_unknown_query(void *cls, enum MHD_ValueKind kind, const char *key,
-                                          const char *value)
-{
-    (void)kind;
-    (void)value;
-    struct unknown_query *u = cls;
-    for (const char *const *a = u->allowed; *a; a++)
-        if (strcmp(*a, key) == 0)
-            return MHD_YES;
-    u->first_unknown = key;
-    return MHD_NO;
-}
-
 /* Validates the query; answers and returns false on error. A misspelt parameter
  * (?component=3) is an error, not silently the default. */
 static bool parse_volume_query(struct http_request *req, struct volume_query *q)
 {
     static const char *const allowed[] = {"dims", "components", NULL};
-    struct unknown_query u = {allowed, NULL};
-    MHD_get_connection_values(req->conn, MHD_GET_ARGUMENT_KIND, find_unknown_query, &u);
-    if (u.first_unknown) {
+    const char *unknown = http_query_unknown(req, allowed);
+    if (unknown) {
         http_respond_error(req, REFRACT_E_UNKNOWN_FIELD,
                            "query parameter \"%s\" is not known here; allowed: dims, components",
-                           u.first_unknown);
+                           unknown);
         return false;
     }
     const char *dims = MHD_lookup_connection_value(req->conn, MHD_GET_ARGUMENT_KIND, "dims");

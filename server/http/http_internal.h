@@ -143,6 +143,10 @@ enum refract_code http_parse_trace_request(const char *body, size_t len, const s
                                            struct render_trace_ray **rays, size_t *count,
                                            struct err *e);
 
+/* The first query parameter of req that is not in `allowed` (NULL-terminated), or NULL:
+ * a misspelt parameter is an error, never silently its default. */
+const char *http_query_unknown(struct http_request *req, const char *const *allowed);
+
 /* ---- handlers ---- */
 enum MHD_Result http_handle_health(struct http_request *req);
 enum MHD_Result http_handle_scene_create(struct http_request *req);

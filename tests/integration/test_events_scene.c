@@ -16,7 +16,8 @@
  *   - deleting the scene ends its stream after scene.deleted; the every-event stream goes
  *     on;
  *   - a resume point that is not a number is a 400 invalid_field that names the header or
- *     the parameter; an unknown scene is a 404 scene_not_found;
+ *     the parameter, a misspelt parameter a 400 unknown_field; an unknown scene is a 404
+ *     scene_not_found;
  *   - the daemon stops cleanly with streams open (they end).
  */
 #include <stdbool.h>
@@ -257,6 +258,9 @@ static void bad_resume_points(struct test_daemon *d)
     EXPECT_ERROR(d, "GET", "/v1/events?since=-1", NULL, 400, "invalid_field", "since", "-1");
     EXPECT_ERROR(d, "GET", "/v1/events?since=1.5", NULL, 400, "invalid_field", "since");
     EXPECT_ERROR(d, "GET", "/v1/events?since=", NULL, 400, "invalid_field", "since");
+    EXPECT_ERROR(d, "GET", "/v1/events?since", NULL, 400, "invalid_field", "since");
+    EXPECT_ERROR(d, "GET", "/v1/events?sinse=3", NULL, 400, "unknown_field", "sinse",
+                 "allowed: since");
     EXPECT_ERROR(d, "GET", "/v1/events?since=99999999999999999999999", NULL, 400, "invalid_field",
                  "since");
     EXPECT_ERROR(d, "GET", "/v1/scenes/no_such_scene/events", NULL, 404, "scene_not_found",
