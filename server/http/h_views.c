@@ -152,6 +152,7 @@ struct frame_stream {
     size_t head_len, offset;
     uint64_t sent_seq;
     int64_t sent_ms;
+    long long frames_left; /* ?frames=N: the parts still to send; -1 = no end */
 };
 
 static void frame_stream_wake(void *ctx)
@@ -209,6 +210,8 @@ static size_t part_copy(struct frame_stream *fs, char *buf, size_t max)
         fs->offset += chunk;
     }
     if (fs->offset == total) {
+        if (fs->frames_left > 0)
+            fs->frames_left--;
         fs->sent_seq = f->seq;
         fs->sent_ms = gpu_now_ms();
         view_frame_release(fs->sending);
@@ -222,6 +225,8 @@ static ssize_t frame_stream_produce(void *ctx, struct http_stream *s, char *buf,
     (void)s;
     struct frame_stream *fs = ctx;
     if (fs->sending == NULL) {
+        if (fs->frames_left == 0)
+            return HTTP_STREAM_END; /* ?frames=N sent */
         bool ended = false;
         struct view_frame *f = view_session_frame(fs->session, &ended);
         /* Woken by the keep-alive timer (it sleeps FRAME_KEEPALIVE_MS before waking us;
@@ -236,8 +241,40 @@ static ssize_t frame_stream_produce(void *ctx, struct http_stream *s, char *buf,
     return (ssize_t)part_copy(fs, buf, max);
 }
 
+/* ?frames=N (1..1000000): the stream ends after N frames (a snapshot, a test); absent:
+ * it runs until the session ends or the client leaves. Answers and returns false when the
+ * query is wrong. */
+static bool parse_stream_query(struct http_request *req, long long *frames)
+{
+    static const char *const allowed[] = {"frames", NULL};
+    const char *unknown = http_query_unknown(req, allowed);
+    if (unknown) {
+        http_respond_error(req, REFRACT_E_UNKNOWN_FIELD,
+                           "query parameter \"%s\" is not known here; allowed: frames", unknown);
+        return false;
+    }
+    const char *text = MHD_lookup_connection_value(req->conn, MHD_GET_ARGUMENT_KIND, "frames");
+    *frames = -1;
+    if (text == NULL)
+        return true;
+    char *end = NULL;
+    long long n = strtoll(text, &end, 10);
+    if (end == text || *end != '\0' || n < 1 || n > 1000000) {
+        http_respond_error(req, REFRACT_E_INVALID_FIELD,
+                           "query parameter frames: expected an integer in 1..1000000 (the "
+                           "frames to send before the stream ends), got \"%s\"",
+                           text);
+        return false;
+    }
+    *frames = n;
+    return true;
+}
+
 enum MHD_Result http_handle_view_stream(struct http_request *req)
 {
+    long long frames = -1;
+    if (!parse_stream_query(req, &frames))
+        return MHD_YES;
     enum MHD_Result answer = MHD_NO;
     struct view_session *s = view_or_404(req, &answer);
     if (s == NULL)
@@ -248,6 +285,7 @@ enum MHD_Result http_handle_view_stream(struct http_request *req)
         return http_respond_error(req, REFRACT_E_OUT_OF_MEMORY, "out of memory opening a stream");
     }
     fs->session = s;
+    fs->frames_left = frames;
     static const struct http_stream_ops ops = {.produce = frame_stream_produce,
                                                .free = frame_stream_free,
                                                .keepalive_ms = FRAME_KEEPALIVE_MS};

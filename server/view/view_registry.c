@@ -91,8 +91,10 @@ static void on_event(void *ctx, const struct event *ev)
 {
     struct view_registry *r = ctx;
     bool deleted = strcmp(ev->type, EVENT_SCENE_DELETED) == 0;
-    bool changed =
-        strcmp(ev->type, EVENT_SCENE_UPDATED) == 0 || strcmp(ev->type, EVENT_IRRADIANCE_READY) == 0;
+    /* scene.created too: a document stored again under the same id replaces the scene. */
+    bool changed = strcmp(ev->type, EVENT_SCENE_UPDATED) == 0 ||
+                   strcmp(ev->type, EVENT_SCENE_CREATED) == 0 ||
+                   strcmp(ev->type, EVENT_IRRADIANCE_READY) == 0;
     if ((!deleted && !changed) || ev->scene[0] == '\0')
         return;
     pthread_mutex_lock(&r->mu);

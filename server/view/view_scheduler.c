@@ -13,8 +13,9 @@
  *
  * Progressive refinement: with `progressive` on, the first frame after a change is a
  * half-size preview when the last full frame took longer than 20 ms (render_ms); the
- * full frame follows as the next frame (after the max_fps spacing) unless another change
- * came in, in which case that change gets its own preview first.
+ * full frame follows at once (a preview and its full frame are one frame for the max_fps
+ * spacing) unless another change came in, in which case that change gets its own preview
+ * first.
  */
 #include <stdlib.h>
 #include <string.h>
@@ -71,6 +72,7 @@ void view_job_finish(struct view_registry *r, struct view_job *job, struct view_
             s->last_full_render_ms = frame->render_ms;
         } else {
             s->preview_gen = job->change_gen;
+            s->next_start_ms = now; /* the full frame follows at once (docs/views.md) */
         }
         err_clear(&s->last_error);
     } else if (e->code == REFRACT_E_BUSY || e->code == REFRACT_E_TIMEOUT) {
