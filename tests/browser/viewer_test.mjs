@@ -10,6 +10,8 @@
 //     scene objects' bounds through the view's camera, docs/tracing.md "Camera"); the
 //     measured difference is printed;
 //   - the status line shows the renderer string refractd reports in /v1/health;
+//   - the wheel zooms (eye along the view direction) and shift-drag pans (eye and
+//     look_at together), as refractd's answers to the PATCHes show;
 //   - closing the page ends the session it made (DELETE on pagehide);
 //   - an unknown scene's viewer answers a 404 page; the scene list links to the viewer.
 //
@@ -353,7 +355,37 @@ async function runWithDaemon(d, chromium) {
     fs.writeFileSync(path.join(ARTIFACTS, 'frame-after.png'), shot);
     fs.writeFileSync(path.join(ARTIFACTS, 'viewer-after.png'), await page.screenshot());
 
-    // 5. Leaving the page ends the session it created.
+    // 5. The wheel zooms (the eye moves along the view direction) and shift-drag pans
+    //    (eye and look_at move together); refractd's answer to the PATCH says so.
+    const cam0 = after.status.camera;
+    await page.mouse.move(cx, cy);
+    await page.mouse.wheel(0, -240);
+    const zoomed = await waitFor('the zoom to reach refractd', 10000, async () => {
+      const s = await viewerState(page);
+      return s && dist(s.status.camera) < 0.9 * dist(cam0) ? s.status.camera : null;
+    }).catch(() => null);
+    check(zoomed !== null, 'the wheel moves the eye closer');
+    if (zoomed) {
+      check(Math.hypot(...sub(zoomed.look_at, cam0.look_at)) < 1e-6, 'zooming keeps look_at');
+      await page.keyboard.down('Shift');
+      await page.mouse.move(cx, cy);
+      await page.mouse.down();
+      await page.mouse.move(cx + 40, cy + 20, { steps: 4 });
+      await page.mouse.up();
+      await page.keyboard.up('Shift');
+      const panned = await waitFor('the pan to reach refractd', 10000, async () => {
+        const s = await viewerState(page);
+        return s && Math.hypot(...sub(s.status.camera.look_at, zoomed.look_at)) > 1e-3 ? s.status.camera : null;
+      }).catch(() => null);
+      check(panned !== null, 'shift-drag moves look_at');
+      if (panned) {
+        const moveEye = sub(panned.eye, zoomed.eye), moveAt = sub(panned.look_at, zoomed.look_at);
+        check(Math.hypot(...sub(moveEye, moveAt)) < 1e-4, 'a pan moves eye and look_at together');
+      }
+    }
+    note('zoom and pan checked');
+
+    // 6. Leaving the page ends the session it created.
     const vid = after.view;
     await page.close({ runBeforeUnload: true });
     const gone = await waitFor(`DELETE /v1/views/${vid} on pagehide`, 10000, async () => {
@@ -365,7 +397,7 @@ async function runWithDaemon(d, chromium) {
     note(`page closed; its session ${gone ? 'was deleted' : 'is still there'}`);
     check(pageErrors.length === 0, `no uncaught errors in the page: ${pageErrors.join('; ')}`);
 
-    // 6. The other pages.
+    // 7. The other pages.
     const p2 = await context.newPage();
     const missing = await p2.goto(`${d.url}/viewer/no_such_scene`);
     check(missing.status() === 404, `/viewer/no_such_scene answers 404 (got ${missing.status()})`);
