@@ -168,6 +168,10 @@ enum MHD_Result http_handle_view_get(struct http_request *req);
 enum MHD_Result http_handle_view_patch(struct http_request *req);
 enum MHD_Result http_handle_view_delete(struct http_request *req);
 enum MHD_Result http_handle_view_stream(struct http_request *req);
+/* The web viewer (h_web.c). */
+enum MHD_Result http_handle_web_index(struct http_request *req);
+enum MHD_Result http_handle_web_viewer(struct http_request *req);
+enum MHD_Result http_handle_web_asset(struct http_request *req);
 enum MHD_Result http_handle_events(struct http_request *req);
 enum MHD_Result http_handle_scene_events(struct http_request *req);
 
