@@ -191,6 +191,7 @@ static enum refract_multipart_result header_line(struct refract_multipart *m, ch
     char *value;
     char *end;
 
+    m->header_lines++;
     if (colon == NULL)
         return fail(m, "part %ld: header line \"%.60s\" has no ':'", m->parts + 1, line);
     *colon = '\0';
@@ -255,6 +256,7 @@ static void boundary_seen(struct refract_multipart *m, int kind)
         return;
     }
     reset_part(m);
+    m->header_lines = 0;
     m->state = REFRACT_MP_HEADERS;
 }
 
@@ -414,6 +416,10 @@ enum refract_multipart_result refract_multipart_finish(struct refract_multipart 
     case REFRACT_MP_FAILED:
         return REFRACT_MULTIPART_ERROR;
     case REFRACT_MP_HEADERS:
+        /* refractd sends the delimiter with the frame before it (docs/views.md), so a
+         * stream that ends between frames ends right after a delimiter: a clean end. */
+        if (m->header_lines == 0 && m->line_len == 0)
+            return REFRACT_MULTIPART_OK;
         return fail(m, "the stream ended inside the headers of part %ld", next);
     case REFRACT_MP_BODY_SIZED:
         return fail(m,

@@ -90,6 +90,7 @@ struct refract_multipart {
     size_t body_cap;
     size_t preamble_bytes;
     struct refract_multipart_part part;   /* the current part's headers */
+    int header_lines;                     /* header lines of the current part so far */
     long parts;                           /* parts delivered so far */
     double now_ms;                        /* set by the caller before each feed: stamps start_ms */
     char why[REFRACT_MULTIPART_WHY_SIZE]; /* after ERROR: what was wrong */

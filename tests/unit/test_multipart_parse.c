@@ -226,6 +226,8 @@ static void a_stream_that_closes_mid_frame_says_where(void)
     static const char in_boundary[] = "--f\r\nContent-Length: 1\r\n\r\na\r\n--";
     static const char between[] = "--f\r\nContent-Length: 1\r\n\r\na\r\n";
     static const char empty[] = "";
+    /* refractd sends each frame's delimiter with it, so streams end after one. */
+    static const char after_delimiter[] = "--f\r\nContent-Length: 1\r\n\r\na\r\n--f\r\n";
 
     CHECK_CONTAINS(same_at_every_split("f", in_body, sizeof(in_body) - 1),
                    "end error: the stream ended in the middle of part 1: 4 of its "
@@ -238,6 +240,8 @@ static void a_stream_that_closes_mid_frame_says_where(void)
     CHECK_CONTAINS(same_at_every_split("f", in_boundary, sizeof(in_boundary) - 1),
                    "end error: the stream ended inside the boundary line before part 2");
     CHECK_CONTAINS(same_at_every_split("f", between, sizeof(between) - 1), "end ok");
+    CHECK_CONTAINS(same_at_every_split("f", after_delimiter, sizeof(after_delimiter) - 1),
+                   "end ok");
     CHECK_CONTAINS(same_at_every_split("f", empty, 0), "end ok");
 }
 
