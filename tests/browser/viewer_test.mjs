@@ -408,6 +408,22 @@ async function runWithDaemon(d, chromium) {
     check(await link.count() === 1, `the scene list links to /viewer/${SCENE}`);
     await p2.close();
     note('404 page and scene list checked');
+
+    // 8. The bare stream in a plain <img>: a browser shows a part of a multipart <img>
+    // only when the delimiter after it has come, so this fails if refractd held the
+    // delimiter back until the next frame (on-change streams may not send one for long).
+    const created = await fetch(`${d.url}/v1/scenes/${SCENE}/views`, {
+      method: 'POST', body: JSON.stringify({ width: 96, height: 72 }) });
+    const plain = await created.json();
+    const p3 = await context.newPage();
+    await p3.setContent(`<img id="plain" src="${d.url}${plain.stream}">`);
+    const shown = await waitFor('a plain <img> of the stream to show its first frame', 20000,
+      async () => (await p3.evaluate(() => document.getElementById('plain').naturalWidth)) || null)
+      .catch(() => 0);
+    check(shown === 96, `a plain <img> shows the stream's first frame (naturalWidth ${shown})`);
+    await p3.close();
+    await (await fetch(`${d.url}/v1/views/${plain.id}`, { method: 'DELETE' })).arrayBuffer();
+    note('plain <img> stream checked');
   } finally {
     await browser.close();
   }
