@@ -24,6 +24,8 @@ PACKAGES=(
     # the web viewer's browser test (tests/browser): headless Chromium, driven by
     # playwright-core from npm with this system browser (no browser download)
     chromium
+    # data directory metadata (SQLite, WAL) and NRRD gzip volumes (zlib)
+    libsqlite3-dev zlib1g-dev
 )
 
 missing=()

@@ -15,6 +15,7 @@ static const struct http_route routes[] = {
     {"GET", "/assets/{file}", http_handle_web_asset, HTTP_BODY_NONE},
     /* API v1. */
     {"GET", "/v1/health", http_handle_health, HTTP_BODY_NONE},
+    {"GET", "/v1/storage", http_handle_storage, HTTP_BODY_NONE},
     {"GET", "/v1/scenes", http_handle_scene_list, HTTP_BODY_NONE},
     {"POST", "/v1/scenes", http_handle_scene_create, HTTP_BODY_JSON},
     {"GET", "/v1/scenes/{id}", http_handle_scene_get, HTTP_BODY_NONE},
