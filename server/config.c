@@ -45,6 +45,8 @@ static const struct option_def options[] = {
      "deadline for a request's GPU work to start (default 120000)"},
     {"max-json-bytes", OPT_SIZE, 1024, 1ll << 32, "BYTES", "JSON body limit (default 8M)"},
     {"max-upload-bytes", OPT_SIZE, 1024, 1ll << 40, "BYTES", "upload body limit (default 1G)"},
+    {"max-storage-bytes", OPT_SIZE, 0, 1ll << 50, "BYTES",
+     "total bytes of the data directory's blobs (uploads); 0 = unlimited (default 0)"},
     {"max-rays", OPT_INT, 1, 100000000, "N", "rays per trace request (default 65536)"},
     {"max-resolution", OPT_INT, 2, 4096, "N", "voxels per axis of an object (default 512)"},
     {"max-voxels", OPT_SIZE, 8, 1ll << 36, "N", "voxels per scene (default 64M)"},
@@ -181,6 +183,8 @@ static void store_int(struct config *c, const char *name, long long v)
         c->http.max_json_bytes = (size_t)v;
     else if (!strcmp(name, "max-upload-bytes"))
         c->http.max_upload_bytes = (size_t)v;
+    else if (!strcmp(name, "max-storage-bytes"))
+        c->max_storage_bytes = (unsigned long long)v;
     else if (!strcmp(name, "max-rays"))
         c->http.max_rays = (int)v;
     else if (!strcmp(name, "max-resolution"))

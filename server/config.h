@@ -32,6 +32,7 @@ struct config {
     int max_scenes;
     size_t event_history; /* events the hub keeps (events.h ring capacity) */
     long long max_env_pixels;
+    unsigned long long max_storage_bytes; /* 0 = unlimited */
     int log_level;
     bool help, version;
 };

@@ -164,7 +164,8 @@ static int run(const struct config *cfg)
     struct store_desc sdesc = {.data_dir = cfg->data_dir,
                                .limits = cfg->http.limits,
                                .max_scenes = cfg->max_scenes,
-                               .max_env_pixels = cfg->max_env_pixels};
+                               .max_env_pixels = cfg->max_env_pixels,
+                               .max_storage_bytes = cfg->max_storage_bytes};
     struct store *store = store_open(&sdesc, &e);
     struct final_work fw = {.render = rcw.render};
     struct gpu_work final = {.run = final_run, .user = &fw};

@@ -194,6 +194,10 @@ static void add_volumes(const struct store_scene *v, cJSON *obj)
         cJSON_AddItemToObject(o, "dims", cJSON_CreateIntArray(dims, 3));
         cJSON_AddNumberToObject(o, "components", vol->view.components);
         cJSON_AddNumberToObject(o, "bytes", (double)(vol->count * sizeof(float)));
+        char sum[24];
+        snprintf(sum, sizeof sum, "%016llx", (unsigned long long)vol->checksum);
+        cJSON_AddStringToObject(o, "checksum_fnv1a64", sum);
+        cJSON_AddStringToObject(o, "sha256", vol->info.sha256);
         cJSON_AddItemToArray(vols, o);
     }
 }

@@ -146,10 +146,16 @@ struct frame_stream {
     struct view_watcher watcher;
     bool watching;
     struct http_stream *stream; /* borrowed: valid until frame_stream_free */
-    /* The part being sent: its headers, then the JPEG, then CRLF. */
+    /* The part being sent: its headers (the first part opens with the boundary line),
+     * then the JPEG, then the next boundary line at once. Sending the delimiter right
+     * after the image, not with the next frame, matters: a browser shows a part of an
+     * <img>'s multipart/x-mixed-replace stream only once it sees the delimiter after it,
+     * and with on-change streams the next frame may be long in coming. */
     struct view_frame *sending; /* owned reference, or NULL between parts */
     char head[320];
-    size_t head_len, offset;
+    const char *trailer; /* "\r\n--" FRAME_BOUNDARY "\r\n", or the closing delimiter */
+    size_t head_len, trailer_len, offset;
+    bool opened; /* the opening boundary line has been sent */
     uint64_t sent_seq;
     int64_t sent_ms;
     long long frames_left; /* ?frames=N: the parts still to send; -1 = no end */
@@ -173,13 +179,19 @@ static void frame_stream_free(void *ctx)
 
 static void part_begin(struct frame_stream *fs, struct view_frame *f)
 {
-    int n = snprintf(fs->head, sizeof fs->head,
-                     "--" FRAME_BOUNDARY "\r\nContent-Type: image/jpeg\r\nContent-Length: %zu\r\n"
-                     "X-Frame-Seq: %llu\r\nX-Frame-Kind: %s\r\nX-Render-Time-Ms: %.3f\r\n"
-                     "X-Refract-Irradiance: %s\r\n\r\n",
-                     f->len, (unsigned long long)f->seq, view_frame_kind_name(f->kind),
-                     f->render_ms, f->irradiance);
+    int n =
+        snprintf(fs->head, sizeof fs->head,
+                 "%sContent-Type: image/jpeg\r\nContent-Length: %zu\r\n"
+                 "X-Frame-Seq: %llu\r\nX-Frame-Kind: %s\r\nX-Render-Time-Ms: %.3f\r\n"
+                 "X-Refract-Irradiance: %s\r\n\r\n",
+                 fs->opened ? "" : "--" FRAME_BOUNDARY "\r\n", f->len, (unsigned long long)f->seq,
+                 view_frame_kind_name(f->kind), f->render_ms, f->irradiance);
     fs->head_len = n > 0 && (size_t)n < sizeof fs->head ? (size_t)n : 0;
+    fs->opened = true;
+    /* The last part of a ?frames=N stream ends with the closing delimiter. */
+    fs->trailer =
+        fs->frames_left == 1 ? "\r\n--" FRAME_BOUNDARY "--\r\n" : "\r\n--" FRAME_BOUNDARY "\r\n";
+    fs->trailer_len = strlen(fs->trailer);
     fs->offset = 0;
     fs->sending = f;
 }
@@ -188,7 +200,7 @@ static void part_begin(struct frame_stream *fs, struct view_frame *f)
 static size_t part_copy(struct frame_stream *fs, char *buf, size_t max)
 {
     const struct view_frame *f = fs->sending;
-    size_t total = fs->head_len + f->len + 2, n = 0;
+    size_t total = fs->head_len + f->len + fs->trailer_len, n = 0;
     while (n < max && fs->offset < total) {
         size_t at = fs->offset, chunk;
         const char *src;
@@ -199,8 +211,7 @@ static size_t part_copy(struct frame_stream *fs, char *buf, size_t max)
             src = (const char *)f->jpeg + (at - fs->head_len);
             chunk = f->len - (at - fs->head_len);
         } else {
-            static const char crlf[] = "\r\n";
-            src = crlf + (at - fs->head_len - f->len);
+            src = fs->trailer + (at - fs->head_len - f->len);
             chunk = total - at;
         }
         if (chunk > max - n)

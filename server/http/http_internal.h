@@ -13,6 +13,7 @@
 
 #include "../view/view.h"
 #include "../view/view_source.h"
+#include "../core/sha256.h"
 #include "http.h"
 
 #define HTTP_MAX_PARAMS 3
@@ -54,9 +55,20 @@ struct http_request {
     const struct http_route *route;
     char params[HTTP_MAX_PARAMS][HTTP_PARAM_MAX];
     int param_count;
-    char *body; /* owned; NUL-terminated */
+    char *body; /* owned; NUL-terminated; NULL for HTTP_BODY_UPLOAD routes */
     size_t body_len, body_cap, body_limit;
     bool body_too_large;
+    /* HTTP_BODY_UPLOAD routes: the body streams to a temporary file under <data>/tmp
+     * as it arrives, hashed on the way (server.c). When the handler runs, the file is
+     * complete and closed, upload_path names it and upload_sha256 is its SHA-256. A
+     * handler that hands the file on (renamed into the blob store) clears upload_path;
+     * otherwise the completion callback removes the file. A kill -9 leaves it for the
+     * start-up sweep. */
+    int upload_fd; /* -1 when not open */
+    char upload_path[1024];
+    struct sha256 upload_hash;
+    char upload_sha256[SHA256_HEX_SIZE];
+    struct err upload_err; /* code != OK when writing the file failed (answered at the end) */
     enum http_phase phase;
     double started_ms;
     /* Asynchronous GPU work (handler-specific). */
@@ -143,6 +155,17 @@ enum refract_code http_parse_trace_request(const char *body, size_t len, const s
                                            struct render_trace_ray **rays, size_t *count,
                                            struct err *e);
 
+/* ---- volume uploads (upload_volume.c) ---- */
+
+/* Decodes the upload of req (query: format, dims, type, components, scale, offset;
+ * docs/api.md "Volume uploads") as volume `name` of the scene in params[0], checks its
+ * values against the channels the scene uses it for, and stores it. Answers errors
+ * itself (returns false; *answer holds the result); on success *out is a new
+ * reference the caller releases. */
+bool http_volume_upload(struct http_request *req, const char *name, struct store_volume **out,
+                        enum MHD_Result *answer);
+/* The 201 body describing a stored volume. */
+cJSON *http_volume_json(const struct store_volume *vol);
 /* The first query parameter of req that is not in `allowed` (NULL-terminated), or NULL:
  * a misspelt parameter is an error, never silently its default. */
 const char *http_query_unknown(struct http_request *req, const char *const *allowed);
@@ -168,6 +191,11 @@ enum MHD_Result http_handle_view_get(struct http_request *req);
 enum MHD_Result http_handle_view_patch(struct http_request *req);
 enum MHD_Result http_handle_view_delete(struct http_request *req);
 enum MHD_Result http_handle_view_stream(struct http_request *req);
+/* The web viewer (h_web.c). */
+enum MHD_Result http_handle_web_index(struct http_request *req);
+enum MHD_Result http_handle_web_viewer(struct http_request *req);
+enum MHD_Result http_handle_web_asset(struct http_request *req);
+enum MHD_Result http_handle_storage(struct http_request *req);
 enum MHD_Result http_handle_events(struct http_request *req);
 enum MHD_Result http_handle_scene_events(struct http_request *req);
 

@@ -74,7 +74,9 @@ enum refract_code http_parse_camera(const cJSON *root, const struct scene_camera
         if (rc == REFRACT_E_OK)
             rc = jr_vec3(c, "camera", "look_at", false, cam->look_at, -1e6, 1e6, &cam->look_at, e);
         if (rc == REFRACT_E_OK)
-            rc = jr_vec3(c, "camera", "up", false, cam->up, -1e6, 1e6, &cam->up, e);
+            /* jr_direction, as the scene parser: a zero or underflowing up vector was
+             * reported as "parallel to the view direction", which it is not. */
+            rc = jr_direction(c, "camera", "up", false, cam->up, &cam->up, e);
         if (rc == REFRACT_E_OK)
             rc = jr_number_gt(c, "camera", "fov_y_deg", false, cam->fov_y_deg, 0.1, 179.0,
                               &cam->fov_y_deg, e);

@@ -518,6 +518,7 @@ static void request_examples_are_present(const struct contract *c)
 
 #define VOLUME_NAME "density"
 #define LIGHT_NAME "sun"
+#define ASSET_NAME "viewer.js" /* the {file} of GET /assets/{file} */
 
 /* A small glass sphere whose default view is 64x48, so renders take milliseconds; its one
  * light is the {light} of the irradiance routes (it needs no light simulation, so those
@@ -532,7 +533,7 @@ static const char *const test_scene =
  * DELETE (main opens both). */
 static char view_id[32], scratch_view_id[32];
 
-/* Writes tmpl with {id}, {name}, {light} and {vid} filled in. False (test failed) for
+/* Writes tmpl with {id}, {name}, {light}, {vid} and {file} filled in. False (test failed) for
  * another parameter. */
 static bool fill_path_view(const char *tmpl, const char *id, const char *fill_vid, char *out,
                            size_t size)
@@ -554,6 +555,10 @@ static bool fill_path_view(const char *tmpl, const char *id, const char *fill_vi
             piece = LIGHT_NAME;
             len = strlen(LIGHT_NAME);
             p += 7;
+        } else if (strncmp(p, "{file}", 6) == 0) {
+            piece = ASSET_NAME;
+            len = strlen(ASSET_NAME);
+            p += 6;
         } else if (strncmp(p, "{vid}", 5) == 0) {
             piece = fill_vid;
             len = strlen(fill_vid);
@@ -672,7 +677,11 @@ static void wrong_method_gives_405(struct test_daemon *d, const struct contract 
 
 static void undocumented_paths_give_404(struct test_daemon *d, const char *scene)
 {
-    static const char *const paths[] = {"/",
+    static const char *const paths[] = {"/index.html",
+                                        "/viewer",
+                                        "/viewer/{id}/x",
+                                        "/assets/nope.js",
+                                        "/assets/index.html",
                                         "/v1",
                                         "/v1/nope",
                                         "/v2/health",

@@ -128,6 +128,7 @@ struct mjpeg_stream {
     bool first_chunk;
     size_t chunk_left; /* body bytes left in the current chunk */
     bool eof;
+    bool in_part; /* a delimiter was read: the next part's headers come next */
     unsigned char raw[16384];
     size_t raw_len, raw_pos;
 };
@@ -278,22 +279,46 @@ static inline int mjpeg_open(struct test_daemon *d, const char *vid, int rcvbuf,
 
 /* The next frame: 1 = *f filled (free f->jpeg), 0 = none within timeout_ms, -1 = the
  * stream ended (or is malformed: then it says so on stderr). */
-static inline int mjpeg_next(struct mjpeg_stream *s, struct mjpeg_frame *f, int timeout_ms)
+/* Reads a delimiter line (after blank lines): 1 = "--refract-frame" (a part follows),
+ * -1 = the closing "--refract-frame--" or the end (s->eof set) or garbage (said on
+ * stderr), 0 = timeout. */
+static inline int mjpeg_delimiter(struct mjpeg_stream *s, double deadline)
 {
-    memset(f, 0, sizeof *f);
-    double deadline = view_now_ms() + timeout_ms;
     char line[512];
     int rc;
     do {
         if ((rc = mjpeg_body_line(s, deadline, line, sizeof line)) <= 0)
             return rc;
     } while (line[0] == '\0');
+    if (strcmp(line, "--refract-frame--") == 0) {
+        s->eof = true;
+        return -1;
+    }
     if (strcmp(line, "--refract-frame") != 0) {
         fprintf(stderr, "stream: expected --refract-frame, got \"%s\"\n", line);
         return -1;
     }
+    s->in_part = true;
+    return 1;
+}
+
+static inline int mjpeg_next(struct mjpeg_stream *s, struct mjpeg_frame *f, int timeout_ms)
+{
+    memset(f, 0, sizeof *f);
+    double deadline = view_now_ms() + timeout_ms;
+    char line[512];
+    int rc;
+    /* The daemon sends the delimiter right after each frame (docs/views.md), so usually
+     * it has been read already and the wait is for the next part's headers. */
+    if (!s->in_part && (rc = mjpeg_delimiter(s, deadline)) <= 0)
+        return rc;
+    if ((rc = mjpeg_body_line(s, deadline, line, sizeof line)) <= 0)
+        return rc; /* 0: no new frame within the timeout */
+    s->in_part = false;
+    /* The rest of a part is on its way: give it time even past the caller's timeout. */
+    deadline = view_now_ms() + 10000;
     long long len = -1;
-    while ((rc = mjpeg_body_line(s, deadline, line, sizeof line)) == 1 && line[0] != '\0') {
+    do {
         if (strncasecmp(line, "Content-Length: ", 16) == 0)
             len = atoll(line + 16);
         else if (strncasecmp(line, "X-Frame-Seq: ", 13) == 0)
@@ -304,13 +329,11 @@ static inline int mjpeg_next(struct mjpeg_stream *s, struct mjpeg_frame *f, int 
             snprintf(f->irradiance, sizeof f->irradiance, "%.15s", line + 22);
         else if (strncasecmp(line, "X-Render-Time-Ms: ", 18) == 0)
             f->render_ms = atof(line + 18);
-    }
+    } while ((rc = mjpeg_body_line(s, deadline, line, sizeof line)) == 1 && line[0] != '\0');
     if (rc <= 0 || len < 0) {
         fprintf(stderr, "stream: a part without Content-Length or cut short\n");
         return -1;
     }
-    /* The rest of a part is on its way: give it time even past the caller's timeout. */
-    deadline = view_now_ms() + 10000;
     f->jpeg = malloc((size_t)len + 1);
     for (long long i = 0; i < len; i++) {
         if (mjpeg_body_byte(s, deadline, &f->jpeg[i]) != 1) {
@@ -327,6 +350,9 @@ static inline int mjpeg_next(struct mjpeg_stream *s, struct mjpeg_frame *f, int 
         f->jpeg = NULL;
         return -1;
     }
+    /* The delimiter that ends the part comes with it (the closing one ends the stream). */
+    if (mjpeg_delimiter(s, deadline) == 0)
+        fprintf(stderr, "stream: no delimiter after frame %lld\n", f->seq);
     return 1;
 }
 
