@@ -17,12 +17,14 @@
 #include "gpu/queue.h"
 #include "http/http.h"
 #include "scene/scene.h"
+#include "view/view.h"
 
 struct config {
     struct http_config http;
     struct gpu_desc gpu;
     size_t gpu_scene_budget_bytes;
     struct irradiance_cache_desc irradiance; /* data_dir is set from data_dir at start-up */
+    struct view_registry_desc views;         /* the limits; the borrowed parts at start-up */
     char data_dir[512];
     char scene_dir[512];  /* "" = none */
     char shader_dir[512]; /* "" = embedded */

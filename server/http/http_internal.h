@@ -11,6 +11,8 @@
 #include <cjson/cJSON.h>
 #include <microhttpd.h>
 
+#include "../view/view.h"
+#include "../view/view_source.h"
 #include "../core/sha256.h"
 #include "http.h"
 
@@ -115,10 +117,36 @@ struct http_render_request {
     enum scene_tonemap tonemap;
 };
 
+/* An empty or all-space body means {}; otherwise jr_parse. *root is a new tree. */
+enum refract_code http_parse_body(const char *body, size_t len, cJSON **root, struct err *e);
+/* The readers shared by render requests and view sessions. Each starts from its default
+ * (def, or the values *exposure_ev, *tonemap, *jpeg_quality hold on entry) and changes
+ * only what root names; limits are the cfg's, with messages naming the flag.
+ *   camera: "camera" {eye, look_at, up, fov_y_deg} (merged into def), "width", "height";
+ *   settings: "integrator", "step", "max_steps", "boundary_threshold";
+ *   image options: "exposure", "tonemap", "jpeg_quality". */
+enum refract_code http_parse_camera(const cJSON *root, const struct scene_camera *def,
+                                    const struct http_config *cfg, struct scene_camera *out,
+                                    struct err *e);
+enum refract_code http_parse_settings(const cJSON *root, const struct scene_render_settings *def,
+                                      const struct http_config *cfg,
+                                      struct scene_render_settings *out, struct err *e);
+enum refract_code http_parse_image_options(const cJSON *root, double *exposure_ev,
+                                           enum scene_tonemap *tonemap, int *jpeg_quality,
+                                           struct err *e);
+
 /* Parses a render request against the scene's defaults. An empty body means "{}". */
 enum refract_code http_parse_render_request(const char *body, size_t len, const struct scene *scene,
                                             const struct http_config *cfg,
                                             struct http_render_request *out, struct err *e);
+
+/* Parses a view session's body (create or PATCH; view_request.c) on top of `current`
+ * (the session's settings, or view_settings_defaults for a new one); scene resolves the
+ * quality preset. Every field is optional. */
+enum refract_code http_parse_view_settings(const char *body, size_t len, const struct scene *scene,
+                                           const struct http_config *cfg,
+                                           const struct view_settings *current,
+                                           struct view_settings *out, struct err *e);
 
 /* Parses a trace request; *rays is a new array (caller frees) of *count rays. */
 enum refract_code http_parse_trace_request(const char *body, size_t len, const struct scene *scene,
@@ -157,6 +185,16 @@ enum MHD_Result http_handle_lights_put(struct http_request *req);
 enum MHD_Result http_handle_light_put(struct http_request *req);
 enum MHD_Result http_handle_irradiance_get(struct http_request *req);
 enum MHD_Result http_handle_irradiance_exr(struct http_request *req);
+enum MHD_Result http_handle_view_create(struct http_request *req);
+enum MHD_Result http_handle_view_list(struct http_request *req);
+enum MHD_Result http_handle_view_get(struct http_request *req);
+enum MHD_Result http_handle_view_patch(struct http_request *req);
+enum MHD_Result http_handle_view_delete(struct http_request *req);
+enum MHD_Result http_handle_view_stream(struct http_request *req);
+/* The web viewer (h_web.c). */
+enum MHD_Result http_handle_web_index(struct http_request *req);
+enum MHD_Result http_handle_web_viewer(struct http_request *req);
+enum MHD_Result http_handle_web_asset(struct http_request *req);
 enum MHD_Result http_handle_storage(struct http_request *req);
 enum MHD_Result http_handle_events(struct http_request *req);
 enum MHD_Result http_handle_scene_events(struct http_request *req);
@@ -175,14 +213,10 @@ void http_publish_scene(const struct http_app *app, const char *type, const char
                         const struct store_scene *version, const char *what);
 
 /* ---- irradiance (h_irradiance.c) ---- */
-struct irradiance_source;
-/* What the irradiance cache needs of a version (borrowed for as long as v). */
-void http_irradiance_source(struct store_scene *v, struct irradiance_source *out);
 /* The irradiance status body (docs/api.md) of a version. */
 cJSON *http_irradiance_status(const struct http_app *app, struct store_scene *v);
-/* The renderer's description of a version (render_scene_source.generation is the
- * version's data_generation: a lights change does not rebuild the scene's GPU data). */
-struct render_scene_source http_scene_source(struct store_scene *v);
+/* A version as render and irradiance source: view_scene_source and
+ * view_irradiance_source (server/view/view_source.h, shared with the view sessions). */
 
 /* Looks up the scene named by the first path parameter; answers 404 and returns NULL when
  * it does not exist. Returns a new reference. */
