@@ -191,4 +191,41 @@ bool store_gpu_status_get(struct store *s, const char *id, struct store_gpu_stat
 /* True when name is 1..63 chars of [A-Za-z0-9_-] (volume names, ids). */
 bool store_name_valid(const char *name, bool allow_upper);
 
+/* ---- batch jobs (store_jobs.c; server/jobs/ runs them) ---- */
+
+/* One row of the jobs table. spec is the job's normalised specification (JSON). */
+struct store_job_row {
+    char id[STORE_ID_MAX];
+    char scene[STORE_ID_MAX];
+    char state[16]; /* queued, running, done, failed, cancelled */
+    int frames_total, frames_done;
+    int64_t created_unix, updated_unix;
+    int64_t started_unix, finished_unix; /* 0 = not yet */
+    char message[ERR_MSG_MAX];
+    const char *spec; /* borrowed (insert) or valid during the callback (each) */
+};
+
+/* Inserts a new job row (committed before it returns). */
+enum refract_code store_job_insert(struct store *s, const struct store_job_row *row,
+                                   struct err *e);
+/* Stores frame `frame` of job `id` as a durable blob, then, in one transaction, inserts its
+ * job_frames row and advances frames_done from `frame` to frame + 1 (state running). So a
+ * frame is either committed together with the count that says it is done, or not at all;
+ * committing the same frame twice is refused (CONFLICT): no frame is ever stored twice. */
+enum refract_code store_job_frame_commit(struct store *s, const char *id, int frame,
+                                         const void *bytes, size_t len, struct err *e);
+/* Sets state and message (NULL = none) and the updated time; the first "running" sets
+ * started, "done", "failed" and "cancelled" set finished. */
+enum refract_code store_job_state_set(struct store *s, const char *id, const char *state,
+                                      const char *message, struct err *e);
+/* Calls fn for every job row, by creation time. */
+typedef void (*store_job_fn)(const struct store_job_row *row, void *ctx);
+enum refract_code store_job_each(struct store *s, store_job_fn fn, void *ctx, struct err *e);
+/* A copy of the bytes of a committed frame (*bytes is new; caller frees). NOT_FOUND when
+ * the frame is not committed. */
+enum refract_code store_job_frame_read(struct store *s, const char *id, int frame, void **bytes,
+                                       size_t *len, struct err *e);
+/* Deletes the job's rows and frees the frames' blobs no other row names. */
+enum refract_code store_job_delete(struct store *s, const char *id, struct err *e);
+
 #endif

@@ -9,8 +9,8 @@
  *   uploads(scene -> scenes.id, kind, name, dims, type, components, min/max, checksum,
  *           blob, bytes, info JSON, created); one row per (scene, kind, name)
  *   jobs(id, scene, spec JSON, state, frames_total, frames_done, created, updated,
- *        message) and job_frames(job, frame, blob, bytes): for batch jobs (issue 5's
- *        next step); job_frames' blobs are counted as references by the collector now
+ *        message, started, finished) and job_frames(job, frame, blob, bytes): batch jobs
+ *        (server/jobs/, store_jobs.c); job_frames' blobs count as references
  *   meta(key, value)
  * The irradiance cache keeps its own files (docs/ARCHITECTURE.md says why).
  */
@@ -42,7 +42,8 @@ static const char schema_sql[] =
     " state TEXT NOT NULL CHECK (state IN ('queued', 'running', 'done', 'failed',"
     " 'cancelled')),"
     " frames_total INTEGER NOT NULL DEFAULT 0, frames_done INTEGER NOT NULL DEFAULT 0,"
-    " created INTEGER NOT NULL, updated INTEGER NOT NULL, message TEXT);"
+    " created INTEGER NOT NULL, updated INTEGER NOT NULL, message TEXT,"
+    " started INTEGER, finished INTEGER);"
     "CREATE TABLE IF NOT EXISTS job_frames("
     " job TEXT NOT NULL REFERENCES jobs(id) ON DELETE CASCADE, frame INTEGER NOT NULL,"
     " blob TEXT NOT NULL, bytes INTEGER NOT NULL, PRIMARY KEY (job, frame));"

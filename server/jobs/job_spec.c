@@ -1,0 +1,233 @@
+/*
+ * job_spec.c - a batch job's specification (docs/api.md "Batch jobs") expanded into the
+ * frames to render: an explicit "frames" list, or the "turntable" generator, which orbits
+ * the scene camera's eye (and look_at and up) about an axis through a centre in N equal
+ * steps. Top-level "width", "height", "format" and "exposure" are defaults for every frame.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cjson/cJSON.h>
+
+#include "../scene/json_read.h"
+#include "jobs.h"
+
+const char *const job_format_names[] = {"png", "jpeg", "exr", NULL};
+
+enum refract_code job_spec_scene(const cJSON *root, char out[STORE_ID_MAX], struct err *e)
+{
+    return jr_string(root, "", "scene", true, "", STORE_ID_MAX - 1, out, STORE_ID_MAX, e);
+}
+
+vec3 job_rotate_about(vec3 p, vec3 center, vec3 axis, double angle)
+{
+    /* Rodrigues: v' = v cos a + (k x v) sin a + k (k . v)(1 - cos a), v = p - center. */
+    vec3 v = vec3_sub(p, center);
+    double c = cos(angle), s = sin(angle);
+    vec3 r = vec3_add(vec3_add(vec3_scale(v, c), vec3_scale(vec3_cross(axis, v), s)),
+                    vec3_scale(axis, vec3_dot(axis, v) * (1.0 - c)));
+    return vec3_add(center, r);
+}
+
+/* Size, format and exposure of a frame (or the top-level defaults) read over def. */
+static enum refract_code read_image(const cJSON *obj, const char *path,
+                                    const struct job_limits *lim, const struct job_frame *def,
+                                    struct job_frame *out, struct err *e)
+{
+    *out = *def;
+    int format = (int)def->format;
+    enum refract_code rc =
+        jr_int(obj, path, "width", false, def->camera.width, 1, lim->max_image_dim,
+               &out->camera.width, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_int(obj, path, "height", false, def->camera.height, 1, lim->max_image_dim,
+                    &out->camera.height, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_enum(obj, path, "format", false, format, job_format_names, &format, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_number(obj, path, "exposure", false, def->exposure_ev, -20, 20, &out->exposure_ev,
+                       e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    out->format = (enum job_format)format;
+    long long pixels = (long long)out->camera.width * out->camera.height;
+    if (pixels > lim->max_image_pixels)
+        return err_set(e, REFRACT_E_LIMIT_EXCEEDED,
+                       "%s: %dx%d is %lld pixels, over --max-image-pixels %lld; ask for a smaller"
+                       " width or height",
+                       path[0] ? path : "job", out->camera.width, out->camera.height, pixels,
+                       lim->max_image_pixels);
+    return REFRACT_E_OK;
+}
+
+static enum refract_code read_camera(const cJSON *obj, const char *path, struct scene_camera *cam,
+                                     struct err *e)
+{
+    static const char *const keys[] = {"eye", "look_at", "up", "fov_y_deg", NULL};
+    const cJSON *c = cJSON_GetObjectItemCaseSensitive(obj, "camera");
+    if (c == NULL)
+        return REFRACT_E_OK;
+    char p[128];
+    jr_path(p, sizeof p, path, "camera");
+    enum refract_code rc = jr_check_object(c, p, keys, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_vec3(c, p, "eye", false, cam->eye, -1e6, 1e6, &cam->eye, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_vec3(c, p, "look_at", false, cam->look_at, -1e6, 1e6, &cam->look_at, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_direction(c, p, "up", false, cam->up, &cam->up, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_number(c, p, "fov_y_deg", false, cam->fov_y_deg, 1, 179, &cam->fov_y_deg, e);
+    if (rc == REFRACT_E_OK && vec3_length(vec3_sub(cam->look_at, cam->eye)) < 1e-9)
+        return err_set(e, REFRACT_E_INVALID_FIELD,
+                       "%s: eye and look_at are the same point; move one of them", p);
+    return rc;
+}
+
+static enum refract_code count_ok(long long n, const struct job_limits *lim, const char *path,
+                                  struct err *e)
+{
+    if (n > lim->max_frames)
+        return err_set(e, REFRACT_E_LIMIT_EXCEEDED,
+                       "%s: %lld frames, over --max-job-frames %d; split the job or raise the flag",
+                       path, n, lim->max_frames);
+    return REFRACT_E_OK;
+}
+
+static enum refract_code expand_list(const cJSON *list, const struct job_limits *lim,
+                                     const struct job_frame *def, struct job_frame **frames,
+                                     int *count, struct err *e)
+{
+    static const char *const keys[] = {"camera", "width", "height", "format", "exposure", NULL};
+    if (!cJSON_IsArray(list) || cJSON_GetArraySize(list) == 0) {
+        char what[64];
+        return err_set(e, REFRACT_E_INVALID_FIELD,
+                       "frames: expected a non-empty array of frame objects, got %s",
+                       jr_describe(list, what, sizeof what));
+    }
+    int n = cJSON_GetArraySize(list);
+    enum refract_code rc = count_ok(n, lim, "frames", e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    *frames = calloc((size_t)n, sizeof **frames);
+    if (*frames == NULL)
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for %d frames", n);
+    int i = 0;
+    const cJSON *item;
+    cJSON_ArrayForEach(item, list)
+    {
+        char p[64];
+        jr_path_index(p, sizeof p, "frames", i);
+        rc = jr_check_object(item, p, keys, e);
+        if (rc == REFRACT_E_OK)
+            rc = read_image(item, p, lim, def, &(*frames)[i], e);
+        if (rc == REFRACT_E_OK)
+            rc = read_camera(item, p, &(*frames)[i].camera, e);
+        if (rc != REFRACT_E_OK) {
+            free(*frames);
+            *frames = NULL;
+            return rc;
+        }
+        i++;
+    }
+    *count = n;
+    return REFRACT_E_OK;
+}
+
+static enum refract_code expand_turntable(const cJSON *t, const struct job_limits *lim,
+                                          const struct job_frame *def, struct job_frame **frames,
+                                          int *count, struct err *e)
+{
+    static const char *const keys[] = {"frames", "axis", "center", "degrees", NULL};
+    int n = 0;
+    vec3 axis = {0, 1, 0}, center = def->camera.look_at;
+    double degrees = 360;
+    enum refract_code rc = jr_check_object(t, "turntable", keys, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_int(t, "turntable", "frames", true, 0, 1, 1 << 30, &n, e);
+    if (rc == REFRACT_E_OK)
+        rc = count_ok(n, lim, "turntable.frames", e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_direction(t, "turntable", "axis", false, axis, &axis, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_vec3(t, "turntable", "center", false, center, -1e6, 1e6, &center, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_number(t, "turntable", "degrees", false, degrees, -3600, 3600, &degrees, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    vec3 radial = vec3_sub(def->camera.eye, center);
+    if (vec3_length(vec3_sub(radial, vec3_scale(axis, vec3_dot(radial, axis)))) < 1e-9)
+        return err_set(e, REFRACT_E_INVALID_FIELD,
+                       "turntable: the camera's eye lies on the axis through center, so orbiting"
+                       " does not move it; give another center or axis");
+    *frames = calloc((size_t)n, sizeof **frames);
+    if (*frames == NULL)
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for %d frames", n);
+    /* N frames over `degrees` without repeating the first: step = degrees / N. */
+    double step = degrees * M_PI / 180.0 / n;
+    for (int i = 0; i < n; i++) {
+        struct job_frame *f = &(*frames)[i];
+        *f = *def;
+        double a = step * i;
+        f->camera.eye = job_rotate_about(def->camera.eye, center, axis, a);
+        f->camera.look_at = job_rotate_about(def->camera.look_at, center, axis, a);
+        vec3 origin = {0, 0, 0};
+        f->camera.up = job_rotate_about(def->camera.up, origin, axis, a);
+    }
+    *count = n;
+    return REFRACT_E_OK;
+}
+
+enum refract_code job_spec_expand(const cJSON *root, const struct scene *s,
+                                  const struct job_limits *lim, struct job_frame **frames,
+                                  int *count, struct err *e)
+{
+    static const char *const keys[] = {"scene",  "frames", "turntable", "width",
+                                       "height", "format", "exposure",  NULL};
+    *frames = NULL;
+    *count = 0;
+    enum refract_code rc = jr_check_object(root, "", keys, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    struct job_frame base = {
+        .camera = s->camera, .format = JOB_FORMAT_PNG, .exposure_ev = s->render.exposure_ev};
+    struct job_frame def;
+    rc = read_image(root, "", lim, &base, &def, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    const cJSON *list = cJSON_GetObjectItemCaseSensitive(root, "frames");
+    const cJSON *turn = cJSON_GetObjectItemCaseSensitive(root, "turntable");
+    if ((list != NULL) == (turn != NULL))
+        return err_set(e, list ? REFRACT_E_INVALID_FIELD : REFRACT_E_MISSING_FIELD,
+                       "a job needs exactly one of \"frames\" (a list of frames) or \"turntable\""
+                       " (a generator)%s",
+                       list ? "; it has both" : "");
+    if (list)
+        return expand_list(list, lim, &def, frames, count, e);
+    return expand_turntable(turn, lim, &def, frames, count, e);
+}
+
+bool job_format_sniff(const void *bytes, size_t len, enum job_format *out)
+{
+    const unsigned char *b = bytes;
+    if (len >= 8 && memcmp(b, "\x89PNG\r\n\x1a\n", 8) == 0)
+        *out = JOB_FORMAT_PNG;
+    else if (len >= 3 && b[0] == 0xff && b[1] == 0xd8 && b[2] == 0xff)
+        *out = JOB_FORMAT_JPEG;
+    else if (len >= 4 && memcmp(b, "\x76\x2f\x31\x01", 4) == 0)
+        *out = JOB_FORMAT_EXR;
+    else
+        return false;
+    return true;
+}
+
+const char *job_format_content_type(enum job_format f)
+{
+    return f == JOB_FORMAT_EXR ? "image/x-exr" : f == JOB_FORMAT_JPEG ? "image/jpeg" : "image/png";
+}
+
+const char *job_format_extension(enum job_format f)
+{
+    return f == JOB_FORMAT_EXR ? "exr" : f == JOB_FORMAT_JPEG ? "jpg" : "png";
+}

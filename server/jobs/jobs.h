@@ -1,0 +1,125 @@
+/*
+ * jobs.h - batch jobs (docs/api.md "Batch jobs"): a list of frames of one scene, given
+ * explicitly or made by a generator (a camera turntable), rendered one frame per GPU work
+ * item at GPU_PRIORITY_BATCH (below interactive renders and light simulation) and kept in
+ * the data directory, so a job survives a restart or a kill -9.
+ *
+ * DESIGN. One runner thread (job_runner.c) owns the order of work: it takes the oldest
+ * unfinished job, asks the irradiance cache for its lights, waits (on its own condition
+ * variable, never on the GPU thread) until every light's volume is ready so that every
+ * frame is lit, submits one frame to the GPU thread, encodes the image when the GPU is done
+ * (on the runner thread, off the GPU thread) and commits it with store_job_frame_commit:
+ * the frame's blob and frames_done in one transaction. A restart resumes each job at
+ * frames_done, the first unfinished frame; no frame is lost or stored twice.
+ *
+ * The specification (job_spec.c) is stored as received and expanded again at start-up
+ * against the scene's current camera.
+ *
+ * Thread: every function may be called from any thread; the registry locks internally.
+ */
+#ifndef REFRACT_JOBS_H
+#define REFRACT_JOBS_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "../core/err.h"
+#include "../scene/scene.h"
+#include "../store/store.h"
+
+#define JOB_ID_LEN 17 /* "j" + 16 lowercase hex digits */
+
+enum job_format { JOB_FORMAT_PNG = 0, JOB_FORMAT_JPEG = 1, JOB_FORMAT_EXR = 2 };
+/* "png", "jpeg", "exr"; NULL-terminated, indexed by enum job_format. */
+extern const char *const job_format_names[];
+
+/* One frame to render. */
+struct job_frame {
+    struct scene_camera camera; /* with width and height */
+    enum job_format format;
+    double exposure_ev;
+};
+
+struct job_limits {
+    int max_frames;             /* --max-job-frames */
+    int max_image_dim;          /* the scene limits' camera width/height */
+    long long max_image_pixels; /* --max-image-pixels */
+};
+
+/* ---- job_spec.c ---- */
+
+/* The scene id a specification names (root must be an object): "scene", required. */
+enum refract_code job_spec_scene(const struct cJSON *root, char out[STORE_ID_MAX], struct err *e);
+/* Expands a specification (docs/api.md "Batch jobs") against scene s (its camera, exposure
+ * and size are the defaults): *frames is a new array (caller frees) of *count frames.
+ * Every bad field is INVALID_FIELD / UNKNOWN_FIELD / MISSING_FIELD naming its JSON path;
+ * more than lim->max_frames frames is LIMIT_EXCEEDED naming --max-job-frames. */
+struct cJSON;
+enum refract_code job_spec_expand(const struct cJSON *root, const struct scene *s,
+                                  const struct job_limits *lim, struct job_frame **frames,
+                                  int *count, struct err *e);
+/* Rotates p about the axis through center with unit direction axis by angle (radians;
+ * right-handed), Rodrigues' formula. For the turntable. */
+vec3 job_rotate_about(vec3 p, vec3 center, vec3 axis, double angle);
+
+/* ---- job_runner.c ---- */
+
+struct gpu;
+struct render;
+struct irradiance_cache;
+struct event_hub;
+
+struct job_runner_desc {
+    struct store *store;                 /* borrowed */
+    struct gpu *gpu;                     /* borrowed */
+    struct render *render;               /* borrowed; GPU thread only */
+    struct irradiance_cache *irradiance; /* borrowed */
+    struct event_hub *events;            /* borrowed; NULL = no job.progress events */
+    struct job_limits limits;
+};
+
+/* What GET /v1/jobs/{id} reports. */
+struct job_status {
+    char id[STORE_ID_MAX];
+    char scene[STORE_ID_MAX];
+    char state[16]; /* queued, running, done, failed, cancelled */
+    int frames_total, frames_done;
+    double eta_s; /* < 0: unknown */
+    int64_t created_unix, started_unix, finished_unix; /* 0 = not yet */
+    char message[ERR_MSG_MAX];
+};
+
+struct job_runner;
+
+/* Loads the jobs of the data directory (unfinished ones resume) and starts the runner
+ * thread. NULL with e filled on failure. */
+struct job_runner *job_runner_create(const struct job_runner_desc *desc, struct err *e);
+/* Shutdown, before gpu_stop: waits for the frame in flight (if any) and stops the thread.
+ * Unfinished jobs stay queued/running in the database and resume at the next start. A
+ * second call is a no-op, as is NULL. */
+void job_runner_stop(struct job_runner *r);
+void job_runner_destroy(struct job_runner *r);
+
+/* Parses, validates and stores a job (POST /v1/jobs): out gets its status (state queued).
+ * Errors: the spec's 400s, SCENE_NOT_FOUND, LIMIT_EXCEEDED, STORAGE, SHUTTING_DOWN. */
+enum refract_code job_submit(struct job_runner *r, const char *body, size_t len,
+                             struct job_status *out, struct err *e);
+/* False when there is no such job. */
+bool job_get(struct job_runner *r, const char *id, struct job_status *out);
+/* Every job (oldest first) matching state and scene (NULL or "" = any): *out is a new
+ * array (caller frees). Returns the count. */
+size_t job_list(struct job_runner *r, const char *state, const char *scene,
+                struct job_status **out);
+/* DELETE: an unfinished job is cancelled (its finished frames stay readable); a finished,
+ * failed or cancelled one is deleted with its frames. *deleted says which. NOT_FOUND. */
+enum refract_code job_cancel_or_delete(struct job_runner *r, const char *id, bool *deleted,
+                                       struct job_status *out, struct err *e);
+/* The format of an encoded frame from its first bytes (PNG, JPEG or OpenEXR signature);
+ * false when it is none of them. */
+bool job_format_sniff(const void *bytes, size_t len, enum job_format *out);
+/* "image/png", "image/jpeg", "image/x-exr"; and the file extension "png", "jpg", "exr". */
+const char *job_format_content_type(enum job_format f);
+const char *job_format_extension(enum job_format f);
+
+#endif
