@@ -73,6 +73,8 @@ static const struct option_def options[] = {
      "light turns below this (radians) reuse the cached irradiance (default 0.001)"},
     {"lightsim-chunk-steps", OPT_INT, 1, 100000, "N",
      "wavefront steps per GPU work item of a light simulation (default 16)"},
+    {"max-job-frames", OPT_INT, 1, 10000000, "N",
+     "frames of one batch job (POST /v1/jobs) at most (default 10000)"},
     {"max-views", OPT_INT, 1, 100000, "N",
      "open view sessions (POST /v1/scenes/{id}/views) at most (default 64)"},
     {"view-idle-timeout", OPT_INT, 1, 604800, "S",
@@ -111,6 +113,7 @@ void config_defaults(struct config *c)
     c->irradiance.chunk_steps = 16;
     c->max_scenes = 64;
     c->views.max_views = 64;
+    c->max_job_frames = 10000;
     c->views.idle_timeout_s = 120;
     c->views.encoder_threads = 2;
     c->event_history = 1024;
@@ -217,6 +220,8 @@ static void store_int(struct config *c, const char *name, long long v)
         c->irradiance.host_budget_bytes = (size_t)v;
     else if (!strcmp(name, "lightsim-chunk-steps"))
         c->irradiance.chunk_steps = (int)v;
+    else if (!strcmp(name, "max-job-frames"))
+        c->max_job_frames = (int)v;
     else if (!strcmp(name, "max-views"))
         c->views.max_views = (int)v;
     else if (!strcmp(name, "view-idle-timeout"))

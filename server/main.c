@@ -37,6 +37,7 @@
 #include "lightsim/gpu/lightsim_gpu.h"
 #include "render/render.h"
 #include "store/store.h"
+#include "jobs/jobs.h"
 #include "view/view.h"
 
 struct render_create_work {
@@ -210,15 +211,35 @@ static int run(const struct config *cfg)
         event_hub_destroy(events);
         return 1;
     }
+    struct job_runner_desc jdesc = {.store = store,
+                                    .gpu = gpu,
+                                    .render = rcw.render,
+                                    .irradiance = fw.irradiance,
+                                    .events = events,
+                                    .limits = {.max_frames = cfg->max_job_frames,
+                                               .max_image_dim = cfg->http.limits.max_image_dim,
+                                               .max_image_pixels = cfg->http.max_image_pixels}};
+    struct job_runner *jobs = job_runner_create(&jdesc, &e);
+    if (jobs == NULL) {
+        log_error("main", "batch jobs: %s", e.msg);
+        view_registry_destroy(views);
+        gpu_destroy(gpu, &final);
+        irradiance_cache_destroy(fw.irradiance);
+        store_close(store);
+        event_hub_destroy(events);
+        return 1;
+    }
     struct http_app app = {.store = store,
                            .gpu = gpu,
                            .render = rcw.render,
                            .irradiance = fw.irradiance,
                            .events = events,
-                           .views = views};
+                           .views = views,
+                           .jobs = jobs};
     struct http_server *http = http_server_start(&cfg->http, &app, &e);
     if (http == NULL) {
         log_error("main", "%s", e.msg);
+        job_runner_destroy(jobs); /* before the GPU thread stops: a frame may be in flight */
         view_registry_destroy(views); /* before the GPU thread stops: frames may be in flight */
         gpu_destroy(gpu, &final);
         irradiance_cache_destroy(fw.irradiance);
@@ -238,6 +259,7 @@ static int run(const struct config *cfg)
     log_info("main", "signal %d: shutting down", sig);
     http_server_quiesce(http);
     view_registry_stop(views);     /* sessions end, frames in flight finish on the GPU */
+    job_runner_stop(jobs);         /* the frame in flight finishes; jobs resume next start */
     http_server_end_streams(http); /* no stream may keep its connection suspended */
     gpu_stop(gpu, &final);         /* resumed requests still read gpu_info: free it after HTTP */
     if (!http_server_wait_idle(http, 3000))
@@ -245,6 +267,7 @@ static int run(const struct config *cfg)
     http_server_stop(http);
     gpu_destroy(gpu, NULL);
     view_registry_destroy(views);
+    job_runner_destroy(jobs);
     irradiance_cache_destroy(fw.irradiance); /* finishes writing volumes to disk */
     store_close(store);
     event_hub_destroy(events); /* last: the cache's worker publishes until it stops */

@@ -42,6 +42,7 @@ struct http_server;
 struct irradiance_cache;
 struct event_hub;
 struct view_registry;
+struct job_runner;
 
 /* Where the server gets its state. All borrowed. */
 struct http_app {
@@ -51,6 +52,7 @@ struct http_app {
     struct irradiance_cache *irradiance;
     struct event_hub *events;     /* what changed (server/events/events.h); may be NULL */
     struct view_registry *views;  /* view sessions (server/view/, docs/views.md) */
+    struct job_runner *jobs;      /* batch jobs (server/jobs/jobs.h) */
 };
 
 /* Starts listening. Returns a new server (stop with http_server_stop) or NULL with e

@@ -196,6 +196,13 @@ enum MHD_Result http_handle_web_index(struct http_request *req);
 enum MHD_Result http_handle_web_viewer(struct http_request *req);
 enum MHD_Result http_handle_web_asset(struct http_request *req);
 enum MHD_Result http_handle_storage(struct http_request *req);
+/* Batch jobs (h_jobs.c). */
+enum MHD_Result http_handle_job_create(struct http_request *req);
+enum MHD_Result http_handle_job_list(struct http_request *req);
+enum MHD_Result http_handle_job_get(struct http_request *req);
+enum MHD_Result http_handle_job_delete(struct http_request *req);
+enum MHD_Result http_handle_job_frame(struct http_request *req);
+enum MHD_Result http_handle_job_archive(struct http_request *req);
 enum MHD_Result http_handle_events(struct http_request *req);
 enum MHD_Result http_handle_scene_events(struct http_request *req);
 

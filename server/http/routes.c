@@ -35,6 +35,12 @@ static const struct http_route routes[] = {
     {"PATCH", "/v1/views/{vid}", http_handle_view_patch, HTTP_BODY_JSON},
     {"DELETE", "/v1/views/{vid}", http_handle_view_delete, HTTP_BODY_NONE},
     {"GET", "/v1/views/{vid}/stream", http_handle_view_stream, HTTP_BODY_NONE},
+    {"POST", "/v1/jobs", http_handle_job_create, HTTP_BODY_JSON},
+    {"GET", "/v1/jobs", http_handle_job_list, HTTP_BODY_NONE},
+    {"GET", "/v1/jobs/{jid}", http_handle_job_get, HTTP_BODY_NONE},
+    {"DELETE", "/v1/jobs/{jid}", http_handle_job_delete, HTTP_BODY_NONE},
+    {"GET", "/v1/jobs/{jid}/frames/{n}", http_handle_job_frame, HTTP_BODY_NONE},
+    {"GET", "/v1/jobs/{jid}/archive", http_handle_job_archive, HTTP_BODY_NONE},
     {"GET", "/v1/scenes/{id}/events", http_handle_scene_events, HTTP_BODY_NONE},
     {"GET", "/v1/events", http_handle_events, HTTP_BODY_NONE},
 };

@@ -260,7 +260,7 @@ static enum frame_outcome run_frame(struct job_runner *r, const char *id, const 
     } else if (rc == REFRACT_E_TIMEOUT || rc == REFRACT_E_BUSY) {
         out = FRAME_RETRY;
     } else if (rc != REFRACT_E_OK) {
-        snprintf(msg, size, "frame %d: %s", n, r->work.err.msg);
+        snprintf(msg, size, "frame %d: %.400s", n, r->work.err.msg);
         out = FRAME_FAILED;
     } else if (r->irradiance && (!strcmp(r->irradiance, "missing") ||
                                  !strcmp(r->irradiance, "stale"))) {
@@ -269,7 +269,7 @@ static enum frame_outcome run_frame(struct job_runner *r, const char *id, const 
     void *bytes = NULL;
     size_t len = 0;
     if (out == FRAME_DONE && encode(&r->result, f, tonemap, &bytes, &len, &e) != REFRACT_E_OK) {
-        snprintf(msg, size, "frame %d: %s", n, e.msg);
+        snprintf(msg, size, "frame %d: %.400s", n, e.msg);
         out = FRAME_FAILED;
     }
     free(r->result.rgba);
@@ -288,7 +288,7 @@ static enum frame_outcome run_frame(struct job_runner *r, const char *id, const 
     rc = store_job_frame_commit(r->d.store, id, n, bytes, len, &e);
     free(bytes);
     if (rc != REFRACT_E_OK) {
-        snprintf(msg, size, "frame %d: %s", n, e.msg);
+        snprintf(msg, size, "frame %d: %.400s", n, e.msg);
         return FRAME_FAILED;
     }
     return FRAME_DONE;
@@ -473,7 +473,7 @@ static enum refract_code load(struct job_runner *r, struct err *e)
                     REFRACT_E_OK ||
                 count != j->st.frames_total) {
                 char msg[ERR_MSG_MAX];
-                snprintf(msg, sizeof msg, "could not resume after a restart: %s",
+                snprintf(msg, sizeof msg, "could not resume after a restart: %.400s",
                          pe.code ? pe.msg : "the specification no longer gives the same frames");
                 free(j->frames);
                 j->frames = NULL;

@@ -49,13 +49,14 @@ struct job_limits {
 
 /* ---- job_spec.c ---- */
 
+struct cJSON;
+
 /* The scene id a specification names (root must be an object): "scene", required. */
 enum refract_code job_spec_scene(const struct cJSON *root, char out[STORE_ID_MAX], struct err *e);
 /* Expands a specification (docs/api.md "Batch jobs") against scene s (its camera, exposure
  * and size are the defaults): *frames is a new array (caller frees) of *count frames.
  * Every bad field is INVALID_FIELD / UNKNOWN_FIELD / MISSING_FIELD naming its JSON path;
  * more than lim->max_frames frames is LIMIT_EXCEEDED naming --max-job-frames. */
-struct cJSON;
 enum refract_code job_spec_expand(const struct cJSON *root, const struct scene *s,
                                   const struct job_limits *lim, struct job_frame **frames,
                                   int *count, struct err *e);
@@ -86,7 +87,7 @@ struct job_status {
     char state[16]; /* queued, running, done, failed, cancelled */
     int frames_total, frames_done;
     double eta_s; /* < 0: unknown */
-    int64_t created_unix, started_unix, finished_unix; /* 0 = not yet */
+    int64_t created_unix, updated_unix, started_unix, finished_unix; /* 0 = not yet */
     char message[ERR_MSG_MAX];
 };
 

@@ -9,6 +9,7 @@
  * The UPDATE only advances frames_done from exactly `frame`, and (job, frame) is the
  * primary key, so a frame can never be recorded twice.
  */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
