@@ -532,6 +532,8 @@ static const char *const test_scene =
 /* The {vid} of the view routes: a session on the test scene, and one of its own for
  * DELETE (main opens both). */
 static char view_id[32], scratch_view_id[32];
+/* The {jid} of the job routes ({n} is frame 0): a one-frame job, and one for DELETE. */
+static char job_id[32], scratch_job_id[32];
 
 /* Writes tmpl with {id}, {name}, {light}, {vid} and {file} filled in. False (test failed) for
  * another parameter. */
@@ -559,6 +561,14 @@ static bool fill_path_view(const char *tmpl, const char *id, const char *fill_vi
             piece = ASSET_NAME;
             len = strlen(ASSET_NAME);
             p += 6;
+        } else if (strncmp(p, "{jid}", 5) == 0) {
+            piece = fill_vid == scratch_view_id ? scratch_job_id : job_id;
+            len = strlen(piece);
+            p += 5;
+        } else if (strncmp(p, "{n}", 3) == 0) {
+            piece = "0";
+            len = 1;
+            p += 3;
         } else if (strncmp(p, "{vid}", 5) == 0) {
             piece = fill_vid;
             len = strlen(fill_vid);
@@ -815,6 +825,17 @@ static void request_examples_are_accepted(struct test_daemon *d, const struct co
                 render_example_renders(d, path, req, ex);
             } else if (is_path(op, "POST", "/v1/scenes/{id}/trace")) {
                 trace_example_traces(d, c, path, req, ex);
+            } else if (is_path(op, "POST", "/v1/jobs")) {
+                /* A job names its scene: the example's, replaced by the test scene. */
+                cJSON_ReplaceItemInObjectCaseSensitive(req, "scene", cJSON_CreateString(scene));
+                char *json = cJSON_PrintUnformatted(req);
+                struct refract_response r;
+                long status = exchange(d, "POST", path, json, json ? strlen(json) : 0,
+                                       "application/json", &r);
+                CHECK_MSG(status == 202, "job example \"%s\" answered %ld: %s", ex->name, status,
+                          r.body ? r.body : "");
+                refract_response_free(&r);
+                free(json);
             } else {
                 struct refract_response r;
                 long status = exchange(d, op->method, path, ex->json, strlen(ex->json),
@@ -889,6 +910,19 @@ int main(void)
         cJSON *root = answer ? cJSON_Parse(answer) : NULL;
         const cJSON *id = cJSON_GetObjectItemCaseSensitive(root, "id");
         snprintf(i == 0 ? view_id : scratch_view_id, sizeof view_id, "%s",
+                 cJSON_IsString(id) ? id->valuestring : "");
+        cJSON_Delete(root);
+        free(answer);
+    }
+    for (int i = 0; i < 2 && scene[0]; i++) {
+        char spec[160], *answer = NULL;
+        snprintf(spec, sizeof spec,
+                 "{\"scene\": \"%s\", \"width\": 8, \"height\": 6, \"turntable\": {\"frames\": 1}}",
+                 scene);
+        CHECK_INT(test_request(&d, "POST", "/v1/jobs", spec, &answer), 202);
+        cJSON *root = answer ? cJSON_Parse(answer) : NULL;
+        const cJSON *id = cJSON_GetObjectItemCaseSensitive(root, "id");
+        snprintf(i == 0 ? job_id : scratch_job_id, sizeof job_id, "%s",
                  cJSON_IsString(id) ? id->valuestring : "");
         cJSON_Delete(root);
         free(answer);
