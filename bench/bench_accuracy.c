@@ -25,6 +25,7 @@
 #include <string.h>
 
 #include "accuracy_cases.h"
+#include "accuracy_image.h"
 #include "core/ray_status.h"
 #include "example_scene.h"
 #include "gpu/queue.h"
@@ -58,7 +59,7 @@ struct result {
 };
 
 struct options {
-    bool quick;
+    bool quick, no_images; /* --no-images: skip the image sweep (the light simulation) */
     const char *out, *images;
     int side, base_res;
 };
@@ -416,7 +417,7 @@ static void write_choice(FILE *f, const struct bench *b, const struct overall *o
     fprintf(f, "\n");
 }
 
-static bool write_report(const struct bench *b, const struct gpu *gpu, int argc, char **argv)
+static bool write_report(const struct bench *b, struct gpu *gpu, int argc, char **argv)
 {
     FILE *f = fopen(b->opt.out, "w");
     if (f == NULL) {
@@ -461,6 +462,7 @@ static bool write_report(const struct bench *b, const struct gpu *gpu, int argc,
     fprintf(f, "\n## Per case\n\n");
     for (int ci = 0; ci < ACCURACY_CASE_COUNT; ci++)
         write_case_table(f, b, ci);
+    bool images_ok = b->opt.no_images || accuracy_image_report(gpu, b->opt.quick, b->opt.images, f);
     fclose(f);
     write_plot(b, "overall", "All cases: worst mean error vs time", o.mean_us, o.worst_dir,
                o.flags);
@@ -472,7 +474,7 @@ static bool write_report(const struct bench *b, const struct gpu *gpu, int argc,
         }
         write_plot(b, accuracy_cases[ci].name, accuracy_cases[ci].title, x, y, b->results[ci]);
     }
-    return true;
+    return images_ok;
 }
 
 static void mark_case_fronts(struct bench *b)
@@ -494,13 +496,15 @@ int main(int argc, char **argv)
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--quick")) {
             b.opt.quick = true;
+        } else if (!strcmp(argv[i], "--no-images")) {
+            b.opt.no_images = true;
         } else if (!strcmp(argv[i], "--out") && i + 1 < argc) {
             b.opt.out = argv[++i];
         } else if (!strcmp(argv[i], "--images") && i + 1 < argc) {
             b.opt.images = argv[++i];
         } else {
-            fprintf(stderr, "usage: refract-accuracy [--quick] [--out docs/accuracy.md] "
-                            "[--images docs/images]\n");
+            fprintf(stderr, "usage: refract-accuracy [--quick] [--no-images] [--out "
+                            "docs/accuracy.md] [--images docs/images]\n");
             return 2;
         }
     }
