@@ -342,6 +342,7 @@ static void write_plot(const struct bench *b, const char *name, const char *titl
         .series_count = 7,
         .points = pts,
         .count = b->config_count,
+        .front_across_series = true,
     };
     char path[512];
     snprintf(path, sizeof path, "%s/accuracy_%s.png", b->opt.images, name);

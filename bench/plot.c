@@ -190,19 +190,23 @@ static int cmp_x(const void *pa, const void *pb)
     return (a->x > b->x) - (a->x < b->x);
 }
 
+/* The front points joined in order of x: one line through all of them, or one per series. */
 static void draw_front(struct canvas *c, const struct axes *a, const struct plot_desc *d)
 {
     struct plot_point *f = malloc(sizeof *f * (size_t)(d->count ? d->count : 1));
-    int n = 0;
-    for (int i = 0; f && i < d->count; i++)
-        if (d->points[i].front && usable(&d->points[i]))
-            f[n++] = d->points[i];
-    if (f)
-        qsort(f, (size_t)n, sizeof *f, cmp_x);
     static const uint8_t front_ink[3] = {0, 0, 0};
-    for (int i = 1; i < n; i++)
-        line(c, map_x(a, f[i - 1].x), map_y(a, f[i - 1].y), map_x(a, f[i].x), map_y(a, f[i].y), 2,
-             front_ink);
+    int groups = d->front_across_series ? 1 : PLOT_MAX_SERIES;
+    for (int s = 0; f && s < groups; s++) {
+        int n = 0;
+        for (int i = 0; i < d->count; i++)
+            if (d->points[i].front && (d->front_across_series || d->points[i].series == s) &&
+                usable(&d->points[i]))
+                f[n++] = d->points[i];
+        qsort(f, (size_t)n, sizeof *f, cmp_x);
+        for (int i = 1; i < n; i++)
+            line(c, map_x(a, f[i - 1].x), map_y(a, f[i - 1].y), map_x(a, f[i].x), map_y(a, f[i].y),
+                 2, front_ink);
+    }
     free(f);
 }
 

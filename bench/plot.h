@@ -17,7 +17,7 @@
 struct plot_point {
     double x, y; /* data units; both > 0 (log axes) */
     int series;  /* 0..series_count-1: colour, marker and legend entry */
-    bool front;  /* on the Pareto front: drawn larger and joined by the front line */
+    bool front;  /* on the Pareto front: drawn larger; a series' front points are joined */
 };
 
 struct plot_desc {
@@ -27,7 +27,8 @@ struct plot_desc {
     int series_count;
     const struct plot_point *points;
     int count;
-    int width, height; /* pixels; 0 = 720 x 460 */
+    bool front_across_series; /* one front over all series (else one per series) */
+    int width, height;        /* pixels; 0 = 720 x 460 */
 };
 
 /* Draws the plot (log10 x and y axes over the points' range, decade grid, legend, the
