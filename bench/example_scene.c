@@ -61,6 +61,11 @@ struct scene *bench_load_example(const char *program, const char *path, int reso
 
 void bench_print_header(const struct gpu *gpu, int argc, char **argv)
 {
+    bench_write_header(stdout, gpu, argc, argv);
+}
+
+void bench_write_header(FILE *out, const struct gpu *gpu, int argc, char **argv)
+{
     const struct gpu_context_info *info = gpu_info(gpu);
     struct utsname u;
     uname(&u);
@@ -80,11 +85,12 @@ void bench_print_header(const struct gpu *gpu, int argc, char **argv)
     time_t now = time(NULL);
     char date[32];
     strftime(date, sizeof date, "%Y-%m-%d", gmtime(&now));
-    printf("- date: %s\n- machine: %s, %ld cores, %s %s\n- GL_RENDERER: %s\n- GL_VERSION: %s\n",
-           date, cpu, sysconf(_SC_NPROCESSORS_ONLN), u.sysname, u.machine, info->renderer,
-           info->version);
-    printf("- command: `");
+    fprintf(out,
+            "- date: %s\n- machine: %s, %ld cores, %s %s\n- GL_RENDERER: %s\n- GL_VERSION: %s\n",
+            date, cpu, sysconf(_SC_NPROCESSORS_ONLN), u.sysname, u.machine, info->renderer,
+            info->version);
+    fprintf(out, "- command: `");
     for (int i = 0; i < argc; i++)
-        printf("%s%s", i ? " " : "", argv[i]);
-    printf("`\n\n");
+        fprintf(out, "%s%s", i ? " " : "", argv[i]);
+    fprintf(out, "`\n\n");
 }

@@ -6,6 +6,8 @@
 #ifndef REFRACT_BENCH_EXAMPLE_SCENE_H
 #define REFRACT_BENCH_EXAMPLE_SCENE_H
 
+#include <stdio.h>
+
 #include "scene/scene.h"
 
 /* Returns the parsed scene (scene_destroy) or NULL after printing why, prefixed by
@@ -17,5 +19,7 @@ struct gpu;
 /* Prints the report's header: date, CPU model and cores, OS, GL_RENDERER, GL_VERSION and
  * the command line (argv), as Markdown list items. */
 void bench_print_header(const struct gpu *gpu, int argc, char **argv);
+/* The same, into a file. */
+void bench_write_header(FILE *out, const struct gpu *gpu, int argc, char **argv);
 
 #endif

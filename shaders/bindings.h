@@ -29,6 +29,8 @@
 /* ---- integrators ---- */
 #define INTEGRATOR_EULER 0 /* tevs2007 eqs. 5.11/5.12 */
 #define INTEGRATOR_RK4 1
+#define INTEGRATOR_RK2 2      /* explicit midpoint */
+#define INTEGRATOR_ADAPTIVE 3 /* Bogacki-Shampine 3(2) with step-size control */
 
 /* ---- uniform blocks (std140) ---- */
 #define BIND_UBO_RENDER 0  /* render_params: camera, settings, objects[] */

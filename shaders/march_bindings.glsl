@@ -5,7 +5,7 @@
 #include "shared_types.h"
 
 // Variant switches, set by the program's preamble (server/gpu/program.c): the integrator
-// and which optional channels the scene uses. A channel compiled out is never sampled.
+// (INTEGRATOR_*) and which optional channels the scene uses. A channel compiled out is never sampled.
 #ifndef MARCH_INTEGRATOR
 #define MARCH_INTEGRATOR INTEGRATOR_RK4
 #endif

@@ -303,7 +303,13 @@ void march_through_object(inout march_state s, int obj, vec3 p, vec3 q)
 {
     float scale = march_object_scale(obj);
     float h_min = params.objects[obj].bounds_max.w;
-    float h = params.settings_f.x * h_min;
+    float h_max = params.settings_f.x * h_min;
+    float h = h_max; // the adaptive integrator changes it step by step
+#if MARCH_INTEGRATOR == INTEGRATOR_ADAPTIVE
+    float tol = params.settings_f2.x * h_min;
+    vec3 extent3 = params.objects[obj].bounds_max.xyz - params.objects[obj].bounds_min.xyz;
+    float extent = max(extent3.x, max(extent3.y, extent3.z));
+#endif
     float ambient = params.settings_f.z;
     float threshold = params.settings_f.y;
     int max_steps = params.settings_i.y;
@@ -329,6 +335,17 @@ void march_through_object(inout march_state s, int obj, vec3 p, vec3 q)
             vec3 w1 = w;
 #if MARCH_INTEGRATOR == INTEGRATOR_EULER
             ray_equation_step_euler(obj, s0, h, p1, w1);
+#elif MARCH_INTEGRATOR == INTEGRATOR_RK2
+            ray_equation_step_rk2(obj, s0, h, p1, w1);
+#elif MARCH_INTEGRATOR == INTEGRATOR_ADAPTIVE
+            float err = ray_equation_step_bs23(obj, s0, h, extent, p1, w1);
+            float h_next = ray_equation_next_step(h, err, tol, h_max);
+            if (err > tol && h > RAY_BS23_FLOOR * h_max * 1.0001) {
+                h = h_next; // rejected: retry from p with the smaller step
+                s.steps++;  // a rejected attempt counts against the budget too
+                continue;
+            }
+            h = h_next; // accepted: p1, w1 stand; the next step tries h_next
 #else
             ray_equation_step_rk4(obj, s0, h, p1, w1);
 #endif

@@ -53,6 +53,7 @@ struct march_params {
     vec4 settings_f;  /* x: step (voxels); y: boundary threshold (dn per voxel);
                          z: ambient n; w: environment intensity */
     vec4 env;         /* x: environment rotation about +y (degrees) */
+    vec4 settings_f2; /* x: adaptive integrator's tolerance per step (voxels) */
     object_params objects[MAX_OBJECTS];
 };
 

@@ -43,6 +43,12 @@
 #define ADAPT_GROW_MAX 5.0
 #define ADAPT_SAFETY 0.9
 #define ADAPT_MIN_STEP_REL 1e-9
+/* The GPU's adaptive integrator (Bogacki-Shampine 3(2)): the same constants as
+ * shaders/ray_equation.glsl RAY_BS23_*. */
+#define BS23_SAFETY 0.9
+#define BS23_SHRINK_MIN 0.2
+#define BS23_GROW_MAX 5.0
+#define BS23_FLOOR 1e-3 /* smallest step, in units of the largest */
 /* Page silent: a ray that keeps reflecting off faces between objects could pass from
  * object to object forever without taking a step. Same cap as the GLSL twin; reaching it
  * ends the ray with status max_steps. */
@@ -350,21 +356,47 @@ struct step_out {
     bool leaving;
     int axis; /* exit face when leaving */
     double sign;
+    bool rejected; /* REFTRACE_BS23: the error was too large; retry from the same point */
 };
 
-/* Euler or RK4 step with the straight-segment cut and trapezoid accumulation. The page
- * is silent on w at the cut; like the GLSL twin it is interpolated with the same
- * fraction, w + f (w' - w). */
-static void fixed_step(struct march *m, const struct object_frame *fr, vec3 p, vec3 w,
-                       const struct reftrace_field *f0, struct step_out *s)
+/* ray_equation_next_step's twin: the controller h (tol / err)^(1/3), bounded. */
+static double bs23_next_step(double h, double err, double tol, double h_max)
 {
-    double h = m->set->step_voxels * fr->h_min;
+    double fac = err > 0.0 ? BS23_SAFETY * pow(tol / err, 1.0 / 3.0) : BS23_GROW_MAX;
+    fac = fmin(fmax(fac, BS23_SHRINK_MIN), BS23_GROW_MAX);
+    return fmin(fmax(h * fac, BS23_FLOOR * h_max), h_max);
+}
+
+/* Euler, RK2, RK4 or Bogacki-Shampine step with the straight-segment cut and trapezoid
+ * accumulation: the integrators the GPU has. The page is silent on w at the cut; like
+ * the GLSL twin it is interpolated with the same fraction, w + f (w' - w). For BS23, *h
+ * carries the step size between calls, and a step whose error exceeds the tolerance
+ * comes back rejected with nothing accumulated (unless it is already the smallest). */
+static void fixed_step(struct march *m, const struct object_frame *fr, vec3 p, vec3 w,
+                       const struct reftrace_field *f0, double *h_io, struct step_out *s)
+{
+    double h_max = m->set->step_voxels * fr->h_min;
+    double h = m->set->integrator == REFTRACE_BS23 ? *h_io : h_max;
     s->p = p;
     s->w = w;
-    if (m->set->integrator == REFTRACE_EULER)
+    s->rejected = false;
+    if (m->set->integrator == REFTRACE_EULER) {
         reftrace_step_euler(fr->o, h, &s->p, &s->w);
-    else
+    } else if (m->set->integrator == REFTRACE_RK2) {
+        reftrace_step_rk2(fr->o, h, &s->p, &s->w);
+    } else if (m->set->integrator == REFTRACE_BS23) {
+        vec3 ext = vec3_sub(fr->o->bmax, fr->o->bmin);
+        double extent = fmax(ext.x, fmax(ext.y, ext.z));
+        double tol = m->set->tolerance_voxels * fr->h_min;
+        double err = reftrace_step_bs23(fr->o, h, extent, &s->p, &s->w);
+        *h_io = bs23_next_step(h, err, tol, h_max);
+        if (err > tol && h > BS23_FLOOR * h_max * 1.0001) {
+            s->rejected = true;
+            return;
+        }
+    } else {
         reftrace_step_rk4(fr->o, h, &s->p, &s->w);
+    }
     s->leaving = outside_bounds(fr->o, s->p);
     if (s->leaving) {
         double f = exit_fraction(fr->o, p, s->p, &s->axis, &s->sign);
@@ -505,12 +537,14 @@ static void march_object(struct march *m, const struct object_frame *fr, vec3 p,
             m->d = xform_dir_to_world(&fr->o->xf, vec3_normalize(w));
             return;
         }
-        struct step_out s;
+        struct step_out s = {.rejected = false};
         if (set->integrator == REFTRACE_ADAPTIVE)
             adaptive_step(m, fr, p, w, &h_adapt, &s);
         else
-            fixed_step(m, fr, p, w, &f0, &s);
-        m->steps++;
+            fixed_step(m, fr, p, w, &f0, &h_adapt, &s);
+        m->steps++; /* a rejected BS23 attempt counts against the budget too (as on the GPU) */
+        if (s.rejected)
+            continue;
         vec3 q1 = vec3_normalize(s.w);
 
         /* Sharp boundaries: zone entry, then one event where the middle index is crossed. */
@@ -561,6 +595,7 @@ void reftrace_ray(const struct reftrace_object *objects, int count,
 {
     assert(settings->step_voxels > 0.0);
     assert(settings->integrator != REFTRACE_ADAPTIVE || settings->tolerance > 0.0);
+    assert(settings->integrator != REFTRACE_BS23 || settings->tolerance_voxels > 0.0);
     struct march m = {
         .set = settings,
         .x = origin,

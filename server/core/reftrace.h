@@ -80,7 +80,11 @@ struct reftrace_lighting {
 enum reftrace_integrator {
     REFTRACE_EULER = 0,    /* tevs2007 eqs. 5.11/5.12 */
     REFTRACE_RK4 = 1,      /* classical Runge-Kutta, fixed step */
-    REFTRACE_ADAPTIVE = 2, /* Dormand-Prince 5(4), error per step <= tolerance */
+    REFTRACE_ADAPTIVE = 2, /* Dormand-Prince 5(4), error per step <= tolerance: the exact
+                              reference, not a GPU integrator */
+    REFTRACE_RK2 = 3,      /* explicit midpoint, fixed step (the GPU's "rk2") */
+    REFTRACE_BS23 = 4,     /* Bogacki-Shampine 3(2) with step control, error per step <=
+                              tolerance_voxels: the twin of the GPU's "adaptive" */
 };
 
 struct reftrace_settings {
@@ -89,8 +93,9 @@ struct reftrace_settings {
     int max_steps;             /* over the whole ray */
     double boundary_threshold; /* docs/tracing.md "Sharp boundaries" */
     double ambient_ior;
-    double tolerance;     /* adaptive: absolute error per step in object units */
-    double env_intensity; /* procedural environment multiplier for radiance */
+    double tolerance;        /* REFTRACE_ADAPTIVE: absolute error per step in object units */
+    double tolerance_voxels; /* REFTRACE_BS23: error per step in voxels (h_min) of the object */
+    double env_intensity;    /* procedural environment multiplier for radiance */
     const struct reftrace_lighting *lighting; /* lights and receiver; NULL: none. In-scattering
                                                  is not modelled by REFTRACE_ADAPTIVE. */
 };

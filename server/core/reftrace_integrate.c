@@ -116,6 +116,48 @@ void reftrace_step_rk4(const struct reftrace_object *o, double h, vec3 *p, vec3 
     *w = vec3_madd(w0, sw, h / 6.0);
 }
 
+/* Explicit midpoint: y1 = y + h f(y + h/2 f(y)). */
+void reftrace_step_rk2(const struct reftrace_object *o, double h, vec3 *p, vec3 *w)
+{
+    vec3 g;
+    double n = reftrace_sample_ior(o, *p, &g);
+    vec3 pm = vec3_madd(*p, *w, 0.5 * h / n);
+    vec3 wm = vec3_madd(*w, g, 0.5 * h);
+    n = reftrace_sample_ior(o, pm, &g);
+    *p = vec3_madd(*p, wm, h / n);
+    *w = vec3_madd(*w, g, h);
+}
+
+/* Bogacki & Shampine (1989): c = (0, 1/2, 3/4, 1), b = (2/9, 1/3, 4/9, 0), and b - b* =
+ * (-5/72, 1/12, 1/9, -1/8) for the error of the embedded second-order solution. */
+double reftrace_step_bs23(const struct reftrace_object *o, double h, double extent, vec3 *p,
+                          vec3 *w)
+{
+    vec3 p0 = *p, w0 = *w, g;
+    double n = reftrace_sample_ior(o, p0, &g);
+    vec3 k1p = vec3_scale(w0, 1.0 / n), k1w = g;
+    vec3 w2 = vec3_madd(w0, k1w, 0.5 * h);
+    n = reftrace_sample_ior(o, vec3_madd(p0, k1p, 0.5 * h), &g);
+    vec3 k2p = vec3_scale(w2, 1.0 / n), k2w = g;
+    vec3 w3 = vec3_madd(w0, k2w, 0.75 * h);
+    n = reftrace_sample_ior(o, vec3_madd(p0, k2p, 0.75 * h), &g);
+    vec3 k3p = vec3_scale(w3, 1.0 / n), k3w = g;
+    vec3 sp = vec3_add(vec3_add(vec3_scale(k1p, 2.0 / 9.0), vec3_scale(k2p, 1.0 / 3.0)),
+                       vec3_scale(k3p, 4.0 / 9.0));
+    vec3 sw = vec3_add(vec3_add(vec3_scale(k1w, 2.0 / 9.0), vec3_scale(k2w, 1.0 / 3.0)),
+                       vec3_scale(k3w, 4.0 / 9.0));
+    vec3 p1 = vec3_madd(p0, sp, h), w1 = vec3_madd(w0, sw, h);
+    n = reftrace_sample_ior(o, p1, &g);
+    vec3 k4p = vec3_scale(w1, 1.0 / n), k4w = g;
+    vec3 ep = vec3_add(vec3_add(vec3_scale(k1p, -5.0 / 72.0), vec3_scale(k2p, 1.0 / 12.0)),
+                       vec3_add(vec3_scale(k3p, 1.0 / 9.0), vec3_scale(k4p, -0.125)));
+    vec3 ew = vec3_add(vec3_add(vec3_scale(k1w, -5.0 / 72.0), vec3_scale(k2w, 1.0 / 12.0)),
+                       vec3_add(vec3_scale(k3w, 1.0 / 9.0), vec3_scale(k4w, -0.125)));
+    *p = p1;
+    *w = w1;
+    return h * vec3_length(ep) + extent * h * vec3_length(ew) / fmax(vec3_length(w0), 1e-300);
+}
+
 /* ---- Dormand-Prince 5(4) --------------------------------------------------------- */
 
 /* p(3), w(3), opl(1), alpha(3), emit(3) */

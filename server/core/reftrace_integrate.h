@@ -50,6 +50,13 @@ bool reftrace_sample_opaque(const struct reftrace_object *o, vec3 p, vec3 *colou
 /* One fixed step of size h (object units) from (p, w), in place. */
 void reftrace_step_euler(const struct reftrace_object *o, double h, vec3 *p, vec3 *w);
 void reftrace_step_rk4(const struct reftrace_object *o, double h, vec3 *p, vec3 *w);
+void reftrace_step_rk2(const struct reftrace_object *o, double h, vec3 *p, vec3 *w);
+/* One Bogacki-Shampine 3(2) step (the GLSL twin is ray_equation_step_bs23): the third-order
+ * solution in place; returns |e_p| + extent |e_w| / |w| (object units), the embedded error
+ * estimate of the position plus the displacement the direction error causes over the
+ * object's largest extent. */
+double reftrace_step_bs23(const struct reftrace_object *o, double h, double extent, vec3 *p,
+                          vec3 *w);
 
 /* One Dormand-Prince 5(4) step of size h from y0 (scale = world units per object unit).
  * Writes the fifth-order solution to y1, and to err the differences between the fifth-

@@ -26,7 +26,7 @@ static unsigned variant_mask(enum gpu_kernel kernel)
     case GPU_KERNEL_RENDER_VIEW:
         return GPU_VARIANT_COUNT - 1;
     case GPU_KERNEL_TRACE_RAYS:
-        return GPU_VARIANT_RK4 | GPU_VARIANT_ATTENUATION | GPU_VARIANT_OPAQUE |
+        return GPU_VARIANT_INTEGRATOR_BITS | GPU_VARIANT_ATTENUATION | GPU_VARIANT_OPAQUE |
                GPU_VARIANT_SCATTERING;
     default:
         return 0;
@@ -102,6 +102,20 @@ struct gpu_programs_lazy {
     GLuint (*program)[GPU_VARIANT_COUNT];
 };
 
+static const char *integrator_define(unsigned v)
+{
+    switch (v & GPU_VARIANT_INTEGRATOR_BITS) {
+    case GPU_VARIANT_RK4:
+        return "INTEGRATOR_RK4";
+    case GPU_VARIANT_RK2:
+        return "INTEGRATOR_RK2";
+    case GPU_VARIANT_ADAPTIVE:
+        return "INTEGRATOR_ADAPTIVE";
+    default:
+        return "INTEGRATOR_EULER";
+    }
+}
+
 static GLuint build_variant(enum gpu_kernel k, unsigned v, const char *shader_dir, struct err *e)
 {
     unsigned mask = variant_mask(k);
@@ -110,10 +124,9 @@ static GLuint build_variant(enum gpu_kernel k, unsigned v, const char *shader_di
              "#define MARCH_INTEGRATOR %s\n#define MARCH_ATTENUATION %d\n"
              "#define MARCH_EMISSION %d\n#define MARCH_OPAQUE %d\n"
              "#define MARCH_SCATTERING %d\n#define MARCH_LIGHTS %d",
-             (v & GPU_VARIANT_RK4) ? "INTEGRATOR_RK4" : "INTEGRATOR_EULER",
-             (v & GPU_VARIANT_ATTENUATION) ? 1 : 0, (v & GPU_VARIANT_EMISSION) ? 1 : 0,
-             (v & GPU_VARIANT_OPAQUE) ? 1 : 0, (v & GPU_VARIANT_SCATTERING) ? 1 : 0,
-             (v & GPU_VARIANT_LIGHTS) ? 1 : 0);
+             integrator_define(v), (v & GPU_VARIANT_ATTENUATION) ? 1 : 0,
+             (v & GPU_VARIANT_EMISSION) ? 1 : 0, (v & GPU_VARIANT_OPAQUE) ? 1 : 0,
+             (v & GPU_VARIANT_SCATTERING) ? 1 : 0, (v & GPU_VARIANT_LIGHTS) ? 1 : 0);
     snprintf(label, sizeof label, "%s variant %u", kernel_files[k], v);
     struct gpu_program_desc desc = {
         .label = label, .main = kernel_files[k], .preamble = mask ? preamble : NULL};
@@ -149,7 +162,7 @@ enum refract_code gpu_programs_build(struct gpu_programs *p, const char *shader_
     }
     log_info("gpu",
              "compiled %d compute programs (kernels x variants) from %s; variants with "
-             "scattering or lights compile on first use",
+             "scattering, lights, rk2 or adaptive compile on first use",
              built, shader_dir ? shader_dir : "embedded shaders");
     return REFRACT_E_OK;
 }

@@ -25,7 +25,13 @@ enum gpu_kernel {
 };
 
 /* Variant bits of the marching kernels. */
-#define GPU_VARIANT_RK4 1u         /* else explicit Euler */
+/* The integrator is two bits, RK4 and INTEGRATOR_HI: none = Euler, RK4 = RK4, HI = RK2
+ * (midpoint), both = adaptive (Bogacki-Shampine 3(2)); use the names below. */
+#define GPU_VARIANT_RK4 1u
+#define GPU_VARIANT_INTEGRATOR_HI 64u
+#define GPU_VARIANT_RK2 GPU_VARIANT_INTEGRATOR_HI
+#define GPU_VARIANT_ADAPTIVE (GPU_VARIANT_INTEGRATOR_HI | GPU_VARIANT_RK4)
+#define GPU_VARIANT_INTEGRATOR_BITS GPU_VARIANT_ADAPTIVE
 #define GPU_VARIANT_ATTENUATION 2u /* the scene has an attenuation channel */
 #define GPU_VARIANT_EMISSION 4u    /* ... an emission channel (render_view only) */
 #define GPU_VARIANT_OPAQUE 8u      /* ... an opaque channel */
@@ -35,11 +41,12 @@ enum gpu_kernel {
 #define GPU_VARIANT_LIGHTS                                                                         \
     32u /* lights or a receiver: reflected light L_r at Fresnel                                    \
            events (eq. 5.6/5.8) and the receiver (render_view) */
-#define GPU_VARIANT_COUNT 64
+#define GPU_VARIANT_COUNT 128
 /* Variants with any of these bits are compiled on first use (gpu_program_get), not at
- * start-up: doubling the variant count twice would quadruple the start-up time. One
- * variant with every bit is compiled at start-up, so a shader error still stops it. */
-#define GPU_VARIANT_LAZY (GPU_VARIANT_SCATTERING | GPU_VARIANT_LIGHTS)
+ * start-up: doubling the variant count three times would make the start-up eight times
+ * longer. One variant with every bit (the adaptive integrator) is compiled at start-up, so
+ * a shader error still stops it. */
+#define GPU_VARIANT_LAZY (GPU_VARIANT_SCATTERING | GPU_VARIANT_LIGHTS | GPU_VARIANT_INTEGRATOR_HI)
 
 struct gpu_program_desc {
     const char *label;    /* for glObjectLabel and messages */

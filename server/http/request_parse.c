@@ -10,7 +10,8 @@
 #include "../scene/json_read.h"
 #include "http_internal.h"
 
-static const char *const integrator_names[] = {"euler", "rk4", NULL};
+/* Order as enum scene_integrator. */
+static const char *const integrator_names[] = {"euler", "rk4", "rk2", "adaptive", NULL};
 static const char *const tonemap_names[] = {"clamp", "filmic", NULL};
 static const char *const format_names[] = {"png", "jpeg", "exr", NULL};
 
@@ -49,6 +50,9 @@ enum refract_code http_parse_settings(const cJSON *root, const struct scene_rend
         jr_enum(root, "", "integrator", false, integrator, integrator_names, &integrator, e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(root, "", "step", false, st->step_voxels, 0.01, 8.0, &st->step_voxels, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_number(root, "", "tolerance", false, st->tolerance_voxels, 1e-6, 1.0,
+                       &st->tolerance_voxels, e);
     if (rc == REFRACT_E_OK)
         rc = limited_int(root, "max_steps", st->max_steps, cfg->limits.max_steps, "--max-steps",
                          &st->max_steps, e);
@@ -127,8 +131,9 @@ enum refract_code http_parse_render_request(const char *body, size_t len, const 
                                             struct http_render_request *out, struct err *e)
 {
     static const char *const keys[] = {
-        "camera",     "width", "height",    "format",       "exposure",           "tonemap",
-        "integrator", "step",  "max_steps", "jpeg_quality", "boundary_threshold", NULL};
+        "camera",     "width", "height",    "format",    "exposure",     "tonemap",
+        "integrator", "step",  "tolerance", "max_steps", "jpeg_quality", "boundary_threshold",
+        NULL};
     memset(out, 0, sizeof *out);
     cJSON *root = NULL;
     enum refract_code rc = http_parse_body(body, len, &root, e);
@@ -183,7 +188,7 @@ enum refract_code http_parse_trace_request(const char *body, size_t len, const s
                                            struct err *e)
 {
     static const char *const keys[] = {
-        "rays", "step", "integrator", "max_steps", "boundary_threshold", NULL};
+        "rays", "step", "tolerance", "integrator", "max_steps", "boundary_threshold", NULL};
     *rays = NULL;
     *count = 0;
     cJSON *root = NULL;

@@ -32,9 +32,14 @@ struct render {
 };
 
 _Static_assert(sizeof(struct object_params) == 2 * 64 + 6 * 16, "object_params layout");
-_Static_assert(sizeof(struct march_params) == 8 * 16 + MAX_OBJECTS * sizeof(struct object_params),
+_Static_assert(sizeof(struct march_params) == 9 * 16 + MAX_OBJECTS * sizeof(struct object_params),
                "march_params layout");
 _Static_assert(sizeof(struct volume_params) == 3 * 16 + 8 * 16, "volume_params layout");
+_Static_assert(SCENE_INTEGRATOR_EULER == INTEGRATOR_EULER &&
+                   SCENE_INTEGRATOR_RK4 == INTEGRATOR_RK4 &&
+                   SCENE_INTEGRATOR_RK2 == INTEGRATOR_RK2 &&
+                   SCENE_INTEGRATOR_ADAPTIVE == INTEGRATOR_ADAPTIVE,
+               "scene and shader integrator numbers");
 _Static_assert(sizeof(struct trace_ray_in) == 32, "trace_ray_in layout");
 _Static_assert(sizeof(struct trace_hit_out) == 48, "trace_hit_out layout");
 _Static_assert(sizeof(struct light_params) == 5 * 16, "light_params layout");
@@ -195,12 +200,13 @@ static void fill_objects(struct march_params *mp, const struct scene *s, const s
 static void fill_settings(struct march_params *mp, const struct scene *s,
                           const struct scene_render_settings *st)
 {
-    mp->settings_i = (ivec4){
-        st->integrator == SCENE_INTEGRATOR_EULER ? INTEGRATOR_EULER : INTEGRATOR_RK4, st->max_steps,
-        (int)s->object_count, s->environment.kind == SCENE_ENV_IMAGE ? 1 : 0};
+    /* enum scene_integrator and INTEGRATOR_* (bindings.h) share their numbers. */
+    mp->settings_i = (ivec4){(int)st->integrator, st->max_steps, (int)s->object_count,
+                             s->environment.kind == SCENE_ENV_IMAGE ? 1 : 0};
     mp->settings_f = (vec4){(float)st->step_voxels, (float)st->boundary_threshold,
                             (float)s->ambient_ior, (float)s->environment.intensity};
     mp->env = (vec4){(float)s->environment.rotation_deg, 0.0f, 0.0f, 0.0f};
+    mp->settings_f2 = (vec4){(float)st->tolerance_voxels, 0.0f, 0.0f, 0.0f};
 }
 
 static void fill_camera(struct march_params *mp, const struct scene_camera *c)
@@ -270,7 +276,13 @@ static void bind_lights(struct render *r, const struct scene_gpu *sg, const stru
 /* The kernel variant for a scene's channels and the chosen integrator. */
 static unsigned march_variant(const struct scene_gpu *sg, const struct scene_render_settings *st)
 {
-    unsigned v = st->integrator == SCENE_INTEGRATOR_RK4 ? GPU_VARIANT_RK4 : 0u;
+    static const unsigned integrator_bits[] = {
+        [SCENE_INTEGRATOR_EULER] = 0u,
+        [SCENE_INTEGRATOR_RK4] = GPU_VARIANT_RK4,
+        [SCENE_INTEGRATOR_RK2] = GPU_VARIANT_RK2,
+        [SCENE_INTEGRATOR_ADAPTIVE] = GPU_VARIANT_ADAPTIVE,
+    };
+    unsigned v = integrator_bits[st->integrator];
     for (size_t i = 0; i < sg->object_count; i++) {
         unsigned f = sg->objects[i].flags;
         if (f & OBJECT_HAS_ATTENUATION)

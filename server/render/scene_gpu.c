@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../core/half_float.h"
 #include "../core/log.h"
 #include "bindings.h"
 #define REFRACT_HOST_C
@@ -316,6 +317,47 @@ static enum refract_code alloc_scratch(struct build_ctx *b, struct err *e)
     return rc;
 }
 
+/* render.ior_texture "float16": the index+gradient atlas is computed in RGBA32F (the
+ * gradient kernel's image format) and then narrowed to RGBA16F through host memory, once
+ * per build. Each value is rounded to the nearest half here (half_float.h says why the
+ * driver must not do it). Half the memory and
+ * bandwidth of the march's most frequent fetch, for 11 significant bits in n and grad n
+ * (docs/tracing.md "Precision"; docs/accuracy.md measures what it costs). */
+static enum refract_code narrow_ior_atlas(struct build_ctx *b, struct err *e)
+{
+    struct gpu_volume *v = &b->sg->ior_grad;
+    size_t texels = (size_t)v->width * v->height * v->depth;
+    float *host = malloc(texels * 4 * sizeof(float));
+    if (host == NULL)
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory narrowing the ior atlas of %s",
+                       b->sg->id);
+    glGetTextureImage(v->tex, 0, GL_RGBA, GL_FLOAT, (GLsizei)(texels * 4 * sizeof(float)), host);
+    for (size_t k = 0; k < texels * 4; k++)
+        host[k] = (float)half_float_round(host[k]);
+    char label[128];
+    snprintf(label, sizeof label, "scene %s / ior+grad atlas (float16)", b->sg->id);
+    struct gpu_volume_desc d = {.label = label,
+                                .width = v->width,
+                                .height = v->height,
+                                .depth = v->depth,
+                                .format = GPU_TEXEL_RGBA16F};
+    struct gpu_volume half;
+    enum refract_code rc = gpu_check("reading back the ior atlas", e);
+    if (rc == REFRACT_E_OK)
+        rc = gpu_volume_create(&d, &half, e);
+    if (rc == REFRACT_E_OK) {
+        rc = gpu_volume_upload(&half, 0, 0, 0, v->width, v->height, v->depth, 4, host, e);
+        if (rc == REFRACT_E_OK) {
+            gpu_volume_destroy(v);
+            *v = half;
+        } else {
+            gpu_volume_destroy(&half);
+        }
+    }
+    free(host);
+    return rc;
+}
+
 static enum refract_code build_all(struct build_ctx *b, struct err *e)
 {
     const struct scene *s = b->src->scene;
@@ -352,6 +394,8 @@ static enum refract_code build_all(struct build_ctx *b, struct err *e)
     }
     if (rc == REFRACT_E_OK)
         rc = build_environment(b, e);
+    if (rc == REFRACT_E_OK && s->render.ior_texture == SCENE_IOR_FLOAT16)
+        rc = narrow_ior_atlas(b, e);
     if (rc == REFRACT_E_OK) {
         glFinish();
         rc = gpu_check("building the scene", e);

@@ -27,7 +27,8 @@ struct scene_gpu_object {
 struct scene_gpu {
     char id[64];
     uint64_t generation;
-    struct gpu_volume ior_grad;    /* RGBA32F: grad n (object units), n */
+    struct gpu_volume ior_grad;    /* RGBA32F (RGBA16F: render.ior_texture float16): grad n
+                                      (object units), n */
     struct gpu_volume attenuation; /* RGBA16F or 1x1x1 stand-in */
     struct gpu_volume emission;    /* RGBA16F or stand-in */
     struct gpu_volume opaque;      /* RGBA16F or stand-in */

@@ -134,15 +134,26 @@ struct scene_environment {
     double rotation_deg; /* rotation of the environment about world +y */
 };
 
-enum scene_integrator { SCENE_INTEGRATOR_EULER = 0, SCENE_INTEGRATOR_RK4 = 1 };
+enum scene_integrator {
+    SCENE_INTEGRATOR_EULER = 0,    /* tevs2007 eqs. 5.11/5.12 */
+    SCENE_INTEGRATOR_RK4 = 1,      /* classical Runge-Kutta */
+    SCENE_INTEGRATOR_RK2 = 2,      /* explicit midpoint */
+    SCENE_INTEGRATOR_ADAPTIVE = 3, /* Bogacki-Shampine 3(2), step control by tolerance */
+};
+/* Storage of the index+gradient atlas (docs/tracing.md "Precision"). */
+enum scene_ior_texture { SCENE_IOR_FLOAT32 = 0, SCENE_IOR_FLOAT16 = 1 };
 enum scene_tonemap { SCENE_TONEMAP_CLAMP = 0, SCENE_TONEMAP_FILMIC = 1 };
 
 /* Render defaults of a scene; a render request may override each. */
 struct scene_render_settings {
     enum scene_integrator integrator;
-    double step_voxels;        /* integration step, in voxels of the object being crossed */
-    int max_steps;             /* per ray, over all objects */
-    double exposure_ev;        /* PNG/JPEG: pixel = tonemap(2^exposure * L) */
+    double step_voxels;                 /* integration step, in voxels of the object being crossed;
+                                           adaptive: the largest step */
+    double tolerance_voxels;            /* adaptive: error per step, voxels (1e-6..1; 1e-3) */
+    enum scene_ior_texture ior_texture; /* scene document only (a build setting): a request
+                                           cannot change it */
+    int max_steps;                      /* per ray, over all objects */
+    double exposure_ev;                 /* PNG/JPEG: pixel = tonemap(2^exposure * L) */
     double boundary_threshold; /* |grad n| * voxel size above which Fresnel reflection applies */
     enum scene_tonemap tonemap;
 };

@@ -167,12 +167,16 @@ static enum refract_code parse_camera(const cJSON *root, const struct scene_limi
 static enum refract_code parse_render(const cJSON *root, const struct scene_limits *lim,
                                       struct scene_render_settings *r, struct err *e)
 {
-    static const char *const keys[] = {"integrator",         "step",    "max_steps", "exposure",
-                                       "boundary_threshold", "tonemap", NULL};
-    static const char *const integrators[] = {"euler", "rk4", NULL};
+    static const char *const keys[] = {"integrator", "step",        "tolerance",
+                                       "max_steps",  "exposure",    "boundary_threshold",
+                                       "tonemap",    "ior_texture", NULL};
+    /* Order as enum scene_integrator / scene_ior_texture. */
+    static const char *const integrators[] = {"euler", "rk4", "rk2", "adaptive", NULL};
+    static const char *const ior_textures[] = {"float32", "float16", NULL};
     static const char *const tonemaps[] = {"clamp", "filmic", NULL};
     const cJSON *o;
     int integrator = SCENE_INTEGRATOR_RK4, tonemap = SCENE_TONEMAP_CLAMP;
+    int ior_texture = SCENE_IOR_FLOAT32;
     int def_steps = lim->max_steps < 20000 ? lim->max_steps : 20000;
     enum refract_code rc = sub_object(root, "render", keys, &o, e);
     if (rc == REFRACT_E_OK)
@@ -180,6 +184,11 @@ static enum refract_code parse_render(const cJSON *root, const struct scene_limi
                      &integrator, e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(o, "render", "step", false, 0.5, 0.01, 8.0, &r->step_voxels, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_number(o, "render", "tolerance", false, 1e-3, 1e-6, 1.0, &r->tolerance_voxels, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_enum(o, "render", "ior_texture", false, SCENE_IOR_FLOAT32, ior_textures,
+                     &ior_texture, e);
     if (rc == REFRACT_E_OK)
         rc = scene_read_limited_int(member(o, "max_steps"), "render.max_steps", def_steps, 1,
                                     lim->max_steps, "max_steps", "--max-steps", &r->max_steps, e);
@@ -192,6 +201,7 @@ static enum refract_code parse_render(const cJSON *root, const struct scene_limi
         rc = jr_enum(o, "render", "tonemap", false, SCENE_TONEMAP_CLAMP, tonemaps, &tonemap, e);
     r->integrator = (enum scene_integrator)integrator;
     r->tonemap = (enum scene_tonemap)tonemap;
+    r->ior_texture = (enum scene_ior_texture)ior_texture;
     return rc;
 }
 

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../core/half_float.h"
 #include "../core/smooth.h"
 
 static double analytic_profile(void *ctx, vec3 p, vec3 *grad)
@@ -21,10 +22,26 @@ static double analytic_constant(void *ctx, vec3 p, vec3 *grad)
     return *(const double *)ctx;
 }
 
+enum reftrace_integrator scene_reference_integrator(enum scene_integrator i)
+{
+    switch (i) {
+    case SCENE_INTEGRATOR_EULER:
+        return REFTRACE_EULER;
+    case SCENE_INTEGRATOR_RK2:
+        return REFTRACE_RK2;
+    case SCENE_INTEGRATOR_ADAPTIVE:
+        return REFTRACE_BS23;
+    case SCENE_INTEGRATOR_RK4:
+        break;
+    }
+    return REFTRACE_RK4;
+}
+
 static void fill_settings(const struct scene *s, struct reftrace_settings *st)
 {
     memset(st, 0, sizeof *st);
-    st->integrator = s->render.integrator == SCENE_INTEGRATOR_EULER ? REFTRACE_EULER : REFTRACE_RK4;
+    st->integrator = scene_reference_integrator(s->render.integrator);
+    st->tolerance_voxels = s->render.tolerance_voxels;
     st->step_voxels = s->render.step_voxels;
     st->max_steps = s->render.max_steps;
     st->boundary_threshold = s->render.boundary_threshold;
@@ -91,6 +108,9 @@ static enum refract_code build_voxels(struct scene_reference *r, const struct sc
         smooth_gaussian_ref(tmp, o->resolution, o->smoothing_sigma_voxels, smooth);
         gradient_central_ref(smooth, o->resolution, scene_object_voxel_size(o),
                              r->buffers[i][SCENE_CH_IOR]);
+        if (s->render.ior_texture == SCENE_IOR_FLOAT16)
+            for (size_t k = 0; k < voxels * 4; k++)
+                r->buffers[i][SCENE_CH_IOR][k] = half_float_round(r->buffers[i][SCENE_CH_IOR][k]);
         r->grids[i].ior_grad = r->buffers[i][SCENE_CH_IOR];
     }
     for (int ch = SCENE_CH_ATTENUATION; rc == REFRACT_E_OK && ch < SCENE_CH_COUNT; ch++) {

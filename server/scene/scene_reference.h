@@ -34,6 +34,9 @@ struct scene_reference {
     double constants[SCENE_REFERENCE_MAX_OBJECTS];
 };
 
+/* The reference tracer's twin of a render integrator (adaptive -> REFTRACE_BS23). */
+enum reftrace_integrator scene_reference_integrator(enum scene_integrator i);
+
 /* INVALID_FIELD in analytic mode when an object's ior is not one profile or constant, or
  * has other channels; CONFLICT for missing volumes; OUT_OF_MEMORY. */
 enum refract_code scene_reference_build(const struct scene *s, enum scene_reference_mode mode,
