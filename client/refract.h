@@ -407,4 +407,18 @@ int refract_events(refract_client *c, const char *scene_id, const char *since_id
 }
 #endif
 
+/* ---- batch jobs (docs/api.md "Batch jobs") ---- */
+
+/* POST /v1/jobs with a job specification -> *json_out: the 202 status ({"id", ...}). */
+int refract_job_submit(refract_client *c, const char *spec_json, size_t len, char **json_out);
+/* GET /v1/jobs/{id} -> *json_out (state, frames_done, frames_total, progress, eta_s, ...). */
+int refract_job_get(refract_client *c, const char *job_id, char **json_out);
+/* GET /v1/jobs, filtered by state and scene (NULL = any) -> *json_out ({"jobs": [...]}). */
+int refract_job_list(refract_client *c, const char *state, const char *scene, char **json_out);
+/* DELETE /v1/jobs/{id}: cancels an unfinished job (*json_out, may be NULL, gets its
+ * status) or deletes a finished one (*json_out stays NULL). */
+int refract_job_cancel(refract_client *c, const char *job_id, char **json_out);
+/* GET /v1/jobs/{id}/frames/{n} -> out (release with refract_image_free). */
+int refract_job_frame(refract_client *c, const char *job_id, int n, struct refract_image *out);
+
 #endif

@@ -47,6 +47,7 @@ extern const struct cli_command cli_cmd_light;
 extern const struct cli_command cli_cmd_irradiance;
 extern const struct cli_command cli_cmd_view;
 extern const struct cli_command cli_cmd_events;
+extern const struct cli_command cli_cmd_job;
 
 /* cli_help.c */
 

@@ -21,6 +21,7 @@ const struct cli_command *const cli_commands[] = {
     &cli_cmd_irradiance,
     &cli_cmd_view,
     &cli_cmd_events,
+    &cli_cmd_job,
     NULL,
 };
 
