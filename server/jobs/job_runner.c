@@ -148,6 +148,11 @@ static void set_state(struct job_runner *r, const char *id, const char *state, c
     status_locked(j, &st);
     pthread_mutex_unlock(&r->lock);
     struct err e = {0};
+    if (finished_state(state)) {
+        char slot_id[STORE_ID_MAX + 8];
+        snprintf(slot_id, sizeof slot_id, "job:%s", id);
+        irradiance_cache_forget_scene(r->d.irradiance, slot_id);
+    }
     if (store_job_state_set(r->d.store, id, state, msg, &e) != REFRACT_E_OK)
         log_warn("jobs", "job %s: %s", id, e.msg);
     publish(r, &st);
@@ -210,20 +215,98 @@ static enum refract_code encode(const struct render_view_result *res, const stru
     return rc;
 }
 
-/* Renders, encodes and commits frame n of job id. Runner thread, lock not held. */
-static enum frame_outcome run_frame(struct job_runner *r, const char *id, const char *scene_id,
-                                    int n, const struct job_frame *f, char *msg, size_t size)
+/* The version frame f renders: base itself, or for a light-path frame a private version
+ * whose document moves f's light (store_scene_derive). *out is a new reference. */
+static enum refract_code frame_version(struct job_runner *r, struct store_scene *base,
+                                       const struct job_frame *f, struct store_scene **out,
+                                       struct err *e)
 {
-    struct store_scene *v = store_scene_get(r->d.store, scene_id);
-    if (v == NULL) {
+    if (f->light_field == JOB_LIGHT_NONE) {
+        atomic_fetch_add(&base->refs, 1);
+        *out = base;
+        return REFRACT_E_OK;
+    }
+    cJSON *doc = cJSON_ParseWithLength(base->json, base->json_len);
+    cJSON *lights = doc ? cJSON_GetObjectItemCaseSensitive(doc, "lights") : NULL;
+    cJSON *light = NULL, *item;
+    cJSON_ArrayForEach(item, lights)
+    {
+        const cJSON *name = cJSON_GetObjectItemCaseSensitive(item, "name");
+        if (cJSON_IsString(name) && strcmp(name->valuestring, f->light) == 0)
+            light = item;
+    }
+    if (light == NULL) {
+        cJSON_Delete(doc);
+        return err_set(e, REFRACT_E_CONFLICT,
+                       "the scene no longer has light \"%s\" that the job moves", f->light);
+    }
+    const double v[3] = {f->light_value.x, f->light_value.y, f->light_value.z};
+    const char *key = f->light_field == JOB_LIGHT_DIRECTION ? "direction" : "position";
+    cJSON_DeleteItemFromObjectCaseSensitive(light, key);
+    cJSON_AddItemToObject(light, key, cJSON_CreateDoubleArray(v, 3));
+    char *json = cJSON_PrintUnformatted(doc);
+    cJSON_Delete(doc);
+    if (json == NULL)
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory moving a light");
+    enum refract_code rc = store_scene_derive(r->d.store, base, json, strlen(json), out, e);
+    free(json);
+    return rc;
+}
+
+/* The irradiance source of a frame's version. Light-path frames use a cache slot of the
+ * job's own ("job:<id>"), so that moving the light neither disturbs the scene's slot
+ * (views and renders of the scene) nor is cancelled by it; volumes are shared by key. */
+static void frame_source(struct store_scene *v, const struct job_frame *f, const char *slot_id,
+                         struct irradiance_source *out)
+{
+    view_irradiance_source(v, out);
+    if (f->light_field != JOB_LIGHT_NONE)
+        out->scene_id = slot_id;
+}
+
+/* While frame n renders, ask for the irradiance of frame n + 1's light pose, so a light
+ * sweep's simulations overlap its renders. */
+static void prefetch(struct job_runner *r, struct store_scene *base, const struct job_frame *next,
+                     const char *slot_id)
+{
+    if (next == NULL || next->light_field == JOB_LIGHT_NONE)
+        return;
+    struct store_scene *nv = NULL;
+    struct err e = {0};
+    if (frame_version(r, base, next, &nv, &e) != REFRACT_E_OK)
+        return; /* the frame itself will report it */
+    struct irradiance_source isrc;
+    frame_source(nv, next, slot_id, &isrc);
+    irradiance_cache_request(r->d.irradiance, &isrc, false);
+    store_scene_release(nv);
+}
+
+/* Renders, encodes and commits frame n of job id (next: frame n + 1 or NULL). Runner
+ * thread, lock not held. */
+static enum frame_outcome run_frame(struct job_runner *r, const char *id, const char *scene_id,
+                                    int n, const struct job_frame *f, const struct job_frame *next,
+                                    char *msg, size_t size)
+{
+    struct store_scene *base = store_scene_get(r->d.store, scene_id);
+    if (base == NULL) {
         snprintf(msg, size, "scene \"%s\" was deleted while the job ran", scene_id);
         return FRAME_FAILED;
     }
+    char slot_id[STORE_ID_MAX + 8];
+    snprintf(slot_id, sizeof slot_id, "job:%s", id);
+    struct store_scene *v = NULL;
+    struct err ve = {0};
+    if (frame_version(r, base, f, &v, &ve) != REFRACT_E_OK) {
+        store_scene_release(base);
+        snprintf(msg, size, "frame %d: %.400s", n, ve.msg);
+        return FRAME_FAILED;
+    }
     struct irradiance_source isrc;
-    view_irradiance_source(v, &isrc);
+    frame_source(v, f, slot_id, &isrc);
     if (!irradiance_cache_request(r->d.irradiance, &isrc, false)) {
         bool failed = lights_failed(r, &isrc, msg, size);
         store_scene_release(v);
+        store_scene_release(base);
         return failed ? FRAME_FAILED : FRAME_RETRY; /* not lit yet: wait, never on the GPU */
     }
     r->version = v;
@@ -243,9 +326,12 @@ static enum frame_outcome run_frame(struct job_runner *r, const char *id, const 
     enum refract_code rc = gpu_submit(r->d.gpu, &r->work, &e);
     if (rc != REFRACT_E_OK) {
         store_scene_release(v);
+        store_scene_release(base);
         r->version = NULL;
         return rc == REFRACT_E_SHUTTING_DOWN ? FRAME_STOPPED : FRAME_RETRY; /* BUSY */
     }
+    prefetch(r, base, next, slot_id);
+    store_scene_release(base);
     pthread_mutex_lock(&r->lock);
     while (!r->work_done)
         pthread_cond_wait(&r->cond, &r->lock);
@@ -296,7 +382,7 @@ static enum frame_outcome run_frame(struct job_runner *r, const char *id, const 
 
 /* The oldest job with frames left, as a snapshot (lock held). */
 static bool next_locked(struct job_runner *r, char *id, char *scene, int *n, struct job_frame *f,
-                        bool *first)
+                        struct job_frame *next, bool *has_next, bool *first)
 {
     for (size_t i = 0; i < r->count; i++) {
         struct job *j = r->jobs[i];
@@ -307,6 +393,9 @@ static bool next_locked(struct job_runner *r, char *id, char *scene, int *n, str
         snprintf(scene, STORE_ID_MAX, "%s", j->st.scene);
         *n = j->st.frames_done;
         *f = j->frames[*n];
+        *has_next = *n + 1 < j->st.frames_total;
+        if (*has_next)
+            *next = j->frames[*n + 1];
         *first = strcmp(j->st.state, "running") != 0;
         return true;
     }
@@ -329,17 +418,17 @@ static void *runner_main(void *arg)
     pthread_mutex_lock(&r->lock);
     while (!r->stop) {
         char id[STORE_ID_MAX], scene[STORE_ID_MAX], msg[ERR_MSG_MAX] = "";
-        struct job_frame f;
+        struct job_frame f, next;
         int n = 0;
-        bool first = false;
-        if (!next_locked(r, id, scene, &n, &f, &first)) {
+        bool first = false, has_next = false;
+        if (!next_locked(r, id, scene, &n, &f, &next, &has_next, &first)) {
             pthread_cond_wait(&r->cond, &r->lock);
             continue;
         }
         pthread_mutex_unlock(&r->lock);
         if (first)
             set_state(r, id, "running", NULL);
-        enum frame_outcome out = run_frame(r, id, scene, n, &f, msg, sizeof msg);
+        enum frame_outcome out = run_frame(r, id, scene, n, &f, has_next ? &next : NULL, msg, sizeof msg);
         if (out == FRAME_FAILED) {
             log_warn("jobs", "job %s failed: %s", id, msg);
             set_state(r, id, "failed", msg);

@@ -2,9 +2,12 @@
  * job_spec.c - a batch job's specification (docs/api.md "Batch jobs") expanded into the
  * frames to render: an explicit "frames" list, or the "turntable" generator, which orbits
  * the scene camera's eye (and look_at and up) about an axis through a centre in N equal
- * steps. Top-level "width", "height", "format" and "exposure" are defaults for every frame.
+ * steps, or the "light_path" generator, which moves one light through keyframes in N frames
+ * (directions slerped, positions lerped) with the scene camera. Top-level "width",
+ * "height", "format" and "exposure" are defaults for every frame.
  */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -28,6 +31,24 @@ vec3 job_rotate_about(vec3 p, vec3 center, vec3 axis, double angle)
     vec3 r = vec3_add(vec3_add(vec3_scale(v, c), vec3_scale(vec3_cross(axis, v), s)),
                     vec3_scale(axis, vec3_dot(axis, v) * (1.0 - c)));
     return vec3_add(center, r);
+}
+
+vec3 job_slerp(vec3 a, vec3 b, double t)
+{
+    double c = vec3_dot(a, b);
+    c = c > 1 ? 1 : c < -1 ? -1 : c;
+    if (c > 1 - 1e-12)
+        return vec3_normalize(vec3_add(vec3_scale(a, 1 - t), vec3_scale(b, t)));
+    if (c < -1 + 1e-9) {
+        /* Opposite: any great circle will do; turn through a vector perpendicular to a. */
+        vec3 helper = fabs(a.x) < 0.9 ? vec3_make(1, 0, 0) : vec3_make(0, 1, 0);
+        vec3 mid = vec3_normalize(vec3_cross(a, helper));
+        return t < 0.5 ? job_slerp(a, mid, 2 * t) : job_slerp(mid, b, 2 * t - 1);
+    }
+    /* slerp(a, b; t) = sin((1 - t) w) / sin w a + sin(t w) / sin w b, w = acos(a . b). */
+    double w = acos(c), sw = sin(w);
+    return vec3_normalize(
+        vec3_add(vec3_scale(a, sin((1 - t) * w) / sw), vec3_scale(b, sin(t * w) / sw)));
 }
 
 /* Size, format and exposure of a frame (or the top-level defaults) read over def. */
@@ -179,11 +200,111 @@ static enum refract_code expand_turntable(const cJSON *t, const struct job_limit
     return REFRACT_E_OK;
 }
 
+static enum refract_code expand_light_path(const cJSON *lp, const struct scene *s,
+                                           const struct job_limits *lim,
+                                           const struct job_frame *def, struct job_frame **frames,
+                                           int *count, struct err *e)
+{
+    static const char *const keys[] = {"light", "keyframes", "frames", NULL};
+    static const char *const kf_keys[] = {"direction", "position", NULL};
+    char name[SCENE_NAME_MAX];
+    int n = 0;
+    enum refract_code rc = jr_check_object(lp, "light_path", keys, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_string(lp, "light_path", "light", true, "", SCENE_NAME_MAX - 1, name, sizeof name,
+                       e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_int(lp, "light_path", "frames", true, 0, 1, 1 << 30, &n, e);
+    if (rc == REFRACT_E_OK)
+        rc = count_ok(n, lim, "light_path.frames", e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    const struct scene_light *light = NULL;
+    for (size_t i = 0; i < s->light_count; i++) {
+        if (strcmp(s->lights[i].name, name) == 0)
+            light = &s->lights[i];
+    }
+    if (light == NULL)
+        return err_set(e, REFRACT_E_INVALID_FIELD,
+                       "light_path.light: the scene has no light \"%s\"; GET "
+                       "/v1/scenes/{id}/lights lists them",
+                       name);
+    const cJSON *kfs = cJSON_GetObjectItemCaseSensitive(lp, "keyframes");
+    int k = cJSON_IsArray(kfs) ? cJSON_GetArraySize(kfs) : 0;
+    if (k < 2 || k > 1000) {
+        char what[64];
+        return err_set(e, kfs ? REFRACT_E_INVALID_FIELD : REFRACT_E_MISSING_FIELD,
+                       "light_path.keyframes: expected an array of 2..1000 keyframes, got %s",
+                       jr_describe(kfs, what, sizeof what));
+    }
+    vec3 *values = calloc((size_t)k, sizeof *values);
+    if (values == NULL)
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for the keyframes");
+    enum job_light_field field = JOB_LIGHT_NONE;
+    for (int i = 0; i < k && rc == REFRACT_E_OK; i++) {
+        const cJSON *kf = cJSON_GetArrayItem(kfs, i);
+        char p[64];
+        jr_path_index(p, sizeof p, "light_path.keyframes", i);
+        rc = jr_check_object(kf, p, kf_keys, e);
+        bool has_dir = kf && cJSON_GetObjectItemCaseSensitive(kf, "direction");
+        bool has_pos = kf && cJSON_GetObjectItemCaseSensitive(kf, "position");
+        enum job_light_field f = has_dir ? JOB_LIGHT_DIRECTION : JOB_LIGHT_POSITION;
+        if (rc == REFRACT_E_OK && has_dir == has_pos)
+            rc = err_set(e, has_dir ? REFRACT_E_INVALID_FIELD : REFRACT_E_MISSING_FIELD,
+                         "%s: a keyframe has exactly one of \"direction\" or \"position\"", p);
+        else if (rc == REFRACT_E_OK && field != JOB_LIGHT_NONE && f != field)
+            rc = err_set(e, REFRACT_E_INVALID_FIELD,
+                         "%s: every keyframe of a path gives the same field (the first gave %s)",
+                         p, field == JOB_LIGHT_DIRECTION ? "direction" : "position");
+        else if (rc == REFRACT_E_OK && f == JOB_LIGHT_DIRECTION &&
+                 light->kind == SCENE_LIGHT_POINT)
+            rc = err_set(e, REFRACT_E_INVALID_FIELD,
+                         "%s.direction: light \"%s\" is a point light, which has no direction;"
+                         " give positions",
+                         p, name);
+        else if (rc == REFRACT_E_OK && f == JOB_LIGHT_POSITION &&
+                 light->kind == SCENE_LIGHT_DIRECTIONAL)
+            rc = err_set(e, REFRACT_E_INVALID_FIELD,
+                         "%s.position: light \"%s\" is directional, which has no position;"
+                         " give directions",
+                         p, name);
+        if (rc == REFRACT_E_OK)
+            rc = f == JOB_LIGHT_DIRECTION
+                     ? jr_direction(kf, p, "direction", true, light->direction, &values[i], e)
+                     : jr_vec3(kf, p, "position", true, light->position, -1e6, 1e6, &values[i], e);
+        field = f;
+    }
+    if (rc == REFRACT_E_OK) {
+        *frames = calloc((size_t)n, sizeof **frames);
+        if (*frames == NULL)
+            rc = err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for %d frames", n);
+    }
+    /* Frame i is at t = i / (N - 1) along the keyframes, evenly spaced: the first frame at
+     * the first keyframe, the last at the last. */
+    for (int i = 0; rc == REFRACT_E_OK && i < n; i++) {
+        double t = n > 1 ? (double)i / (n - 1) * (k - 1) : 0;
+        int seg = (int)floor(t);
+        seg = seg > k - 2 ? k - 2 : seg;
+        double u = t - seg;
+        struct job_frame *f = &(*frames)[i];
+        *f = *def;
+        f->light_field = field;
+        snprintf(f->light, sizeof f->light, "%s", name);
+        f->light_value = field == JOB_LIGHT_DIRECTION
+                             ? job_slerp(values[seg], values[seg + 1], u)
+                             : vec3_add(vec3_scale(values[seg], 1 - u), vec3_scale(values[seg + 1], u));
+    }
+    free(values);
+    if (rc == REFRACT_E_OK)
+        *count = n;
+    return rc;
+}
+
 enum refract_code job_spec_expand(const cJSON *root, const struct scene *s,
                                   const struct job_limits *lim, struct job_frame **frames,
                                   int *count, struct err *e)
 {
-    static const char *const keys[] = {"scene",  "frames", "turntable", "width",
+    static const char *const keys[] = {"scene",  "frames", "turntable", "light_path", "width",
                                        "height", "format", "exposure",  NULL};
     *frames = NULL;
     *count = 0;
@@ -198,13 +319,17 @@ enum refract_code job_spec_expand(const cJSON *root, const struct scene *s,
         return rc;
     const cJSON *list = cJSON_GetObjectItemCaseSensitive(root, "frames");
     const cJSON *turn = cJSON_GetObjectItemCaseSensitive(root, "turntable");
-    if ((list != NULL) == (turn != NULL))
-        return err_set(e, list ? REFRACT_E_INVALID_FIELD : REFRACT_E_MISSING_FIELD,
-                       "a job needs exactly one of \"frames\" (a list of frames) or \"turntable\""
-                       " (a generator)%s",
-                       list ? "; it has both" : "");
+    const cJSON *path = cJSON_GetObjectItemCaseSensitive(root, "light_path");
+    int given = (list != NULL) + (turn != NULL) + (path != NULL);
+    if (given != 1)
+        return err_set(e, given ? REFRACT_E_INVALID_FIELD : REFRACT_E_MISSING_FIELD,
+                       "a job needs exactly one of \"frames\" (a list of frames), \"turntable\""
+                       " or \"light_path\" (generators)%s",
+                       given ? "; it has more than one" : "");
     if (list)
         return expand_list(list, lim, &def, frames, count, e);
+    if (path)
+        return expand_light_path(path, s, lim, &def, frames, count, e);
     return expand_turntable(turn, lim, &def, frames, count, e);
 }
 

@@ -34,11 +34,17 @@ enum job_format { JOB_FORMAT_PNG = 0, JOB_FORMAT_JPEG = 1, JOB_FORMAT_EXR = 2 };
 /* "png", "jpeg", "exr"; NULL-terminated, indexed by enum job_format. */
 extern const char *const job_format_names[];
 
+/* What a light-path frame changes: one light's direction or position. */
+enum job_light_field { JOB_LIGHT_NONE = 0, JOB_LIGHT_DIRECTION = 1, JOB_LIGHT_POSITION = 2 };
+
 /* One frame to render. */
 struct job_frame {
     struct scene_camera camera; /* with width and height */
     enum job_format format;
     double exposure_ev;
+    enum job_light_field light_field; /* NONE: the scene's lights */
+    char light[SCENE_NAME_MAX];       /* the light it moves */
+    vec3 light_value;                 /* unit direction or position */
 };
 
 struct job_limits {
@@ -60,6 +66,9 @@ enum refract_code job_spec_scene(const struct cJSON *root, char out[STORE_ID_MAX
 enum refract_code job_spec_expand(const struct cJSON *root, const struct scene *s,
                                   const struct job_limits *lim, struct job_frame **frames,
                                   int *count, struct err *e);
+/* Spherical linear interpolation of unit vectors a and b at t in [0, 1] (the shorter
+ * arc; nearly opposite vectors turn through a perpendicular). For light_path directions. */
+vec3 job_slerp(vec3 a, vec3 b, double t);
 /* Rotates p about the axis through center with unit direction axis by angle (radians;
  * right-handed), Rodrigues' formula. For the turntable. */
 vec3 job_rotate_about(vec3 p, vec3 center, vec3 axis, double angle);

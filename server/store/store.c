@@ -344,6 +344,35 @@ enum refract_code store_scene_set_lights(struct store *s, const char *id, const 
     return rc;
 }
 
+enum refract_code store_scene_derive(struct store *s, struct store_scene *base, const char *json,
+                                     size_t len, struct store_scene **out, struct err *e)
+{
+    *out = NULL;
+    struct scene *parsed = NULL;
+    enum refract_code rc = scene_parse(json, len, &s->desc.limits, &parsed, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    char *copy = malloc(len + 1);
+    pthread_mutex_lock(&s->lock);
+    struct store_scene *v = copy ? store_version_new(s, base->id, base) : NULL;
+    pthread_mutex_unlock(&s->lock);
+    if (v == NULL) {
+        free(copy);
+        scene_destroy(parsed);
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for a derived scene version");
+    }
+    memcpy(copy, json, len);
+    copy[len] = '\0';
+    free(v->json);
+    scene_destroy(v->scene);
+    v->json = copy;
+    v->json_len = len;
+    v->scene = parsed;
+    v->data_generation = base->data_generation;
+    *out = v;
+    return REFRACT_E_OK;
+}
+
 enum refract_code store_scene_delete(struct store *s, const char *id, struct err *e)
 {
     pthread_mutex_lock(&s->lock);

@@ -138,6 +138,12 @@ enum refract_code store_scene_create(struct store *s, const char *id, const char
  * persists the document. SCENE_NOT_FOUND, the parse errors, STORAGE. */
 enum refract_code store_scene_set_lights(struct store *s, const char *id, const char *json,
                                          size_t len, struct store_scene **out, struct err *e);
+/* A private version of base (not installed, not persisted) with document `json`: a copy of
+ * base's with other light poses (the caller promises nothing else changed). It keeps
+ * base's uploads and data_generation, so the renderer reuses base's GPU data. For batch
+ * jobs that move a light. *out is a new reference. Parse errors, OUT_OF_MEMORY. */
+enum refract_code store_scene_derive(struct store *s, struct store_scene *base, const char *json,
+                                     size_t len, struct store_scene **out, struct err *e);
 /* New reference to the current version, or NULL when unknown. */
 struct store_scene *store_scene_get(struct store *s, const char *id);
 void store_scene_release(struct store_scene *sc);

@@ -41,7 +41,7 @@ static void bad_specs(struct test_daemon *d, const char *s)
         {__LINE__, buf[0], 400, "unknown_field", {"colour", "turntable"}},
         {__LINE__, buf[1], 400, "missing_field", {"scene"}},
         {__LINE__, buf[2], 400, "missing_field", {"frames", "turntable"}},
-        {__LINE__, buf[3], 400, "invalid_field", {"exactly one", "both"}},
+        {__LINE__, buf[3], 400, "invalid_field", {"exactly one", "more than one"}},
         {__LINE__, buf[4], 400, "invalid_field", {"frames", "non-empty"}},
         {__LINE__, buf[5], 400, "invalid_field", {"frames", "an object"}},
         {__LINE__, buf[6], 400, "unknown_field", {"frames[0]", "fov"}},
