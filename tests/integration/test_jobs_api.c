@@ -32,6 +32,12 @@ static void bad_specs(struct test_daemon *d, const char *s)
         "{\"scene\": \"%s\", \"frames\": [{}, {}, {}, {}, {}, {}, {}, {}, {}]}",
         "{\"scene\": \"%s\", \"width\": 4000, \"height\": 4000, \"turntable\": {\"frames\": 2}}",
         "{\"scene\": \"%s\", \"exposure\": \"bright\", \"turntable\": {\"frames\": 2}}",
+        "{\"scene\": \"%s\", \"light_path\": {\"light\": \"moon\", \"frames\": 2, \"keyframes\": []}}",
+        "{\"scene\": \"%s\", \"light_path\": {\"light\": \"sun\", \"frames\": 2, \"keyframes\": [{\"direction\": [0, -1, 0]}]}}",
+        "{\"scene\": \"%s\", \"light_path\": {\"light\": \"sun\", \"frames\": 2, \"keyframes\": [{\"direction\": [0, -1, 0]}, {\"position\": [0, 1, 0]}]}}",
+        "{\"scene\": \"%s\", \"light_path\": {\"light\": \"sun\", \"frames\": 2, \"keyframes\": [{\"position\": [0, 1, 0]}, {\"position\": [1, 1, 0]}]}}",
+        "{\"scene\": \"%s\", \"light_path\": {\"light\": \"sun\", \"frames\": 2, \"keyframes\": [{\"direction\": [0, 0, 0]}, {\"direction\": [0, -1, 0]}]}}",
+        "{\"scene\": \"%s\", \"light_path\": {\"light\": \"sun\", \"keyframes\": [{}, {}]}}",
     };
     for (size_t i = 0; i < sizeof fmt / sizeof fmt[0]; i++)
         snprintf(buf[i], sizeof buf[i], fmt[i], s);
@@ -57,6 +63,12 @@ static void bad_specs(struct test_daemon *d, const char *s)
         {__LINE__, buf[16], 422, "limit_exceeded", {"frames", "--max-job-frames 8"}},
         {__LINE__, buf[17], 422, "limit_exceeded", {"--max-image-pixels"}},
         {__LINE__, buf[18], 400, "invalid_field", {"exposure"}},
+        {__LINE__, buf[19], 400, "invalid_field", {"light_path.light", "moon"}},
+        {__LINE__, buf[20], 400, "invalid_field", {"light_path.keyframes", "2..1000"}},
+        {__LINE__, buf[21], 400, "invalid_field", {"keyframes[1]", "same field"}},
+        {__LINE__, buf[22], 400, "invalid_field", {"keyframes[0].position", "directional"}},
+        {__LINE__, buf[23], 400, "invalid_field", {"keyframes[0].direction"}},
+        {__LINE__, buf[24], 400, "missing_field", {"light_path", "frames"}},
         {__LINE__, "{\"scene\": \"nosuch\", \"turntable\": {\"frames\": 2}}", 404,
          "scene_not_found", {"nosuch"}},
     };
@@ -168,6 +180,11 @@ int main(void)
     CHECK(doc && test_create_scene(&d, doc, a) && test_create_scene(&d, doc, b));
     free(doc);
     if (a[0] && b[0]) {
+        char path[128];
+        snprintf(path, sizeof path, "/v1/scenes/%s/lights/sun", a);
+        long put = test_request(&d, "PUT", path, "{\"type\": \"directional\", \"direction\": [0, -1, 0]}",
+                                NULL);
+        CHECK(put == 200 || put == 202);
         bad_specs(&d, a);
         cancel_and_list(&d, a, b);
     }
