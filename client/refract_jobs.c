@@ -27,7 +27,8 @@ int refract_job_submit(refract_client *c, const char *spec_json, size_t len, cha
     if (refract_begin(c, json_out) != REFRACT_E_OK)
         return REFRACT_E_USAGE;
     if (spec_json == NULL || json_out == NULL)
-        return refract_fail(c, REFRACT_E_USAGE, "refract_job_submit: spec_json or json_out is NULL");
+        return refract_fail(c, REFRACT_E_USAGE,
+                            "refract_job_submit: spec_json or json_out is NULL");
     return refract_call_json(c, "POST", "/v1/jobs", spec_json, len, "application/json", json_out);
 }
 
@@ -56,8 +57,7 @@ int refract_job_list(refract_client *c, const char *state, const char *scene, ch
     char *sc = refract_url_escape_dup(scene ? scene : "");
     char *path = st && sc ? refract_path_printf("/v1/jobs%s%s%s%s%s", (state || scene) ? "?" : "",
                                                 state ? "state=" : "", state ? st : "",
-                                                state && scene ? "&" : "",
-                                                scene ? "scene=" : "")
+                                                state && scene ? "&" : "", scene ? "scene=" : "")
                           : NULL;
     char *full = path ? refract_path_printf("%s%s", path, scene ? sc : "") : NULL;
     free(st);

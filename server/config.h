@@ -30,7 +30,7 @@ struct config {
     char shader_dir[512]; /* "" = embedded */
     char port_file[512];  /* "" = none */
     int max_scenes;
-    int max_job_frames; /* frames of one batch job (--max-job-frames) */
+    int max_job_frames;   /* frames of one batch job (--max-job-frames) */
     size_t event_history; /* events the hub keeps (events.h ring capacity) */
     long long max_env_pixels;
     unsigned long long max_storage_bytes; /* 0 = unlimited */

@@ -239,7 +239,7 @@ static int run(const struct config *cfg)
     struct http_server *http = http_server_start(&cfg->http, &app, &e);
     if (http == NULL) {
         log_error("main", "%s", e.msg);
-        job_runner_destroy(jobs); /* before the GPU thread stops: a frame may be in flight */
+        job_runner_destroy(jobs);     /* before the GPU thread stops: a frame may be in flight */
         view_registry_destroy(views); /* before the GPU thread stops: frames may be in flight */
         gpu_destroy(gpu, &final);
         irradiance_cache_destroy(fw.irradiance);

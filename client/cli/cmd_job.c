@@ -152,12 +152,11 @@ static int run_wait(struct cli *cli, int argc, char **argv)
         if (finished) {
             if (tty)
                 fputc('\n', stderr);
-            code = !strcmp(st, "done") ? REFRACT_E_OK
-                                       : cli_fail(!strcmp(st, "failed") ? REFRACT_E_INTERNAL
-                                                                         : REFRACT_E_CONFLICT,
-                                                  "job %s %s%s%s", p.pos[0], st,
-                                                  cJSON_IsString(msg) ? ": " : "",
-                                                  cJSON_IsString(msg) ? msg->valuestring : "");
+            code = !strcmp(st, "done")
+                       ? REFRACT_E_OK
+                       : cli_fail(!strcmp(st, "failed") ? REFRACT_E_INTERNAL : REFRACT_E_CONFLICT,
+                                  "job %s %s%s%s", p.pos[0], st, cJSON_IsString(msg) ? ": " : "",
+                                  cJSON_IsString(msg) ? msg->valuestring : "");
         }
         cJSON_Delete(root);
         refract_free(json);

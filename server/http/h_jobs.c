@@ -89,8 +89,8 @@ static bool job_or_404(struct http_request *req, struct job_status *st, enum MHD
 {
     if (job_get(req->app->jobs, req->params[0], st))
         return true;
-    *answer = http_respond_error(req, REFRACT_E_NOT_FOUND,
-                                 "no job \"%s\"; GET /v1/jobs lists them", req->params[0]);
+    *answer = http_respond_error(req, REFRACT_E_NOT_FOUND, "no job \"%s\"; GET /v1/jobs lists them",
+                                 req->params[0]);
     return false;
 }
 

@@ -50,9 +50,9 @@ struct http_app {
     struct gpu *gpu;
     struct render *render; /* used on the GPU thread only */
     struct irradiance_cache *irradiance;
-    struct event_hub *events;     /* what changed (server/events/events.h); may be NULL */
-    struct view_registry *views;  /* view sessions (server/view/, docs/views.md) */
-    struct job_runner *jobs;      /* batch jobs (server/jobs/jobs.h) */
+    struct event_hub *events;    /* what changed (server/events/events.h); may be NULL */
+    struct view_registry *views; /* view sessions (server/view/, docs/views.md) */
+    struct job_runner *jobs;     /* batch jobs (server/jobs/jobs.h) */
 };
 
 /* Starts listening. Returns a new server (stop with http_server_stop) or NULL with e

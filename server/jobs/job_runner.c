@@ -180,8 +180,8 @@ static void frame_done(struct gpu_work *w)
 enum frame_outcome { FRAME_DONE, FRAME_RETRY, FRAME_FAILED, FRAME_STOPPED };
 
 /* True when some light's simulation failed: the job cannot have every frame lit. */
-static bool lights_failed(struct job_runner *r, const struct irradiance_source *src,
-                          char *msg, size_t size)
+static bool lights_failed(struct job_runner *r, const struct irradiance_source *src, char *msg,
+                          size_t size)
 {
     struct irradiance_light_status ls[SCENE_MAX_LIGHTS];
     int n = irradiance_cache_status(r->d.irradiance, src, ls);
@@ -348,8 +348,8 @@ static enum frame_outcome run_frame(struct job_runner *r, const char *id, const 
     } else if (rc != REFRACT_E_OK) {
         snprintf(msg, size, "frame %d: %.400s", n, r->work.err.msg);
         out = FRAME_FAILED;
-    } else if (r->irradiance && (!strcmp(r->irradiance, "missing") ||
-                                 !strcmp(r->irradiance, "stale"))) {
+    } else if (r->irradiance &&
+               (!strcmp(r->irradiance, "missing") || !strcmp(r->irradiance, "stale"))) {
         out = FRAME_RETRY; /* the volume went away between request and gather */
     }
     void *bytes = NULL;
@@ -397,6 +397,10 @@ static bool next_locked(struct job_runner *r, char *id, char *scene, int *n, str
         if (*has_next)
             *next = j->frames[*n + 1];
         *first = strcmp(j->st.state, "running") != 0;
+        if (j->run_start_ms == 0) { /* the ETA counts from this run's first frame's start */
+            j->run_start_ms = gpu_time_ms();
+            j->run_start_done = *n;
+        }
         return true;
     }
     return false;
@@ -428,7 +432,8 @@ static void *runner_main(void *arg)
         pthread_mutex_unlock(&r->lock);
         if (first)
             set_state(r, id, "running", NULL);
-        enum frame_outcome out = run_frame(r, id, scene, n, &f, has_next ? &next : NULL, msg, sizeof msg);
+        enum frame_outcome out =
+            run_frame(r, id, scene, n, &f, has_next ? &next : NULL, msg, sizeof msg);
         if (out == FRAME_FAILED) {
             log_warn("jobs", "job %s failed: %s", id, msg);
             set_state(r, id, "failed", msg);
@@ -443,10 +448,6 @@ static void *runner_main(void *arg)
             continue;
         j->st.frames_done = n + 1;
         j->st.updated_unix = (int64_t)time(NULL);
-        if (j->run_start_ms == 0) {
-            j->run_start_ms = gpu_time_ms();
-            j->run_start_done = n; /* the first frame of this run counts from its start */
-        }
         struct job_status st;
         status_locked(j, &st);
         bool all = j->st.frames_done == j->st.frames_total;
@@ -655,9 +656,8 @@ enum refract_code job_submit(struct job_runner *r, const char *body, size_t len,
     }
     memcpy(spec, body, len);
     spec[len] = '\0';
-    struct store_job_row row = {.frames_total = count,
-                                .created_unix = j->st.created_unix,
-                                .spec = spec};
+    struct store_job_row row = {
+        .frames_total = count, .created_unix = j->st.created_unix, .spec = spec};
     snprintf(row.id, sizeof row.id, "%s", j->st.id);
     snprintf(row.scene, sizeof row.scene, "%s", j->st.scene);
     snprintf(row.state, sizeof row.state, "queued");
@@ -692,8 +692,7 @@ bool job_get(struct job_runner *r, const char *id, struct job_status *out)
     return j != NULL;
 }
 
-size_t job_list(struct job_runner *r, const char *state, const char *scene,
-                struct job_status **out)
+size_t job_list(struct job_runner *r, const char *state, const char *scene, struct job_status **out)
 {
     pthread_mutex_lock(&r->lock);
     *out = calloc(r->count ? r->count : 1, sizeof **out);

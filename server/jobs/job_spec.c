@@ -29,7 +29,7 @@ vec3 job_rotate_about(vec3 p, vec3 center, vec3 axis, double angle)
     vec3 v = vec3_sub(p, center);
     double c = cos(angle), s = sin(angle);
     vec3 r = vec3_add(vec3_add(vec3_scale(v, c), vec3_scale(vec3_cross(axis, v), s)),
-                    vec3_scale(axis, vec3_dot(axis, v) * (1.0 - c)));
+                      vec3_scale(axis, vec3_dot(axis, v) * (1.0 - c)));
     return vec3_add(center, r);
 }
 
@@ -58,9 +58,8 @@ static enum refract_code read_image(const cJSON *obj, const char *path,
 {
     *out = *def;
     int format = (int)def->format;
-    enum refract_code rc =
-        jr_int(obj, path, "width", false, def->camera.width, 1, lim->max_image_dim,
-               &out->camera.width, e);
+    enum refract_code rc = jr_int(obj, path, "width", false, def->camera.width, 1,
+                                  lim->max_image_dim, &out->camera.width, e);
     if (rc == REFRACT_E_OK)
         rc = jr_int(obj, path, "height", false, def->camera.height, 1, lim->max_image_dim,
                     &out->camera.height, e);
@@ -254,10 +253,9 @@ static enum refract_code expand_light_path(const cJSON *lp, const struct scene *
                          "%s: a keyframe has exactly one of \"direction\" or \"position\"", p);
         else if (rc == REFRACT_E_OK && field != JOB_LIGHT_NONE && f != field)
             rc = err_set(e, REFRACT_E_INVALID_FIELD,
-                         "%s: every keyframe of a path gives the same field (the first gave %s)",
-                         p, field == JOB_LIGHT_DIRECTION ? "direction" : "position");
-        else if (rc == REFRACT_E_OK && f == JOB_LIGHT_DIRECTION &&
-                 light->kind == SCENE_LIGHT_POINT)
+                         "%s: every keyframe of a path gives the same field (the first gave %s)", p,
+                         field == JOB_LIGHT_DIRECTION ? "direction" : "position");
+        else if (rc == REFRACT_E_OK && f == JOB_LIGHT_DIRECTION && light->kind == SCENE_LIGHT_POINT)
             rc = err_set(e, REFRACT_E_INVALID_FIELD,
                          "%s.direction: light \"%s\" is a point light, which has no direction;"
                          " give positions",
@@ -290,9 +288,9 @@ static enum refract_code expand_light_path(const cJSON *lp, const struct scene *
         *f = *def;
         f->light_field = field;
         snprintf(f->light, sizeof f->light, "%s", name);
-        f->light_value = field == JOB_LIGHT_DIRECTION
-                             ? job_slerp(values[seg], values[seg + 1], u)
-                             : vec3_add(vec3_scale(values[seg], 1 - u), vec3_scale(values[seg + 1], u));
+        f->light_value = field == JOB_LIGHT_DIRECTION ? job_slerp(values[seg], values[seg + 1], u)
+                                                      : vec3_add(vec3_scale(values[seg], 1 - u),
+                                                                 vec3_scale(values[seg + 1], u));
     }
     free(values);
     if (rc == REFRACT_E_OK)

@@ -95,7 +95,7 @@ struct job_status {
     char scene[STORE_ID_MAX];
     char state[16]; /* queued, running, done, failed, cancelled */
     int frames_total, frames_done;
-    double eta_s; /* < 0: unknown */
+    double eta_s;                                                    /* < 0: unknown */
     int64_t created_unix, updated_unix, started_unix, finished_unix; /* 0 = not yet */
     char message[ERR_MSG_MAX];
 };

@@ -212,8 +212,7 @@ struct store_job_row {
 };
 
 /* Inserts a new job row (committed before it returns). */
-enum refract_code store_job_insert(struct store *s, const struct store_job_row *row,
-                                   struct err *e);
+enum refract_code store_job_insert(struct store *s, const struct store_job_row *row, struct err *e);
 /* Stores frame `frame` of job `id` as a durable blob, then, in one transaction, inserts its
  * job_frames row and advances frames_done from `frame` to frame + 1 (state running). So a
  * frame is either committed together with the count that says it is done, or not at all;

@@ -34,15 +34,15 @@ static sqlite3_stmt *prep(struct store *s, const char *sql, struct err *e)
     return st;
 }
 
-enum refract_code store_job_insert(struct store *s, const struct store_job_row *row,
-                                   struct err *e)
+enum refract_code store_job_insert(struct store *s, const struct store_job_row *row, struct err *e)
 {
     pthread_mutex_lock(&s->lock);
     enum refract_code rc = REFRACT_E_OK;
-    sqlite3_stmt *q = prep(s,
-                           "INSERT INTO jobs(id, scene, spec, state, frames_total, frames_done,"
-                           " created, updated, message) VALUES (?1, ?2, ?3, ?4, ?5, 0, ?6, ?6, NULL)",
-                           e);
+    sqlite3_stmt *q =
+        prep(s,
+             "INSERT INTO jobs(id, scene, spec, state, frames_total, frames_done,"
+             " created, updated, message) VALUES (?1, ?2, ?3, ?4, ?5, 0, ?6, ?6, NULL)",
+             e);
     if (q == NULL) {
         rc = REFRACT_E_STORAGE;
     } else {
@@ -77,11 +77,12 @@ static enum refract_code frame_rows_locked(struct store *s, const char *id, int 
         return err_set(e, REFRACT_E_CONFLICT, "frame %d of job %s is already stored", frame, id);
     if (rc != SQLITE_DONE)
         return fail(s, e, "inserting a job frame");
-    sqlite3_stmt *up = prep(s,
-                            "UPDATE jobs SET frames_done = ?2 + 1, updated = ?3, started = COALESCE(started, ?3),"
-                            " state = CASE WHEN state = 'queued' THEN 'running' ELSE state END"
-                            " WHERE id = ?1 AND frames_done = ?2",
-                            e);
+    sqlite3_stmt *up =
+        prep(s,
+             "UPDATE jobs SET frames_done = ?2 + 1, updated = ?3, started = COALESCE(started, ?3),"
+             " state = CASE WHEN state = 'queued' THEN 'running' ELSE state END"
+             " WHERE id = ?1 AND frames_done = ?2",
+             e);
     if (up == NULL)
         return REFRACT_E_STORAGE;
     sqlite3_bind_text(up, 1, id, -1, SQLITE_STATIC);
@@ -126,13 +127,12 @@ enum refract_code store_job_state_set(struct store *s, const char *id, const cha
 {
     pthread_mutex_lock(&s->lock);
     enum refract_code rc = REFRACT_E_OK;
-    sqlite3_stmt *q =
-        prep(s,
-             "UPDATE jobs SET state = ?2, message = ?3, updated = ?4,"
-             " started = COALESCE(started, CASE WHEN ?2 = 'running' THEN ?4 END),"
-             " finished = CASE WHEN ?2 IN ('done', 'failed', 'cancelled') THEN ?4"
-             " ELSE finished END WHERE id = ?1",
-             e);
+    sqlite3_stmt *q = prep(s,
+                           "UPDATE jobs SET state = ?2, message = ?3, updated = ?4,"
+                           " started = COALESCE(started, CASE WHEN ?2 = 'running' THEN ?4 END),"
+                           " finished = CASE WHEN ?2 IN ('done', 'failed', 'cancelled') THEN ?4"
+                           " ELSE finished END WHERE id = ?1",
+                           e);
     if (q == NULL) {
         rc = REFRACT_E_STORAGE;
     } else {
@@ -159,11 +159,12 @@ static void copy_text(char *out, size_t size, const unsigned char *text)
 enum refract_code store_job_each(struct store *s, store_job_fn fn, void *ctx, struct err *e)
 {
     pthread_mutex_lock(&s->lock);
-    sqlite3_stmt *q = prep(s,
-                           "SELECT id, scene, spec, state, frames_total, frames_done, created,"
-                           " updated, message, COALESCE(started, 0), COALESCE(finished, 0) FROM jobs"
-                           " ORDER BY created, id",
-                           e);
+    sqlite3_stmt *q =
+        prep(s,
+             "SELECT id, scene, spec, state, frames_total, frames_done, created,"
+             " updated, message, COALESCE(started, 0), COALESCE(finished, 0) FROM jobs"
+             " ORDER BY created, id",
+             e);
     if (q == NULL) {
         pthread_mutex_unlock(&s->lock);
         return REFRACT_E_STORAGE;
@@ -198,7 +199,8 @@ enum refract_code store_job_frame_read(struct store *s, const char *id, int fram
     char hash[SHA256_HEX_SIZE] = "";
     size_t size = 0;
     pthread_mutex_lock(&s->lock);
-    sqlite3_stmt *q = prep(s, "SELECT blob, bytes FROM job_frames WHERE job = ?1 AND frame = ?2", e);
+    sqlite3_stmt *q =
+        prep(s, "SELECT blob, bytes FROM job_frames WHERE job = ?1 AND frame = ?2", e);
     int rc = SQLITE_ERROR;
     if (q != NULL) {
         sqlite3_bind_text(q, 1, id, -1, SQLITE_STATIC);
@@ -236,7 +238,7 @@ enum refract_code store_job_frame_read(struct store *s, const char *id, int fram
 enum refract_code store_job_delete(struct store *s, const char *id, struct err *e)
 {
     pthread_mutex_lock(&s->lock);
-    char (*blobs)[SHA256_HEX_SIZE] = NULL;
+    char(*blobs)[SHA256_HEX_SIZE] = NULL;
     size_t count = 0, cap = 0;
     enum refract_code rc = REFRACT_E_OK;
     sqlite3_stmt *q = prep(s, "SELECT blob FROM job_frames WHERE job = ?1", e);
@@ -256,7 +258,8 @@ enum refract_code store_job_delete(struct store *s, const char *id, struct err *
     if (rc == REFRACT_E_OK)
         rc = store_db_begin_locked(s, e);
     if (rc == REFRACT_E_OK) {
-        const char *sql[] = {"DELETE FROM job_frames WHERE job = ?1", "DELETE FROM jobs WHERE id = ?1"};
+        const char *sql[] = {"DELETE FROM job_frames WHERE job = ?1",
+                             "DELETE FROM jobs WHERE id = ?1"};
         for (int i = 0; i < 2 && rc == REFRACT_E_OK; i++) {
             sqlite3_stmt *d = prep(s, sql[i], e);
             if (d == NULL) {

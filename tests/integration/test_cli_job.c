@@ -27,8 +27,9 @@ int main(void)
     FILE *f = fopen(spec_path, "w");
     CHECK(f != NULL);
     if (f) {
-        fprintf(f, "{\"scene\": \"%s\", \"width\": 40, \"height\": 30, \"turntable\": {\"frames\": 4}}",
-                scene);
+        fprintf(
+            f, "{\"scene\": \"%s\", \"width\": 40, \"height\": 30, \"turntable\": {\"frames\": 4}}",
+            scene);
         fclose(f);
     }
     struct cli_run r = cli_run(&d, NULL, spec_path, (const char *[]){"job", "submit", "-", NULL});

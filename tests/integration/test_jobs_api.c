@@ -24,7 +24,8 @@ static void bad_specs(struct test_daemon *d, const char *s)
         "{\"scene\": \"%s\", \"frames\": [{\"format\": \"gif\"}]}",
         "{\"scene\": \"%s\", \"frames\": [{\"camera\": {\"eye\": [0, 0]}}]}",
         "{\"scene\": \"%s\", \"frames\": [{\"camera\": {\"zoom\": 2}}]}",
-        "{\"scene\": \"%s\", \"frames\": [{\"camera\": {\"eye\": [0, 0, 0], \"look_at\": [0, 0, 0]}}]}",
+        "{\"scene\": \"%s\", \"frames\": [{\"camera\": {\"eye\": [0, 0, 0], \"look_at\": [0, 0, "
+        "0]}}]}",
         "{\"scene\": \"%s\", \"turntable\": {\"frames\": 0}}",
         "{\"scene\": \"%s\", \"turntable\": {\"frames\": 2, \"axis\": [0, 0, 0]}}",
         "{\"scene\": \"%s\", \"turntable\": {\"frames\": 2, \"speed\": 1}}",
@@ -32,11 +33,16 @@ static void bad_specs(struct test_daemon *d, const char *s)
         "{\"scene\": \"%s\", \"frames\": [{}, {}, {}, {}, {}, {}, {}, {}, {}]}",
         "{\"scene\": \"%s\", \"width\": 4000, \"height\": 4000, \"turntable\": {\"frames\": 2}}",
         "{\"scene\": \"%s\", \"exposure\": \"bright\", \"turntable\": {\"frames\": 2}}",
-        "{\"scene\": \"%s\", \"light_path\": {\"light\": \"moon\", \"frames\": 2, \"keyframes\": []}}",
-        "{\"scene\": \"%s\", \"light_path\": {\"light\": \"sun\", \"frames\": 2, \"keyframes\": [{\"direction\": [0, -1, 0]}]}}",
-        "{\"scene\": \"%s\", \"light_path\": {\"light\": \"sun\", \"frames\": 2, \"keyframes\": [{\"direction\": [0, -1, 0]}, {\"position\": [0, 1, 0]}]}}",
-        "{\"scene\": \"%s\", \"light_path\": {\"light\": \"sun\", \"frames\": 2, \"keyframes\": [{\"position\": [0, 1, 0]}, {\"position\": [1, 1, 0]}]}}",
-        "{\"scene\": \"%s\", \"light_path\": {\"light\": \"sun\", \"frames\": 2, \"keyframes\": [{\"direction\": [0, 0, 0]}, {\"direction\": [0, -1, 0]}]}}",
+        "{\"scene\": \"%s\", \"light_path\": {\"light\": \"moon\", \"frames\": 2, \"keyframes\": "
+        "[]}}",
+        "{\"scene\": \"%s\", \"light_path\": {\"light\": \"sun\", \"frames\": 2, \"keyframes\": "
+        "[{\"direction\": [0, -1, 0]}]}}",
+        "{\"scene\": \"%s\", \"light_path\": {\"light\": \"sun\", \"frames\": 2, \"keyframes\": "
+        "[{\"direction\": [0, -1, 0]}, {\"position\": [0, 1, 0]}]}}",
+        "{\"scene\": \"%s\", \"light_path\": {\"light\": \"sun\", \"frames\": 2, \"keyframes\": "
+        "[{\"position\": [0, 1, 0]}, {\"position\": [1, 1, 0]}]}}",
+        "{\"scene\": \"%s\", \"light_path\": {\"light\": \"sun\", \"frames\": 2, \"keyframes\": "
+        "[{\"direction\": [0, 0, 0]}, {\"direction\": [0, -1, 0]}]}}",
         "{\"scene\": \"%s\", \"light_path\": {\"light\": \"sun\", \"keyframes\": [{}, {}]}}",
     };
     for (size_t i = 0; i < sizeof fmt / sizeof fmt[0]; i++)
@@ -69,8 +75,11 @@ static void bad_specs(struct test_daemon *d, const char *s)
         {__LINE__, buf[22], 400, "invalid_field", {"keyframes[0].position", "directional"}},
         {__LINE__, buf[23], 400, "invalid_field", {"keyframes[0].direction"}},
         {__LINE__, buf[24], 400, "missing_field", {"light_path", "frames"}},
-        {__LINE__, "{\"scene\": \"nosuch\", \"turntable\": {\"frames\": 2}}", 404,
-         "scene_not_found", {"nosuch"}},
+        {__LINE__,
+         "{\"scene\": \"nosuch\", \"turntable\": {\"frames\": 2}}",
+         404,
+         "scene_not_found",
+         {"nosuch"}},
     };
     EXPECT_JSON_ERROR_CASES(d, "POST", "/v1/jobs", cases);
     char *body = NULL;
@@ -95,11 +104,13 @@ static void cancel_and_list(struct test_daemon *d, const char *a, const char *b)
 {
     char spec[256], small[64] = "", big[64] = "", other[64] = "";
     snprintf(spec, sizeof spec,
-             "{\"scene\": \"%s\", \"width\": 24, \"height\": 18, \"turntable\": {\"frames\": 2}}", a);
+             "{\"scene\": \"%s\", \"width\": 24, \"height\": 18, \"turntable\": {\"frames\": 2}}",
+             a);
     CHECK(job_submit_json(d, spec, small));
     cJSON_Delete(job_wait(d, small, 120));
     snprintf(spec, sizeof spec,
-             "{\"scene\": \"%s\", \"width\": 24, \"height\": 18, \"turntable\": {\"frames\": 8}}", b);
+             "{\"scene\": \"%s\", \"width\": 24, \"height\": 18, \"turntable\": {\"frames\": 8}}",
+             b);
     CHECK(job_submit_json(d, spec, other));
     cJSON_Delete(job_wait(d, other, 120));
     /* A long job (max 8 frames per job here: the frames are larger, so it is slow). */
@@ -182,8 +193,8 @@ int main(void)
     if (a[0] && b[0]) {
         char path[128];
         snprintf(path, sizeof path, "/v1/scenes/%s/lights/sun", a);
-        long put = test_request(&d, "PUT", path, "{\"type\": \"directional\", \"direction\": [0, -1, 0]}",
-                                NULL);
+        long put = test_request(&d, "PUT", path,
+                                "{\"type\": \"directional\", \"direction\": [0, -1, 0]}", NULL);
         CHECK(put == 200 || put == 202);
         bad_specs(&d, a);
         cancel_and_list(&d, a, b);

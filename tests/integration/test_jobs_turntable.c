@@ -65,12 +65,13 @@ static void turntable(struct test_daemon *d, const char *scene)
 static void frame_list(struct test_daemon *d, const char *scene)
 {
     char spec[512], id[64] = "";
-    snprintf(spec, sizeof spec,
-             "{\"scene\": \"%s\", \"frames\": ["
-             "{\"width\": 40, \"height\": 30, \"format\": \"jpeg\"},"
-             "{\"width\": 32, \"height\": 24, \"format\": \"exr\", \"camera\": {\"eye\": [0, 0.5, 3]}},"
-             "{\"width\": 20, \"height\": 16, \"exposure\": 1.5}]}",
-             scene);
+    snprintf(
+        spec, sizeof spec,
+        "{\"scene\": \"%s\", \"frames\": ["
+        "{\"width\": 40, \"height\": 30, \"format\": \"jpeg\"},"
+        "{\"width\": 32, \"height\": 24, \"format\": \"exr\", \"camera\": {\"eye\": [0, 0.5, 3]}},"
+        "{\"width\": 20, \"height\": 16, \"exposure\": 1.5}]}",
+        scene);
     CHECK(job_submit_json(d, spec, id));
     cJSON *st = job_wait(d, id, 120);
     CHECK_STR(job_str(st, "state"), "done");

@@ -23,11 +23,10 @@ static const char *const scene_doc =
     " \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 8,"
     " \"ior\": {\"shape\": \"sphere\", \"radius\": 0.5, \"inside\": 1.5}}]}";
 
-static const struct job_limits limits = {.max_frames = 100, .max_image_dim = 4096,
-                                         .max_image_pixels = 1 << 24};
+static const struct job_limits limits = {
+    .max_frames = 100, .max_image_dim = 4096, .max_image_pixels = 1 << 24};
 
-static int expand(const struct scene *s, const char *json, struct job_frame **frames,
-                  struct err *e)
+static int expand(const struct scene *s, const char *json, struct job_frame **frames, struct err *e)
 {
     cJSON *root = cJSON_Parse(json);
     int count = 0;
@@ -76,8 +75,9 @@ static void turntable(const struct scene *s)
 {
     struct job_frame *f = NULL;
     struct err e = {0};
-    int n = expand(s, "{\"scene\": \"x\", \"width\": 32, \"height\": 24, \"format\": \"jpeg\","
-                      " \"turntable\": {\"frames\": 4}}",
+    int n = expand(s,
+                   "{\"scene\": \"x\", \"width\": 32, \"height\": 24, \"format\": \"jpeg\","
+                   " \"turntable\": {\"frames\": 4}}",
                    &f, &e);
     CHECK_INT(n, 4);
     for (int i = 0; f && i < n; i++) {
@@ -87,7 +87,7 @@ static void turntable(const struct scene *s)
         CHECK_NEAR(hypot(f[i].camera.eye.x, f[i].camera.eye.z), 4, 1e-12);
     }
     if (f) {
-        CHECK_NEAR(f[0].camera.eye.z, 4, 0);  /* frame 0 is the scene camera */
+        CHECK_NEAR(f[0].camera.eye.z, 4, 0);     /* frame 0 is the scene camera */
         CHECK_NEAR(f[1].camera.eye.x, 4, 1e-12); /* a quarter turn about +y: +z -> +x */
         CHECK_NEAR(f[2].camera.eye.z, -4, 1e-12);
     }
@@ -98,9 +98,10 @@ static void light_path(const struct scene *s)
 {
     struct job_frame *f = NULL;
     struct err e = {0};
-    int n = expand(s, "{\"scene\": \"x\", \"light_path\": {\"light\": \"bulb\", \"frames\": 5,"
-                      " \"keyframes\": [{\"position\": [0, 2, 0]}, {\"position\": [2, 2, 0]},"
-                      " {\"position\": [2, 2, 4]}]}}",
+    int n = expand(s,
+                   "{\"scene\": \"x\", \"light_path\": {\"light\": \"bulb\", \"frames\": 5,"
+                   " \"keyframes\": [{\"position\": [0, 2, 0]}, {\"position\": [2, 2, 0]},"
+                   " {\"position\": [2, 2, 4]}]}}",
                    &f, &e);
     CHECK_INT(n, 5);
     /* t = i / 4 * 2 segments: 0, 0.5, 1, 1.5, 2. */
@@ -114,8 +115,9 @@ static void light_path(const struct scene *s)
         CHECK_INT(f[i].camera.width, 64); /* the scene camera's size */
     }
     free(f);
-    n = expand(s, "{\"scene\": \"x\", \"light_path\": {\"light\": \"bulb\", \"frames\": 2,"
-                  " \"keyframes\": [{\"direction\": [0, -1, 0]}, {\"direction\": [1, 0, 0]}]}}",
+    n = expand(s,
+               "{\"scene\": \"x\", \"light_path\": {\"light\": \"bulb\", \"frames\": 2,"
+               " \"keyframes\": [{\"direction\": [0, -1, 0]}, {\"direction\": [1, 0, 0]}]}}",
                &f, &e);
     CHECK_INT(n, -(int)REFRACT_E_INVALID_FIELD);
     CHECK_CONTAINS(e.msg, "point light");
