@@ -280,12 +280,15 @@ async function runWithDaemon(d, chromium) {
     page.on('console', (m) => { if (m.type() === 'error') console.error(`[page console] ${m.text()}`); });
 
     // 1. The first frame.
-    const res = await page.goto(`${d.url}/viewer/${SCENE}`);
+    // Draft quality (Euler, twice the step): half the render time on llvmpipe, and it
+    // exercises the ?quality= option.
+    const res = await page.goto(`${d.url}/viewer/${SCENE}?quality=draft`);
     check(res && res.status() === 200, `GET /viewer/${SCENE} answers 200 (got ${res && res.status()})`);
     const first = await waitFor('the first frame of the stream', 40000, () => settled(page, 0));
     note(`first frame: view ${first.view}, ${first.status.width}x${first.status.height}, ` +
          `frame ${first.status.frame.seq}, render ${first.status.frame.render_ms.toFixed(1)} ms`);
     check(first.natural > 0, 'the <img> decoded a frame');
+    check(first.status.quality === 'draft', `?quality=draft made a draft session (${first.status.quality})`);
     check(first.status.width <= VIEWPORT.width && first.status.height <= VIEWPORT.height,
           `the image (${first.status.width}x${first.status.height}) fits the window (${VIEWPORT.width}x${VIEWPORT.height})`);
 
