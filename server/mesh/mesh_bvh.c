@@ -11,7 +11,9 @@
  *
  * Node data (Barill et al. 2018 sect. 3.2): the area vector sum of (b - a) x (c - a) / 2,
  * the area-weighted mean of the triangle centroids (the plain mean when the area is 0),
- * and the radius of the ball about it that holds every vertex of the node.
+ * the first moment sum of area_vector (x) (centroid - centre) (exact for flat triangles:
+ * the integral of a linear function over a triangle is its area times the value at the
+ * centroid), and the radius of the ball about the centre that holds every vertex.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -67,6 +69,18 @@ static void node_data(const struct builder *b, struct mesh_bvh_node *nd)
     for (int k = 0; k < 3; k++)
         nd->centre[k] = area_sum > 0.0 ? wc[k] / area_sum : mean[k] / nd->count;
     double r2 = 0.0;
+    memset(nd->moment, 0, sizeof nd->moment);
+    for (uint32_t i = nd->first; i < nd->first + nd->count; i++) {
+        uint32_t t = b->order[i];
+        const double *p0 = vtx(b->m, t, 0), *p1 = vtx(b->m, t, 1), *p2 = vtx(b->m, t, 2);
+        vec3 e1 = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]},
+             e2 = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+        vec3 n = vec3_scale(vec3_cross(e1, e2), 0.5);
+        const double an[3] = {n.x, n.y, n.z};
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++)
+                nd->moment[r][c] += an[r] * (b->centroid[t][c] - nd->centre[c]);
+    }
     for (uint32_t i = nd->first; i < nd->first + nd->count; i++) {
         for (int c = 0; c < 3; c++) {
             const double *p = vtx(b->m, b->order[i], c);

@@ -35,13 +35,15 @@ enum refract_code mesh_builder_finish(struct mesh_builder *b, const struct mesh_
  *
  * INVARIANT: node 0 is the root. An inner node has count == 0 and children left, left + 1;
  * a leaf covers order[first .. first + count). Every node stores the box of its triangles
- * and, for the far-field winding number, their area vector and area-weighted centre and
- * the radius of the ball about that centre that holds all their vertices (Barill et al.
- * 2018, sect. 3.2, first-order term). */
+ * and, for the far-field winding number, their area vector, area-weighted centre, the
+ * first moment of the area vector about that centre, and the radius of the ball about the
+ * centre that holds all their vertices (Barill et al. 2018, sect. 3.2, terms of first and
+ * second order). */
 struct mesh_bvh_node {
     double lo[3], hi[3];
     double area_normal[3]; /* sum of (b - a) x (c - a) / 2: outward when wound CCW */
     double centre[3];
+    double moment[3][3]; /* sum over triangles of area_vector_i (centroid - centre)_j */
     double radius;
     uint32_t first, count; /* leaf: the range of order[]; inner: count == 0 */
     uint32_t left;         /* inner: index of the first child; the second is left + 1 */

@@ -386,6 +386,7 @@ struct ascii_cursor {
 static bool ascii_value(struct ply_file *f, struct ascii_cursor *c, double *out, bool *garbage)
 {
     const char *s = (const char *)f->body;
+    *garbage = false;
     while (f->pos < c->end && (s[f->pos] == ' ' || s[f->pos] == '\t' || s[f->pos] == '\r'))
         f->pos++;
     if (f->pos >= c->end)
