@@ -150,6 +150,50 @@ static enum refract_code validate(const double (*v)[3], size_t nv, const uint32_
     return REFRACT_E_OK;
 }
 
+struct directed_edge {
+    uint64_t key; /* min << 32 | max */
+    int sign;     /* +1 for min -> max, -1 for max -> min */
+};
+
+static int compare_edges(const void *a, const void *b)
+{
+    uint64_t x = ((const struct directed_edge *)a)->key, y = ((const struct directed_edge *)b)->key;
+    return (x > y) - (x < y);
+}
+
+/* True when the triangles' oriented boundary is zero: each undirected edge is walked as
+ * often in one direction as in the other (a closed, consistently wound surface, possibly
+ * several, possibly non-manifold). Then the winding number is an integer that changes
+ * only across the surface, which mesh_voxelize relies on to skip evaluations. Sorting
+ * the 3n directed edges: O(n log n), about 30 ms for 100k triangles. */
+static bool is_closed(const struct mesh *m)
+{
+    size_t n = 3 * m->triangle_count;
+    struct directed_edge *e = malloc(n * sizeof *e);
+    if (e == NULL)
+        return false; /* only an optimisation is lost */
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        for (int c = 0; c < 3; c++) {
+            uint32_t a = m->triangles[t][c], b = m->triangles[t][(c + 1) % 3];
+            uint32_t lo = a < b ? a : b, hi = a < b ? b : a;
+            e[3 * t + (size_t)c] =
+                (struct directed_edge){((uint64_t)lo << 32) | hi, a < b ? 1 : -1};
+        }
+    }
+    qsort(e, n, sizeof *e, compare_edges);
+    bool closed = true;
+    for (size_t i = 0; i < n && closed;) {
+        size_t j = i;
+        int sum = 0;
+        while (j < n && e[j].key == e[i].key)
+            sum += e[j++].sign;
+        closed = sum == 0;
+        i = j;
+    }
+    free(e);
+    return closed;
+}
+
 enum refract_code mesh_create(double (*vertices)[3], size_t vertex_count, uint32_t (*triangles)[3],
                               size_t triangle_count, const struct mesh_limits *limits,
                               struct mesh **out, struct err *e)
@@ -180,6 +224,7 @@ enum refract_code mesh_create(double (*vertices)[3], size_t vertex_count, uint32
             m->hi = vec3_make(fmax(m->hi.x, p[0]), fmax(m->hi.y, p[1]), fmax(m->hi.z, p[2]));
         }
     }
+    m->closed = is_closed(m);
     rc = mesh_bvh_build(m, e);
     if (rc != REFRACT_E_OK) {
         mesh_destroy(m);

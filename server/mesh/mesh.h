@@ -43,6 +43,8 @@ struct mesh {
                                  the file is consistently wound (not relied on); owned */
     size_t triangle_count;
     vec3 lo, hi;          /* bounds of the vertices that triangles use */
+    bool closed;          /* every edge a->b is matched by as many edges b->a: the mesh
+                             bounds a solid, and w is an integer off the surface */
     struct mesh_bvh *bvh; /* owned */
 };
 

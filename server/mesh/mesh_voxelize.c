@@ -17,7 +17,17 @@
  *     has every voxel within d - h/2 along the row on the same side and at least h/2
  *     away, so they share its coverage (0 or 1) and the winding number is evaluated once
  *     per run. Queries then scale with the surface's area in voxels, not with the volume.
- *   - The winding number uses the BVH's far-field dipoles (Barill et al. 2018).
+ *   - For a closed mesh (mesh.closed: w is an integer that changes only across the
+ *     surface) the winding number is needed only where the side may have changed: two
+ *     centres vs apart whose distances sum to more than vs are joined by a segment that
+ *     misses the surface, so the second is on the first's side. Then w is evaluated only
+ *     near crossings and once per row. A mesh with holes or flipped triangles has a w
+ *     that varies off the surface (through a hole, |w| crosses 1/2 in empty space), so
+ *     there w is evaluated at every run start.
+ *   The winding number uses the BVH's far field (Barill et al. 2018).
+ *   The run rule assumes the side does not change within a run, which holds off the
+ *   surface for closed meshes; for open ones w is smooth there, and a run is at most
+ *   as long as the distance to the surface.
  *
  * DESIGN, threads: z-slices are handed out through an atomic counter to desc.threads
  * pthreads; each writes only its slices, the mesh is read-only, so nothing is locked.
@@ -61,17 +71,24 @@ static void row(struct job *jb, int j, int k)
 {
     const struct mesh_voxelize_desc *d = jb->d;
     size_t base = ((size_t)k * (size_t)d->resolution[1] + (size_t)j) * (size_t)d->resolution[0];
-    double h = jb->h_min, half = 0.5 * h, scale = d->object_from_mesh.scale;
+    double h = jb->h_min, half = 0.5 * h, scale = d->object_from_mesh.scale, vs = d->voxel_size.x;
+    bool inside = false;
+    double prev_lower = -1.0; /* lower bound of the distance at the previous voxel; < 0: none */
     for (int i = jb->i0; i <= jb->i1;) {
         vec3 p = xform_point_to_object(&d->object_from_mesh, centre(d, i, j, k));
         double dist = scale * mesh_distance(jb->m, p);
-        bool inside = fabs(mesh_winding_number(jb->m, p)) >= 0.5;
+        /* The segment between two centres vs apart touches the surface only if their
+         * distances sum to vs or less; otherwise this voxel is on the previous one's side
+         * and the winding number is not needed. */
+        if (!(jb->m->closed && prev_lower >= 0.0 && prev_lower + dist > vs))
+            inside = fabs(mesh_winding_number(jb->m, p)) >= 0.5;
         double sd = inside ? -dist : dist;
         float c = (float)fmin(fmax(0.5 - sd / h, 0.0), 1.0);
-        double skip = dist > half ? floor((dist - half) / d->voxel_size.x) : 0.0;
+        double skip = dist > half ? floor((dist - half) / vs) : 0.0;
         int last = skip >= (double)(jb->i1 - i) ? jb->i1 : i + (int)skip;
         for (int t = i; t <= last; t++)
             jb->coverage[base + (size_t)t] = c;
+        prev_lower = dist - (last - i) * vs;
         i = last + 1;
     }
 }

@@ -66,8 +66,8 @@ static double far_field(const struct mesh_bvh_node *nd, vec3 d, double d2)
 {
     double inv = 1.0 / sqrt(d2), inv3 = inv * inv * inv, inv5 = inv3 * inv * inv;
     const double r[3] = {d.x, d.y, d.z};
-    double first = nd->area_normal[0] * r[0] + nd->area_normal[1] * r[1] +
-                   nd->area_normal[2] * r[2];
+    double first =
+        nd->area_normal[0] * r[0] + nd->area_normal[1] * r[1] + nd->area_normal[2] * r[2];
     double trace = nd->moment[0][0] + nd->moment[1][1] + nd->moment[2][2], rmr = 0.0;
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++)

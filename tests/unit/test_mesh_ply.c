@@ -105,14 +105,14 @@ static void each_malformed_ascii_ply_gets_its_precise_message(void)
         {HDR_ASCII FACE1 "end_header\n3 0 1 2\n", 0, REFRACT_E_INVALID_MESH,
          "the header declares no \"vertex\" element; a mesh PLY needs \"element vertex N\" "
          "with properties x, y, z"},
-        {HDR_ASCII "element vertex 3\nproperty float x\nproperty float y\n" FACE1
-                   "end_header\n",
-         0, REFRACT_E_INVALID_MESH,
+        {HDR_ASCII "element vertex 3\nproperty float x\nproperty float y\n" FACE1 "end_header\n", 0,
+         REFRACT_E_INVALID_MESH,
          "the \"vertex\" element has no property z; declare \"property float z\""},
         {HDR_ASCII VTX3 "end_header\n" TRI_VERTS, 0, REFRACT_E_INVALID_MESH,
          "the header declares no \"face\" element; a mesh needs at least one face (\"element "
          "face N\", N >= 1)"},
-        {HDR_ASCII VTX3 "element face 0\nproperty list uchar int vertex_indices\nend_header\n" TRI_VERTS,
+        {HDR_ASCII VTX3
+         "element face 0\nproperty list uchar int vertex_indices\nend_header\n" TRI_VERTS,
          0, REFRACT_E_INVALID_MESH,
          "the header declares 0 faces; a mesh needs at least one face (\"element face N\", N "
          ">= 1)"},
@@ -135,8 +135,7 @@ static void each_malformed_ascii_ply_gets_its_precise_message(void)
         {HDR_ASCII VTX3 FACE1 "end_header\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n", 0,
          REFRACT_E_INVALID_MESH,
          "vertex 1: coordinate y is nan, not a finite number; every coordinate must be finite"},
-        {HDR_ASCII VTX3 FACE1 "end_header\n0 0 0\n1 0\n0 1 0\n3 0 1 2\n", 0,
-         REFRACT_E_INVALID_MESH,
+        {HDR_ASCII VTX3 FACE1 "end_header\n0 0 0\n1 0\n0 1 0\n3 0 1 2\n", 0, REFRACT_E_INVALID_MESH,
          "line 11 (vertex 1 of 3): fewer values than declared; each record is one line of its "
          "properties' values, as the header declares them"},
         {HDR_ASCII VTX3 FACE1 "end_header\n0 0 0\n1 0 0 9\n0 1 0\n3 0 1 2\n", 0,
@@ -154,8 +153,9 @@ static void each_malformed_ascii_ply_gets_its_precise_message(void)
         {HDR_ASCII VTX3 FACE1 "end_header\n" TRI_VERTS "3 0 1\n", 0, REFRACT_E_INVALID_MESH,
          "line 13 (face 0 of 1): fewer vertex indices than the face's count; each record is one "
          "line of its properties' values, as the header declares them"},
-        {HDR_ASCII "element vertex 3000\nproperty float x\nproperty float y\nproperty float z\n" FACE1
-                   "end_header\n" TRI_VERTS "3 0 1 2\n",
+        {HDR_ASCII
+         "element vertex 3000\nproperty float x\nproperty float y\nproperty float z\n" FACE1
+         "end_header\n" TRI_VERTS "3 0 1 2\n",
          0, REFRACT_E_INVALID_MESH,
          "the header declares 3000 \"vertex\" records of at least 6 bytes each, but only 26 "
          "bytes follow; the header's counts are wrong or the file is truncated"},

@@ -32,14 +32,15 @@ static void closed_mesh_winds_once_inside_and_zero_outside(void)
 {
     struct test_mesh tm = test_icosphere(3, 1.0);
     struct mesh *m = test_mesh_make(&tm);
+    CHECK(m->closed);
     double worst_in = 0.0, worst_out = 0.0, worst_fast = 0.0;
     for (int i = 0; i < 400; i++) {
         vec3 in = point_at(0.95 * uniform()), out = point_at(1.05 + 3.0 * uniform());
         worst_in = fmax(worst_in, fabs(mesh_winding_number_exact(m, in) - 1.0));
         worst_out = fmax(worst_out, fabs(mesh_winding_number_exact(m, out)));
         vec3 any = point_at(0.5 + uniform());
-        worst_fast = fmax(worst_fast,
-                          fabs(mesh_winding_number(m, any) - mesh_winding_number_exact(m, any)));
+        worst_fast =
+            fmax(worst_fast, fabs(mesh_winding_number(m, any) - mesh_winding_number_exact(m, any)));
     }
     CHECK_NEAR(worst_in, 0.0, 1e-9);
     CHECK_NEAR(worst_out, 0.0, 1e-9);
@@ -72,6 +73,7 @@ static void holes_and_flipped_triangles_still_classify(void)
     memcpy(holed.t, tm.t + 16, (tm.nt - 16) * sizeof *tm.t);
     holed.nt = tm.nt - 16;
     struct mesh *m = test_mesh_make(&holed);
+    CHECK(!m->closed);
     CHECK_NEAR(classified(m), 1.0, 0.0);
     mesh_destroy(m);
     /* One triangle in 8 flipped. */
@@ -84,6 +86,7 @@ static void holes_and_flipped_triangles_still_classify(void)
         flipped.t[i][2] = s;
     }
     m = test_mesh_make(&flipped);
+    CHECK(!m->closed);
     CHECK_NEAR(classified(m), 1.0, 0.0);
     mesh_destroy(m);
     /* Inside out: w = -1 inside, so |w| classifies. */
@@ -92,6 +95,7 @@ static void holes_and_flipped_triangles_still_classify(void)
         flipped.t[i][2] = tm.t[i][1];
     }
     m = test_mesh_make(&flipped);
+    CHECK(m->closed);
     CHECK_NEAR(mesh_winding_number(m, vec3_make(0.1, 0.2, 0.3)), -1.0, 0.05);
     CHECK_NEAR(classified(m), 1.0, 0.0);
     mesh_destroy(m);
