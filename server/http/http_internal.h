@@ -122,6 +122,7 @@ enum MHD_Result http_handle_scene_get(struct http_request *req);
 enum MHD_Result http_handle_scene_delete(struct http_request *req);
 enum MHD_Result http_handle_volume_put(struct http_request *req);
 enum MHD_Result http_handle_environment_put(struct http_request *req);
+enum MHD_Result http_handle_mesh_post(struct http_request *req);
 enum MHD_Result http_handle_render(struct http_request *req);
 enum MHD_Result http_handle_trace(struct http_request *req);
 enum MHD_Result http_handle_lights_get(struct http_request *req);
@@ -143,6 +144,11 @@ struct render_scene_source http_scene_source(struct store_scene *v);
 /* Looks up the scene named by the first path parameter; answers 404 and returns NULL when
  * it does not exist. Returns a new reference. */
 struct store_scene *http_scene_or_404(struct http_request *req, enum MHD_Result *answer);
+
+/* The description of an uploaded mesh (h_meshes.c): name, format, triangles, vertices,
+ * closed, bounds, checksum, bytes. Returns a new cJSON object. */
+struct store_mesh;
+cJSON *http_mesh_json(const struct store_mesh *m);
 
 /* Adds the scene's version, GPU status and uploads to a JSON object. */
 void http_scene_summary(const struct http_app *app, const struct store_scene *v, cJSON *obj,

@@ -7,6 +7,8 @@
  * statuses, never the versions (they are immutable).
  */
 #include "store.h"
+#include "store_internal.h"
+#include "store_mesh.h"
 
 #include <dirent.h>
 #include <fcntl.h>
@@ -80,6 +82,7 @@ void store_scene_release(struct store_scene *sc)
     for (size_t i = 0; i < sc->volume_count; i++)
         store_volume_release(sc->volumes[i]);
     free(sc->volumes);
+    store_mesh_release_all(sc);
     env_release(sc->env);
     scene_destroy(sc->scene);
     free(sc->json);
@@ -127,12 +130,19 @@ static struct store_scene *version_new(struct store *s, const char *id,
         v->env = base->env;
     }
     v->created_unix = base->created_unix;
+    if (!store_mesh_share(v, base)) {
+        store_scene_release(v);
+        return NULL;
+    }
     return v;
 }
 
 const struct scene_volume *store_volume_lookup(void *ctx, const char *name)
 {
     const struct store_scene *sc = ctx;
+    size_t prefix = strlen(SCENE_MESH_LOOKUP_PREFIX);
+    if (strncmp(name, SCENE_MESH_LOOKUP_PREFIX, prefix) == 0)
+        return store_mesh_lookup(sc, name + prefix);
     for (size_t i = 0; i < sc->volume_count; i++) {
         if (strcmp(sc->volumes[i]->name, name) == 0)
             return &sc->volumes[i]->view;
@@ -611,6 +621,44 @@ enum refract_code store_env_put(struct store *s, const char *id, const void *byt
     return env_put(s, id, bytes, len, true, width, height, e);
 }
 
+/* ---- for the store's other files (store_internal.h) ---------------------------------- */
+
+enum refract_code
+store_edit_version(struct store *s, const char *id,
+                   enum refract_code (*persist)(const char *scene_dir, void *ctx, struct err *e),
+                   enum refract_code (*edit)(struct store_scene *v, void *ctx, struct err *e),
+                   void *ctx, struct err *e)
+{
+    char dir[4096];
+    scene_dir(s, id, dir, sizeof dir);
+    pthread_mutex_lock(&s->lock);
+    struct slot *slot = find_slot(s, id);
+    enum refract_code rc = REFRACT_E_OK;
+    struct store_scene *v = NULL;
+    if (slot == NULL)
+        rc = err_set(e, REFRACT_E_SCENE_NOT_FOUND, "no scene with id \"%s\"", id);
+    if (rc == REFRACT_E_OK && persist != NULL)
+        rc = persist(dir, ctx, e);
+    if (rc == REFRACT_E_OK) {
+        v = version_new(s, id, slot->current);
+        if (v == NULL)
+            rc = err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory making a new version");
+    }
+    if (rc == REFRACT_E_OK)
+        rc = edit(v, ctx, e);
+    if (rc == REFRACT_E_OK)
+        rc = install_locked(s, v, e);
+    else
+        store_scene_release(v);
+    pthread_mutex_unlock(&s->lock);
+    return rc;
+}
+
+const struct scene_limits *store_limits(const struct store *s)
+{
+    return &s->desc.limits;
+}
+
 /* ---- start-up -------------------------------------------------------------------------- */
 
 static void load_volumes(struct store *s, const char *id, const char *dir)
@@ -700,6 +748,7 @@ static void load_scene(struct store *s, const char *id)
         return;
     }
     load_volumes(s, id, dir);
+    store_mesh_load_all(s, id, dir);
     snprintf(path, sizeof path, "%s/environment.img", dir);
     char *img = NULL;
     size_t img_len = 0;

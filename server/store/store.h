@@ -15,6 +15,7 @@
  *     <data>/scenes/<id>/volumes/<name>.f32   raw little-endian float32
  *     <data>/scenes/<id>/volumes/<name>.json  {"dims": [x, y, z], "components": c}
  *     <data>/scenes/<id>/environment.img      the uploaded image file, as sent
+ *     <data>/scenes/<id>/meshes/<name>.obj|.ply  uploaded meshes, as sent (store_mesh.h)
  * (issue 5 replaces this with SQLite metadata and content-addressed blobs.)
  *
  * Ownership: functions returning a struct store_scene * return a new reference that the
@@ -65,6 +66,8 @@ struct store_scene {
     size_t volume_count;
     struct store_env *env; /* owned reference or NULL */
     int64_t created_unix;
+    struct store_mesh **meshes; /* owned references (store_mesh.h); NULL when none */
+    size_t mesh_count;
 };
 
 /* What the GPU thread last reported about a scene's build. */
@@ -123,7 +126,8 @@ void store_volume_release(struct store_volume *v);
 enum refract_code store_env_put(struct store *s, const char *id, const void *bytes, size_t len,
                                 int *width, int *height, struct err *e);
 
-/* The scene_volume_lookup_fn of a version: ctx is a struct store_scene *. */
+/* The scene_volume_lookup_fn of a version: ctx is a struct store_scene *. Names with
+ * SCENE_MESH_LOOKUP_PREFIX find its meshes (store_mesh.h). */
 const struct scene_volume *store_volume_lookup(void *ctx, const char *name);
 
 void store_gpu_status_set(struct store *s, const char *id, const struct store_gpu_status *st);
