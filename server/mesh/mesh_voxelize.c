@@ -34,12 +34,13 @@
  *
  * Why the CPU and not the GPU: the scene's fields are evaluated on the CPU
  * (scene_field.c) and uploaded afterwards, and this daemon's GL is Mesa llvmpipe, which
- * runs compute shaders on the same CPU cores, in float, without the BVH recursion that
- * makes the query O(log n). Measured (BENCHMARKS.md, 2-core AMD EPYC VM, 81,920-triangle
- * sphere): 128^3 in about 1 s and 256^3 in about 3.6 s with 2 threads; a brute-force GPU
- * kernel would need 128^3 * 81,920 = 1.7e11 solid angles, minutes on llvmpipe. On a real
- * GPU a port would pay off for repeated voxelization; builds are cached per scene
- * version, so it is done once per upload and object.
+ * runs compute shaders on the same CPU cores, in float, and without the BVH walks that
+ * make each query O(log n). Measured (BENCHMARKS.md, 2-core AMD EPYC VM, a torus of
+ * 100,352 triangles): 128^3 takes 1.4 s and 256^3 4.9 s of CPU time on one thread, since
+ * the work follows the surface; a brute-force kernel (every voxel against every triangle,
+ * what a BVH-less GPU port does) needs 128^3 x 100,352 = 2.1e11 solid angles, minutes even
+ * at llvmpipe's few GFLOP/s. On a real GPU a port could pay off for frequent
+ * re-voxelization, but fields are built once per scene version and object.
  */
 #include <pthread.h>
 #include <stdatomic.h>
