@@ -194,7 +194,7 @@ enum refract_code mesh_parse_obj(const char *text, size_t len, const struct mesh
     *out = NULL;
     struct obj_reader r = {.s = text, .len = len, .line = 1};
     mesh_builder_init(&r.b, limits);
-    const char *nul = memchr(text, '\0', len);
+    const char *nul = len > 0 ? memchr(text, '\0', len) : NULL;
     enum refract_code rc = REFRACT_E_OK;
     if (nul != NULL) {
         size_t line = 1;
