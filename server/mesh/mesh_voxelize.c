@@ -36,9 +36,8 @@
  * (scene_field.c) and uploaded afterwards, and this daemon's GL is Mesa llvmpipe, which
  * runs compute shaders on the same CPU cores, in float, and without the BVH walks that
  * make each query O(log n). Measured (BENCHMARKS.md, 2-core AMD EPYC VM, a torus of
- * 100,352 triangles): 128^3 takes 1.1-1.4 s and 256^3 4.9-5.5 s of CPU time on one thread,
- * since
- * the work follows the surface; a brute-force kernel (every voxel against every triangle,
+ * 100,352 triangles): 128^3 takes 1.1-1.4 s and 256^3 4.9-5.5 s of CPU time on one
+ * thread, since the work follows the surface; a brute-force kernel (every voxel against every triangle,
  * what a BVH-less GPU port does) needs 128^3 x 100,352 = 2.1e11 solid angles, minutes even
  * at llvmpipe's few GFLOP/s. On a real GPU a port could pay off for frequent
  * re-voxelization, but fields are built once per scene version and object.
