@@ -73,6 +73,8 @@ static const struct option_def options[] = {
      "light turns below this (radians) reuse the cached irradiance (default 0.001)"},
     {"lightsim-chunk-steps", OPT_INT, 1, 100000, "N",
      "wavefront steps per GPU work item of a light simulation (default 16)"},
+    {"event-history", OPT_INT, 1, 1000000, "N",
+     "events kept for SSE clients that reconnect with Last-Event-ID (default 1024)"},
     {"log-level", OPT_LOG, 0, 0, "debug|info|warn|error", "log verbosity (default info)"},
     {"config", OPT_CONFIG, 0, 0, "FILE", "read 'key value' lines with these option names"},
     {"help", OPT_FLAG, 0, 0, NULL, "print this help"},
@@ -102,6 +104,7 @@ void config_defaults(struct config *c)
     c->irradiance.direction_tolerance = 1e-3;
     c->irradiance.chunk_steps = 16;
     c->max_scenes = 64;
+    c->event_history = 1024;
     c->max_env_pixels = 64ll << 20;
     c->http.max_image_pixels = 4096LL * 4096;
     c->log_level = LOG_INFO;
@@ -205,6 +208,8 @@ static void store_int(struct config *c, const char *name, long long v)
         c->irradiance.host_budget_bytes = (size_t)v;
     else if (!strcmp(name, "lightsim-chunk-steps"))
         c->irradiance.chunk_steps = (int)v;
+    else if (!strcmp(name, "event-history"))
+        c->event_history = (size_t)v;
 }
 
 static enum refract_code config_parse_file(struct config *c, const char *path, struct err *e);

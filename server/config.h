@@ -28,6 +28,7 @@ struct config {
     char shader_dir[512]; /* "" = embedded */
     char port_file[512];  /* "" = none */
     int max_scenes;
+    size_t event_history; /* events the hub keeps (events.h ring capacity) */
     long long max_env_pixels;
     int log_level;
     bool help, version;

@@ -168,7 +168,7 @@ static int run(const struct config *cfg)
         gpu_destroy(gpu, &final);
         return 1;
     }
-    struct event_hub *events = event_hub_create(0, &e);
+    struct event_hub *events = event_hub_create(cfg->event_history, &e);
     if (events == NULL) {
         log_error("main", "events: %s", e.msg);
         gpu_destroy(gpu, &final);
@@ -177,6 +177,7 @@ static int run(const struct config *cfg)
     }
     struct irradiance_cache_desc idesc = cfg->irradiance;
     idesc.data_dir = cfg->data_dir;
+    idesc.events = events; /* irradiance.progress, .ready, .failed */
     fw.irradiance = irradiance_cache_create(&idesc, gpu, &e);
     if (fw.irradiance == NULL) {
         log_error("main", "irradiance cache: %s", e.msg);

@@ -119,6 +119,7 @@ void irr_push_task_locked(struct irradiance_cache *c, enum irr_task_kind kind, s
             en->busy = false;
             snprintf(en->message, sizeof en->message, "out of memory queueing the recompute");
             irr_drop_source(en);
+            irr_note_failed_locked(c, en);
         } else {
             en->persisting = false;
         }
@@ -324,6 +325,7 @@ static struct irr_entry *start_locked(struct irradiance_cache *c,
     en->light = *l;
     en->set = src->scene->lightsim;
     en->last_use = c->tick;
+    en->noted_phase = -1;
     en->scene = src->scene;
     en->lookup = src->lookup;
     en->lookup_ctx = src->lookup_ctx;
@@ -331,6 +333,7 @@ static struct irr_entry *start_locked(struct irradiance_cache *c,
     if (src->retain)
         src->retain(src->lookup_ctx);
     c->entries[c->entry_count++] = en;
+    irr_note_progress_locked(c, en); /* queued */
     irr_push_task_locked(c, IRR_TASK_BUILD, en);
     return en;
 }
@@ -385,6 +388,7 @@ bool irradiance_cache_request(struct irradiance_cache *c, const struct irradianc
                 cancel_locked(c, old);
             }
             sl->current = key;
+            sl->announced = false;
         }
         struct irr_entry *en = irr_find_locked(c, key);
         if (en && en->phase == IRR_FAILED && !en->busy && retry_failed) {
@@ -406,6 +410,7 @@ bool irradiance_cache_request(struct irradiance_cache *c, const struct irradianc
         } else if (ready && (en->has_gpu || en->has_host)) {
             sl->previous = key;
             sl->has_previous = true;
+            irr_note_ready_locked(c, en);
         } else {
             all_hit = false;
         }
@@ -428,11 +433,13 @@ bool irradiance_cache_request(struct irradiance_cache *c, const struct irradianc
         else if (sl && sl->current == load_keys[i]) {
             sl->previous = load_keys[i];
             sl->has_previous = true;
+            irr_note_ready_locked(c, to_load[i]);
         }
     }
     irr_evict_host_locked(c);
     sweep_locked(c);
     pthread_mutex_unlock(&c->lock);
+    irr_events_flush(c);
     return all_hit;
 }
 
@@ -688,6 +695,7 @@ struct irradiance_cache *irradiance_cache_create(const struct irradiance_cache_d
     c->gpu = gpu;
     snprintf(c->dir, sizeof c->dir, "%s/irradiance", desc->data_dir);
     pthread_mutex_init(&c->lock, NULL);
+    pthread_mutex_init(&c->publish_lock, NULL);
     pthread_cond_init(&c->wake, NULL);
     if (io_mkdirs(c->dir, e) != REFRACT_E_OK) {
         irradiance_cache_destroy(c);
@@ -742,7 +750,9 @@ void irradiance_cache_destroy(struct irradiance_cache *c)
     }
     free(c->entries);
     free(c->slots);
+    irr_notes_free(c);
     pthread_cond_destroy(&c->wake);
+    pthread_mutex_destroy(&c->publish_lock);
     pthread_mutex_destroy(&c->lock);
     free(c);
 }

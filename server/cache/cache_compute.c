@@ -28,6 +28,7 @@ static void fail_locked(struct irr_entry *en, const struct err *e)
     en->phase = IRR_FAILED;
     snprintf(en->message, sizeof en->message, "%s", e->msg);
     en->cache->counters.failed++;
+    irr_note_failed_locked(en->cache, en);
     log_warn("irradiance", "volume %016" PRIx64 " (light %s): %s", en->key, en->light.name, e->msg);
 }
 
@@ -73,6 +74,7 @@ static void finish_run(struct irr_entry *en, struct err *e)
         en->compute_ms = ms;
         en->phase = IRR_READY;
         en->last_use = ++c->tick;
+        irr_note_ready_locked(c, en);
         c->counters.computed++;
         en->persisting = true;
         irr_push_task_locked(c, IRR_TASK_PERSIST, en);
@@ -131,10 +133,12 @@ static void chunk_run(struct gpu_work *w, struct gpu *gpu)
     en->patches_live = stats.patches_live;
     en->stats = stats;
     en->has_stats = true;
+    irr_note_progress_locked(c, en); /* throttled */
     pthread_mutex_unlock(&c->lock);
 }
 
-static void chunk_done(struct gpu_work *w)
+/* After a chunk: resubmits the run, or records how it ended. */
+static void chunk_settle(struct gpu_work *w)
 {
     struct irr_entry *en = w->user;
     struct irradiance_cache *c = en->cache;
@@ -166,6 +170,13 @@ static void chunk_done(struct gpu_work *w)
     pthread_mutex_lock(&c->lock);
     en->busy = false;
     pthread_mutex_unlock(&c->lock);
+}
+
+static void chunk_done(struct gpu_work *w)
+{
+    struct irradiance_cache *c = ((struct irr_entry *)w->user)->cache;
+    chunk_settle(w); /* the entry may be gone after this */
+    irr_events_flush(c);
 }
 
 void irr_release_gpu_entry(struct irr_entry *en)
@@ -280,6 +291,7 @@ void *irr_worker_main(void *arg)
         else
             run_persist(c, t->entry);
         free(t);
+        irr_events_flush(c);
         pthread_mutex_lock(&c->lock);
     }
     /* Stopping: finished volumes still reach the disk; unbuilt entries let go of their

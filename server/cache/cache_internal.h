@@ -52,6 +52,9 @@ struct irr_entry {
     char message[ERR_MSG_MAX];     /* (L) when failed */
     double compute_ms;             /* (L) begin to read-back, GPU thread time included */
     double started_ms;             /* (G) */
+    int noted_phase;               /* (L) phase of the last progress event; -1 = none */
+    double noted_progress;         /* (L) progress of the last progress event */
+    double noted_ms;               /* (L) gpu_time_ms() of the last progress event */
     struct irradiance_volume host; /* (L) */
     bool has_host;                 /* (L) */
     struct irradiance_gpu gpu;     /* (L, made and freed on the GPU thread) */
@@ -74,6 +77,7 @@ struct irr_slot {
     uint64_t current;  /* key wanted now */
     uint64_t previous; /* key of the last volume that was ready for it */
     bool has_previous;
+    bool announced; /* irradiance.ready was published for `current` */
 };
 
 enum irr_task_kind { IRR_TASK_BUILD = 0, IRR_TASK_PERSIST = 1 };
@@ -83,8 +87,24 @@ struct irr_task {
     struct irr_task *next;
 };
 
+/* An event waiting to be published (cache_events.c): made under the lock, published after. */
+struct irr_note {
+    struct irr_note *next;
+    const char *type; /* EVENT_IRRADIANCE_* */
+    char scene[64];
+    char light[SCENE_NAME_MAX];
+    uint64_t key;
+    const char *state; /* progress: "queued" or "computing" */
+    double progress;
+    double compute_ms;         /* ready */
+    bool loaded_from_disk;     /* ready */
+    char message[ERR_MSG_MAX]; /* failed */
+};
+
 struct irradiance_cache {
     pthread_mutex_t lock;
+    pthread_mutex_t publish_lock;             /* taken before lock: notes leave in the order made */
+    struct irr_note *notes_head, *notes_tail; /* (L) */
     pthread_cond_t wake;
     pthread_t worker;
     bool worker_started, stop;
@@ -114,6 +134,15 @@ void irr_drop_source(struct irr_entry *en);
 /* cache_compute.c */
 void *irr_worker_main(void *arg);
 void irr_release_gpu_entry(struct irr_entry *en); /* GPU thread */
+
+/* cache_events.c. The *_locked ones queue a note for every slot that wants en->key now
+ * (nothing without a hub); irr_events_flush publishes the queued notes: call it after
+ * releasing the lock wherever notes may have been queued. */
+void irr_note_progress_locked(struct irradiance_cache *c, struct irr_entry *en);
+void irr_note_ready_locked(struct irradiance_cache *c, struct irr_entry *en);
+void irr_note_failed_locked(struct irradiance_cache *c, const struct irr_entry *en);
+void irr_events_flush(struct irradiance_cache *c);
+void irr_notes_free(struct irradiance_cache *c);
 
 /* cache_disk.c */
 void irr_volume_path(const struct irradiance_cache *c, uint64_t key, const char *ext, char *out,

@@ -24,6 +24,14 @@
  * statistics, compute time), so an entry evicted from both memories, or one made before
  * a restart (the directory is indexed at start-up), is read back instead of recomputed.
  *
+ * Events (with desc.events): for every (scene, light) slot that wants a key, the cache
+ * publishes irradiance.progress when its recompute is queued, when it starts computing and
+ * then at most every 250 ms or 5 % of progress; irradiance.ready when the slot's wanted
+ * volume becomes usable (computed, read back from disk, or already cached when the slot
+ * turned to it), once per change of the slot's key; irradiance.failed when it fails.
+ * They are collected under the lock and published after it is released, in order
+ * (cache_events.c), so listeners never run under the cache's lock.
+ *
  * Thread: the functions say which thread; the cache locks internally. Ownership: the
  * cache owns every entry, texture and host copy; callers get copies or borrow for a call.
  */
@@ -40,6 +48,8 @@
 #include "../render/render.h"
 #include "../scene/scene.h"
 
+struct event_hub;
+
 struct irradiance_cache_desc {
     const char *data_dir;       /* volumes persist under <data_dir>/irradiance */
     size_t gpu_budget_bytes;    /* GPU textures of ready volumes; 0 = 1 GiB */
@@ -47,6 +57,9 @@ struct irradiance_cache_desc {
     double position_tolerance;  /* world units; 0 = 1e-3 */
     double direction_tolerance; /* radians; 0 = 1e-3 */
     int chunk_steps;            /* wavefront steps per GPU work item; 0 = 16 */
+    /* Where irradiance.progress / .ready / .failed are published (events.h; borrowed,
+     * outliving the cache); NULL = nowhere. */
+    struct event_hub *events;
 };
 
 /* What the cache needs of a scene version; borrowed for the call, except that the cache

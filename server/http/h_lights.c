@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "../cache/irradiance_cache.h"
+#include "../events/events.h"
 #include "../scene/json_read.h"
 #include "http_internal.h"
 
@@ -129,6 +130,8 @@ static enum MHD_Result store_and_answer(struct http_request *req, cJSON *doc)
     free(text);
     if (rc != REFRACT_E_OK)
         return http_respond_err(req, &e);
+    /* Before the cache request, so the lights change comes before its irradiance events. */
+    http_publish_scene(req->app, EVENT_SCENE_UPDATED, v->id, v, "lights");
     struct irradiance_source src;
     http_irradiance_source(v, &src);
     bool all_hit = irradiance_cache_request(req->app->irradiance, &src, true);

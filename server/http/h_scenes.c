@@ -9,6 +9,7 @@
 
 #include "../cache/irradiance_cache.h"
 #include "../core/log.h"
+#include "../events/events.h"
 #include "../gpu/resources.h"
 #include "../store/store_mesh.h"
 #include "http_internal.h"
@@ -253,6 +254,7 @@ enum MHD_Result http_handle_scene_create(struct http_request *req)
                                   "proto/scene.schema.json and proto/examples/)");
     if (store_scene_create(req->app->store, NULL, req->body, req->body_len, &v, &e) != REFRACT_E_OK)
         return http_respond_err(req, &e);
+    http_publish_scene(req->app, EVENT_SCENE_CREATED, v->id, v, NULL);
     http_prepare_scene(req->app, v);
     cJSON *root = cJSON_CreateObject();
     http_scene_summary(req->app, v, root, false);
@@ -300,6 +302,7 @@ enum MHD_Result http_handle_scene_delete(struct http_request *req)
     struct err e = {0};
     if (store_scene_delete(req->app->store, req->params[0], &e) != REFRACT_E_OK)
         return http_respond_err(req, &e);
+    http_publish_scene(req->app, EVENT_SCENE_DELETED, req->params[0], NULL, NULL);
     forget_scene(req->app, req->params[0]);
     irradiance_cache_forget_scene(req->app->irradiance, req->params[0]);
     return http_respond_empty(req, MHD_HTTP_NO_CONTENT);

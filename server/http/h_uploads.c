@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../events/events.h"
 #include "http_internal.h"
 
 static bool parse_dims(const char *text, int dims[3])
@@ -78,35 +79,16 @@ struct volume_query {
     int components;
 };
 
-struct unknown_query {
-    const char *const *allowed;
-    const char *first_unknown;
-};
-
-static enum MHD_Result find_unknown_query(void *cls, enum MHD_ValueKind kind, const char *key,
-                                          const char *value)
-{
-    (void)kind;
-    (void)value;
-    struct unknown_query *u = cls;
-    for (const char *const *a = u->allowed; *a; a++)
-        if (strcmp(*a, key) == 0)
-            return MHD_YES;
-    u->first_unknown = key;
-    return MHD_NO;
-}
-
 /* Validates the query; answers and returns false on error. A misspelt parameter
  * (?component=3) is an error, not silently the default. */
 static bool parse_volume_query(struct http_request *req, struct volume_query *q)
 {
     static const char *const allowed[] = {"dims", "components", NULL};
-    struct unknown_query u = {allowed, NULL};
-    MHD_get_connection_values(req->conn, MHD_GET_ARGUMENT_KIND, find_unknown_query, &u);
-    if (u.first_unknown) {
+    const char *unknown = http_query_unknown(req, allowed);
+    if (unknown) {
         http_respond_error(req, REFRACT_E_UNKNOWN_FIELD,
                            "query parameter \"%s\" is not known here; allowed: dims, components",
-                           u.first_unknown);
+                           unknown);
         return false;
     }
     const char *dims = MHD_lookup_connection_value(req->conn, MHD_GET_ARGUMENT_KIND, "dims");
@@ -210,6 +192,7 @@ enum MHD_Result http_handle_volume_put(struct http_request *req)
     store_volume_release(vol);
     struct store_scene *now = store_scene_get(req->app->store, req->params[0]);
     if (now) {
+        http_publish_scene(req->app, EVENT_SCENE_UPDATED, now->id, now, "volume");
         http_prepare_scene(req->app, now);
         store_scene_release(now);
     }
@@ -232,6 +215,7 @@ enum MHD_Result http_handle_environment_put(struct http_request *req)
         return http_respond_err(req, &e);
     struct store_scene *now = store_scene_get(req->app->store, req->params[0]);
     if (now) {
+        http_publish_scene(req->app, EVENT_SCENE_UPDATED, now->id, now, "environment");
         http_prepare_scene(req->app, now);
         store_scene_release(now);
     }

@@ -62,6 +62,7 @@ struct http_request {
     void *job; /* owned; freed by job_free */
     void (*job_free)(void *job);
     http_handler_fn on_resume; /* answers after the GPU finished */
+    struct http_sse *sse;      /* the server's event streams (h_events.c) */
 };
 
 /* ---- responses (respond.c) ---- */
@@ -114,6 +115,10 @@ enum refract_code http_parse_trace_request(const char *body, size_t len, const s
                                            struct render_trace_ray **rays, size_t *count,
                                            struct err *e);
 
+/* The first query parameter of req that is not in `allowed` (NULL-terminated), or NULL:
+ * a misspelt parameter is an error, never silently its default. */
+const char *http_query_unknown(struct http_request *req, const char *const *allowed);
+
 /* ---- handlers ---- */
 enum MHD_Result http_handle_health(struct http_request *req);
 enum MHD_Result http_handle_scene_create(struct http_request *req);
@@ -130,6 +135,21 @@ enum MHD_Result http_handle_lights_put(struct http_request *req);
 enum MHD_Result http_handle_light_put(struct http_request *req);
 enum MHD_Result http_handle_irradiance_get(struct http_request *req);
 enum MHD_Result http_handle_irradiance_exr(struct http_request *req);
+enum MHD_Result http_handle_events(struct http_request *req);
+enum MHD_Result http_handle_scene_events(struct http_request *req);
+
+/* ---- events (h_events.c) ---- */
+struct http_sse;
+/* The server's Server-Sent Events streams and its one listener on hub (NULL: none; the
+ * event routes then answer 500). NULL with e filled on failure. */
+struct http_sse *http_sse_create(struct event_hub *hub, struct err *e);
+/* After MHD_stop_daemon: stops listening, releases the streams. NULL is a no-op. */
+void http_sse_destroy(struct http_sse *sse);
+/* Publishes a scene event (EVENT_SCENE_CREATED, _UPDATED, _DELETED) with data {"scene",
+ * "generation" (of version, when not NULL), "what" (when not NULL: "document", "volume",
+ * "environment", "lights")}. A no-op without a hub. */
+void http_publish_scene(const struct http_app *app, const char *type, const char *scene_id,
+                        const struct store_scene *version, const char *what);
 
 /* ---- irradiance (h_irradiance.c) ---- */
 struct irradiance_source;

@@ -220,3 +220,30 @@ enum refract_code http_parse_trace_request(const char *body, size_t len, const s
     *count = (size_t)n;
     return REFRACT_E_OK;
 }
+
+/* ---- query parameters ---- */
+
+struct unknown_query {
+    const char *const *allowed;
+    const char *first_unknown;
+};
+
+static enum MHD_Result find_unknown_query(void *cls, enum MHD_ValueKind kind, const char *key,
+                                          const char *value)
+{
+    (void)kind;
+    (void)value;
+    struct unknown_query *u = cls;
+    for (const char *const *a = u->allowed; *a; a++)
+        if (strcmp(*a, key) == 0)
+            return MHD_YES;
+    u->first_unknown = key;
+    return MHD_NO;
+}
+
+const char *http_query_unknown(struct http_request *req, const char *const *allowed)
+{
+    struct unknown_query u = {allowed, NULL};
+    MHD_get_connection_values(req->conn, MHD_GET_ARGUMENT_KIND, find_unknown_query, &u);
+    return u.first_unknown;
+}

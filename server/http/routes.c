@@ -24,6 +24,8 @@ static const struct http_route routes[] = {
     {"PUT", "/v1/scenes/{id}/lights/{name}", http_handle_light_put, HTTP_BODY_JSON},
     {"GET", "/v1/scenes/{id}/irradiance", http_handle_irradiance_get, HTTP_BODY_NONE},
     {"GET", "/v1/scenes/{id}/irradiance/{light}.exr", http_handle_irradiance_exr, HTTP_BODY_NONE},
+    {"GET", "/v1/scenes/{id}/events", http_handle_scene_events, HTTP_BODY_NONE},
+    {"GET", "/v1/events", http_handle_events, HTTP_BODY_NONE},
 };
 
 #define ROUTE_COUNT (sizeof routes / sizeof routes[0])

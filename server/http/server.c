@@ -30,6 +30,7 @@ struct http_server {
     struct http_config cfg;
     struct http_app app;
     int port;
+    struct http_sse *sse;       /* the event streams (h_events.c) */
     atomic_int active_requests; /* request states alive (begun, not completed) */
     struct http_stream_set *streams;
 };
@@ -94,6 +95,7 @@ static struct http_request *request_begin(struct http_server *srv, struct MHD_Co
     req->cfg = &srv->cfg;
     req->app = &srv->app;
     req->started_ms = gpu_time_ms();
+    req->sse = srv->sse;
     bool path_known = false;
     req->route = http_route_find(method, url, req->params, &req->param_count, &path_known);
     if (req->route)
@@ -305,10 +307,17 @@ struct http_server *http_server_start(const struct http_config *cfg, const struc
         free(srv);
         return NULL;
     }
+    srv->sse = http_sse_create(app->events, e);
+    if (srv->sse == NULL) {
+        http_stream_set_destroy(srv->streams);
+        free(srv);
+        return NULL;
+    }
     struct sockaddr_in addr = {.sin_family = AF_INET, .sin_port = htons((uint16_t)cfg->port)};
     if (inet_pton(AF_INET, srv->cfg.bind_address, &addr.sin_addr) != 1) {
         err_set(e, REFRACT_E_USAGE, "--bind %s: not an IPv4 address (e.g. 127.0.0.1 or 0.0.0.0)",
                 srv->cfg.bind_address);
+        http_sse_destroy(srv->sse);
         http_stream_set_destroy(srv->streams);
         free(srv);
         return NULL;
@@ -325,6 +334,7 @@ struct http_server *http_server_start(const struct http_config *cfg, const struc
                 "cannot listen on %s:%d (is the port taken by another process? pick another "
                 "with --port, or --port 0 for any free port)",
                 srv->cfg.bind_address, cfg->port);
+        http_sse_destroy(srv->sse);
         http_stream_set_destroy(srv->streams);
         free(srv);
         return NULL;
@@ -370,6 +380,7 @@ void http_server_stop(struct http_server *s)
     if (s == NULL)
         return;
     MHD_stop_daemon(s->daemon);
+    http_sse_destroy(s->sse); /* after the daemon: no handler opens a stream any more */
     http_stream_set_destroy(s->streams);
     free(s);
 }

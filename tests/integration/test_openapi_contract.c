@@ -588,6 +588,11 @@ static void documented_routes_are_answered(struct test_daemon *d, const struct c
         if (!fill_path(op->path, strcmp(op->method, "DELETE") == 0 ? scratch : scene, path,
                        sizeof path))
             continue;
+        /* An event stream never ends by itself: a resume point that is not a number
+         * makes it answer (400) at once instead. */
+        size_t plen = strlen(path);
+        if (plen >= 7 && strcmp(path + plen - 7, "/events") == 0)
+            snprintf(path + plen, sizeof path - plen, "?since=x");
         struct refract_response r;
         long status = exchange(d, op->method, path, NULL, 0, NULL, &r);
         CHECK_MSG(status > 0 && status != 404 && status != 405, "documented %s %s answered %ld: %s",
