@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "../events/events.h"
 #include "../store/store_mesh.h"
 #include "http_internal.h"
 
@@ -57,30 +58,15 @@ static bool content_type_ok(struct http_request *req)
     return false;
 }
 
-struct unknown_param {
-    const char *first;
-};
-
-static enum MHD_Result find_unknown(void *cls, enum MHD_ValueKind kind, const char *key,
-                                    const char *value)
-{
-    (void)kind;
-    (void)value;
-    if (strcmp(key, "name") == 0 || strcmp(key, "format") == 0)
-        return MHD_YES;
-    ((struct unknown_param *)cls)->first = key;
-    return MHD_NO;
-}
-
 /* Reads ?name and ?format; answers and returns false when they are wrong. */
 static bool parse_query(struct http_request *req, const char **name, enum mesh_format *format)
 {
-    struct unknown_param u = {NULL};
-    MHD_get_connection_values(req->conn, MHD_GET_ARGUMENT_KIND, find_unknown, &u);
-    if (u.first) {
+    static const char *const allowed[] = {"name", "format", NULL};
+    const char *unknown = http_query_unknown(req, allowed);
+    if (unknown) {
         http_respond_error(req, REFRACT_E_UNKNOWN_FIELD,
                            "query parameter \"%s\" is not known here; allowed: name, format",
-                           u.first);
+                           unknown);
         return false;
     }
     *name = MHD_lookup_connection_value(req->conn, MHD_GET_ARGUMENT_KIND, "name");
@@ -139,6 +125,7 @@ enum MHD_Result http_handle_mesh_post(struct http_request *req)
     store_mesh_release(m);
     struct store_scene *now = store_scene_get(req->app->store, req->params[0]);
     if (now) {
+        http_publish_scene(req->app, EVENT_SCENE_UPDATED, now->id, now, "mesh");
         http_prepare_scene(req->app, now);
         store_scene_release(now);
     }

@@ -147,7 +147,7 @@ struct http_sse *http_sse_create(struct event_hub *hub, struct err *e);
 void http_sse_destroy(struct http_sse *sse);
 /* Publishes a scene event (EVENT_SCENE_CREATED, _UPDATED, _DELETED) with data {"scene",
  * "generation" (of version, when not NULL), "what" (when not NULL: "document", "volume",
- * "environment", "lights")}. A no-op without a hub. */
+ * "environment", "mesh", "lights")}. A no-op without a hub. */
 void http_publish_scene(const struct http_app *app, const char *type, const char *scene_id,
                         const struct store_scene *version, const char *what);
 
