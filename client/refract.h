@@ -241,6 +241,168 @@ int refract_irradiance_wait(refract_client *c, const char *scene_id,
                             const struct refract_wait_options *opts,
                             struct refract_irradiance *final_out);
 
+/*
+ * View sessions and their frame streams (docs/views.md, issue 4).
+ *
+ * A view session is a camera, an image size and render settings that refractd keeps; its
+ * stream (multipart/x-mixed-replace JPEG) gets a new frame whenever something the view
+ * shows changed: a PATCH of the session, the scene, a light, an irradiance volume that
+ * became ready. Nothing changes -> nothing is rendered or sent (but the newest frame is
+ * sent again every 15 s, so a client that went away is noticed).
+ *
+ *     struct refract_view v;
+ *     struct refract_view_options o = {.width = 640, .height = 480};
+ *     if (refract_view_create_opts(c, "wine_glass", &o, &v) == REFRACT_E_OK) {
+ *         refract_view_stream(c, v.id, on_frame, &state);   // until on_frame returns 1
+ *         refract_view_delete(c, v.id);
+ *         refract_view_free(&v);
+ *     }
+ */
+
+/* The newest frame of a session, as its status describes it. */
+struct refract_view_frame {
+    long long seq;       /* 1, 2, ... per session */
+    char kind[16];       /* "full" or "preview" (half size, right after a change) */
+    int width, height;   /* pixels */
+    double render_ms;    /* GPU time */
+    double encode_ms;    /* JPEG encoding, off the GPU thread */
+    long long bytes;     /* JPEG size */
+    double age_ms;       /* how long ago it was made */
+    char irradiance[32]; /* "ready", "stale", "missing", "not-needed" */
+    long long scene_generation;
+};
+
+/* A view session's status (GET /v1/views/{vid}). Numbers the reply lacks are -1 and
+ * strings "". */
+struct refract_view {
+    char *json;               /* the reply as refractd sent it; owned */
+    char id[REFRACT_ID_SIZE]; /* "v" + 16 hex digits */
+    char scene[REFRACT_ID_SIZE];
+    int width, height;
+    char quality[16]; /* "draft", "normal", "final" */
+    char state[16];   /* "rendering" or "idle" */
+    int streams;      /* open stream connections */
+    double max_fps;
+    double expires_in_s; /* until the idle session ends */
+    char renderer[256];  /* GL_RENDERER of the daemon */
+    char stream[256];    /* the stream's path, "/v1/views/<id>/stream" */
+    char viewer[256];    /* the web viewer's path, "/viewer/<scene>?view=<id>" */
+    int has_frame;       /* 0 before the first frame; then frame is filled */
+    struct refract_view_frame frame;
+};
+/* Releases what v owns and zeroes it; NULL is a no-op. */
+void refract_view_free(struct refract_view *v);
+
+/* The small way to describe a session. Zero means "refractd's default" everywhere
+ * (the scene's camera, size and exposure; quality "normal"; JPEG quality 80; 30 fps;
+ * progressive on); a vector is sent only when its has_ flag is set. */
+struct refract_view_options {
+    int width, height; /* pixels */
+    int has_eye, has_look_at, has_up;
+    double eye[3], look_at[3], up[3]; /* world space */
+    double fov_y_deg;                 /* vertical field of view */
+    int has_exposure;
+    double exposure;     /* stops */
+    const char *quality; /* "draft", "normal", "final"; NULL = default */
+    int jpeg_quality;    /* 1..100 */
+    double max_fps;      /* 0.1..120 */
+    int progressive;     /* 0 = default (on), 1 = on, -1 = off */
+};
+
+/* The JSON body that opts describe (a new string; refract_free() it), or NULL when out of
+ * memory. opts NULL gives "{}". */
+char *refract_view_options_json(const struct refract_view_options *opts);
+
+/* POST /v1/scenes/{id}/views with a create body (docs/views.md; NULL or "{}" for every
+ * default). out (overwritten) receives the new session's status; release it with
+ * refract_view_free(). A scene that does not exist gives REFRACT_E_SCENE_NOT_FOUND. */
+int refract_view_create(refract_client *c, const char *scene_id, const char *request_json,
+                        struct refract_view *out);
+/* The same with an options struct (opts NULL = every default). */
+int refract_view_create_opts(refract_client *c, const char *scene_id,
+                             const struct refract_view_options *opts, struct refract_view *out);
+
+/* PATCH /v1/views/{vid}: changes what patch_json names ("camera" merges into the current
+ * camera). out (optional, may be NULL) receives the new status.
+ *
+ *     refract_view_patch(c, v.id, "{\"camera\": {\"eye\": [0, 1, 4]}}", NULL);
+ */
+int refract_view_patch(refract_client *c, const char *view_id, const char *patch_json,
+                       struct refract_view *out);
+/* GET /v1/views/{vid} -> *out (overwritten; refract_view_free() it). An ended or expired
+ * session gives REFRACT_E_NOT_FOUND. */
+int refract_view_status(refract_client *c, const char *view_id, struct refract_view *out);
+/* DELETE /v1/views/{vid}: the session ends, and so do its streams. */
+int refract_view_delete(refract_client *c, const char *view_id);
+/* GET /v1/views -> *json_out, {"views": [...]}. */
+int refract_view_list(refract_client *c, char **json_out);
+
+/* Reads a view status JSON document into out (overwritten; refract_view_free() it).
+ * REFRACT_E_PROTOCOL, with a message naming the member, when it is not one. */
+int refract_view_parse(refract_client *c, const char *json, struct refract_view *out);
+
+/* One frame of a stream; everything borrowed, valid only during the callback. */
+struct refract_frame {
+    const void *bytes; /* a complete JPEG (it starts with SOI and ends with EOI) */
+    size_t len;
+    long index;            /* 0 for the first frame this stream delivered */
+    long long seq;         /* X-Frame-Seq; -1 when absent. A resent frame (the 15 s
+                              keep-alive) has the seq it had before. */
+    char kind[16];         /* X-Frame-Kind: "full", "preview"; "" when absent */
+    double render_ms;      /* X-Render-Time-Ms; -1 when absent */
+    char irradiance[32];   /* X-Refract-Irradiance; "" when absent */
+    char content_type[64]; /* "image/jpeg" */
+    double arrival_ms;     /* CLOCK_MONOTONIC in ms when the frame's first byte (its
+                              boundary line) arrived, for latency measurements */
+};
+
+/* Called with each frame; return 0 to go on, non-zero to stop the stream. */
+typedef int (*refract_frame_fn)(const struct refract_frame *frame, void *user);
+
+/*
+ * GET /v1/views/{vid}/stream: reads frames until fn returns non-zero (REFRACT_E_OK), or
+ * refractd ends the stream between two frames (REFRACT_E_OK: the session was deleted or
+ * expired; the caller counts the frames it got), or something goes wrong:
+ * REFRACT_E_NOT_FOUND for an unknown session; REFRACT_E_PROTOCOL when the stream is not
+ * a frame stream, is malformed (a Content-Length that lied, a part that is not a whole
+ * JPEG) or ends in the middle of a frame, with a message saying which frame and how far
+ * it got; REFRACT_E_TIMEOUT when no byte came for the client's timeout
+ * (refract_set_timeout_ms: for streams it bounds the silence, not the whole stream; 0 =
+ * wait for ever). Blocks the calling thread; use another client to PATCH meanwhile (from
+ * fn too).
+ */
+int refract_view_stream(refract_client *c, const char *view_id, refract_frame_fn fn, void *user);
+
+/* One Server-Sent Event; borrowed, valid only during the callback. */
+struct refract_event {
+    const char *id;   /* "42"; "" when refractd sent none */
+    const char *type; /* "scene.updated", "irradiance.ready", "lost", ... */
+    const char *data; /* one JSON object, NUL-terminated */
+    size_t data_len;
+};
+
+/* Called with each event; return 0 to go on, non-zero to stop. */
+typedef int (*refract_event_fn)(const struct refract_event *ev, void *user);
+
+/*
+ * GET /v1/scenes/{id}/events (scene_id not NULL) or GET /v1/events (NULL): reads events
+ * until fn returns non-zero or refractd ends the stream (both REFRACT_E_OK; a scene's
+ * stream ends after its scene.deleted). since_id (optional, may be NULL) asks for the
+ * events after that id still in refractd's history (sent as Last-Event-ID); when some
+ * are gone the first event is "lost" with {"missed": N}. Errors as for
+ * refract_view_stream (REFRACT_E_SCENE_NOT_FOUND for an unknown scene; the client's
+ * timeout bounds the silence, and refractd sends a keep-alive comment every 15 s).
+ *
+ *     static int on_event(const struct refract_event *ev, void *user)
+ *     {
+ *         printf("%s %s %s\n", ev->id, ev->type, ev->data);
+ *         return strcmp(ev->type, "irradiance.ready") == 0; // stop there
+ *     }
+ *     refract_events(c, "wine_glass", NULL, on_event, NULL);
+ */
+int refract_events(refract_client *c, const char *scene_id, const char *since_id,
+                   refract_event_fn fn, void *user);
+
 #ifdef __cplusplus
 }
 #endif

@@ -208,9 +208,8 @@ static bool is_connect_failure(CURLcode rc)
     }
 }
 
-/* Maps a failed curl_easy_perform onto the code table and sets c's message. */
-static int transport_failure(refract_client *c, CURLcode rc, const char *method, const char *path,
-                             bool out_of_memory)
+int refract_http_transport_failure(refract_client *c, CURLcode rc, const char *method,
+                                   const char *path, bool out_of_memory)
 {
     const char *why = c->curl_error[0] != '\0' ? c->curl_error : curl_easy_strerror(rc);
     long request_bytes = 0;
@@ -320,7 +319,7 @@ int refract_http_exchange(refract_client *c, const char *method, const char *pat
             x.out_of_memory = true;
     }
     if (rc != CURLE_OK || x.out_of_memory) {
-        code = transport_failure(c, rc, method, path, x.out_of_memory);
+        code = refract_http_transport_failure(c, rc, method, path, x.out_of_memory);
         refract_response_free(out);
         return code;
     }

@@ -8,8 +8,13 @@
  *   refract_calls.c   the typed calls built on the transport, and their shared helpers
  *   refract_lights.c  the calls of lights and irradiance volumes (issue 3)
  *   refract_wait.c    waiting for irradiance volumes, polling their status
- * plus refract_url.c and refract_status.c (pure string and JSON work, no curl), which the
- * CLI's unit test also compiles.
+ *   refract_views.c   view sessions: create, patch, status, delete (issue 4)
+ *   refract_stream.c  the curl transport of long-lived streaming GETs
+ *   refract_view_stream.c  frame streams: multipart parts -> JPEG frames
+ *   refract_events.c  Server-Sent Events
+ * plus refract_url.c, refract_status.c and refract_view_json.c (pure string and JSON work,
+ * no curl), which the CLI's unit test also compiles, and multipart_parse.c and sse_parse.c
+ * (pure byte parsers, unit-tested on their own).
  *
  * Names here carry the refract_ prefix of the library but are not declared in refract.h;
  * nothing outside the .c files in client/ may call them.
@@ -69,6 +74,43 @@ int refract_http_exchange(refract_client *c, const char *method, const char *pat
  * the body is not a refractd error. method and path only name the request in messages. */
 int refract_http_check(refract_client *c, const char *method, const char *path,
                        const struct refract_response *r);
+
+/* Maps a failed curl_easy_perform onto the code table (refract_http.c's header lists the
+ * mapping) and sets c's message; method and path name the request. */
+int refract_http_transport_failure(refract_client *c, CURLcode rc, const char *method,
+                                   const char *path, bool out_of_memory);
+
+/* refract_stream.c: a streaming GET whose body is handed on chunk by chunk */
+
+/* Where a streaming GET's body goes. Each callback fills why (why_size bytes) when it
+ * fails; the transport prefixes "GET <path>: ". */
+struct refract_stream_sink {
+    /* the Content-Type a 2xx reply must start with ("multipart/", "text/event-stream") */
+    const char *content_type;
+    /* the 2xx reply began with this Content-Type: false = protocol error; may be NULL */
+    bool (*begin)(void *user, const char *content_type, char *why, size_t why_size);
+    /* the next bytes, now_ms = refract_monotonic_ms() when they came: 0 = go on,
+     * 1 = stop (the caller has what it wanted), -1 = protocol error */
+    int (*chunk)(void *user, const char *data, size_t len, double now_ms, char *why,
+                 size_t why_size);
+    /* refractd closed the stream: false = it closed in the middle of something */
+    bool (*end)(void *user, char *why, size_t why_size);
+    /* how many items (frames, events) the sink has delivered, for messages */
+    long (*delivered)(void *user);
+    const char *item; /* "frame", "event": names the items in messages */
+    void *user;
+};
+
+/* GETs path with extra request headers (NULL-terminated "Name: value" lines; may be NULL)
+ * and hands a 2xx body to sink. c->timeout_ms bounds the silence (no byte for that long
+ * -> REFRACT_E_TIMEOUT), not the whole stream. A non-2xx reply gives its error code
+ * (refract_http_check). Returns REFRACT_E_OK when sink stopped the stream or refractd
+ * ended it cleanly. */
+int refract_stream_get(refract_client *c, const char *path, const char *const *headers,
+                       const struct refract_stream_sink *sink);
+
+/* CLOCK_MONOTONIC in milliseconds (struct refract_frame.arrival_ms's clock). */
+double refract_monotonic_ms(void);
 
 /* refract_calls.c: the steps every typed call shares */
 

@@ -45,6 +45,8 @@ static const struct option_def options[] = {
      "deadline for a request's GPU work to start (default 120000)"},
     {"max-json-bytes", OPT_SIZE, 1024, 1ll << 32, "BYTES", "JSON body limit (default 8M)"},
     {"max-upload-bytes", OPT_SIZE, 1024, 1ll << 40, "BYTES", "upload body limit (default 1G)"},
+    {"max-storage-bytes", OPT_SIZE, 0, 1ll << 50, "BYTES",
+     "total bytes of the data directory's blobs (uploads); 0 = unlimited (default 0)"},
     {"max-rays", OPT_INT, 1, 100000000, "N", "rays per trace request (default 65536)"},
     {"max-resolution", OPT_INT, 2, 4096, "N", "voxels per axis of an object (default 512)"},
     {"max-voxels", OPT_SIZE, 8, 1ll << 36, "N", "voxels per scene (default 64M)"},
@@ -73,6 +75,12 @@ static const struct option_def options[] = {
      "light turns below this (radians) reuse the cached irradiance (default 0.001)"},
     {"lightsim-chunk-steps", OPT_INT, 1, 100000, "N",
      "wavefront steps per GPU work item of a light simulation (default 16)"},
+    {"max-views", OPT_INT, 1, 100000, "N",
+     "open view sessions (POST /v1/scenes/{id}/views) at most (default 64)"},
+    {"view-idle-timeout", OPT_INT, 1, 604800, "S",
+     "end a view session after S seconds without a request or an open stream (default 120)"},
+    {"view-encoder-threads", OPT_INT, 1, 64, "N",
+     "threads that tone-map and JPEG-encode view frames (default 2)"},
     {"event-history", OPT_INT, 1, 1000000, "N",
      "events kept for SSE clients that reconnect with Last-Event-ID (default 1024)"},
     {"log-level", OPT_LOG, 0, 0, "debug|info|warn|error", "log verbosity (default info)"},
@@ -104,6 +112,9 @@ void config_defaults(struct config *c)
     c->irradiance.direction_tolerance = 1e-3;
     c->irradiance.chunk_steps = 16;
     c->max_scenes = 64;
+    c->views.max_views = 64;
+    c->views.idle_timeout_s = 120;
+    c->views.encoder_threads = 2;
     c->event_history = 1024;
     c->max_env_pixels = 64ll << 20;
     c->http.max_image_pixels = 4096LL * 4096;
@@ -174,6 +185,8 @@ static void store_int(struct config *c, const char *name, long long v)
         c->http.max_json_bytes = (size_t)v;
     else if (!strcmp(name, "max-upload-bytes"))
         c->http.max_upload_bytes = (size_t)v;
+    else if (!strcmp(name, "max-storage-bytes"))
+        c->max_storage_bytes = (unsigned long long)v;
     else if (!strcmp(name, "max-rays"))
         c->http.max_rays = (int)v;
     else if (!strcmp(name, "max-resolution"))
@@ -208,6 +221,12 @@ static void store_int(struct config *c, const char *name, long long v)
         c->irradiance.host_budget_bytes = (size_t)v;
     else if (!strcmp(name, "lightsim-chunk-steps"))
         c->irradiance.chunk_steps = (int)v;
+    else if (!strcmp(name, "max-views"))
+        c->views.max_views = (int)v;
+    else if (!strcmp(name, "view-idle-timeout"))
+        c->views.idle_timeout_s = (double)v;
+    else if (!strcmp(name, "view-encoder-threads"))
+        c->views.encoder_threads = (int)v;
     else if (!strcmp(name, "event-history"))
         c->event_history = (size_t)v;
 }

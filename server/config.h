@@ -17,12 +17,14 @@
 #include "gpu/queue.h"
 #include "http/http.h"
 #include "scene/scene.h"
+#include "view/view.h"
 
 struct config {
     struct http_config http;
     struct gpu_desc gpu;
     size_t gpu_scene_budget_bytes;
     struct irradiance_cache_desc irradiance; /* data_dir is set from data_dir at start-up */
+    struct view_registry_desc views;         /* the limits; the borrowed parts at start-up */
     char data_dir[512];
     char scene_dir[512];  /* "" = none */
     char shader_dir[512]; /* "" = embedded */
@@ -30,6 +32,7 @@ struct config {
     int max_scenes;
     size_t event_history; /* events the hub keeps (events.h ring capacity) */
     long long max_env_pixels;
+    unsigned long long max_storage_bytes; /* 0 = unlimited */
     int log_level;
     bool help, version;
 };

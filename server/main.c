@@ -8,15 +8,19 @@
  * waits for SIGINT or SIGTERM.
  *
  * Shutdown order:
- *   1. stop accepting connections (quiesce) and end every open stream (frame streams,
- *      event streams: a suspended stream connection would never complete);
+ *   1. stop accepting connections (quiesce); stop the view registry (view_registry_stop:
+ *      it stops following events, ends every view session, so their frame streams end,
+ *      waits for the frames in flight, which need the GPU thread still running, and joins
+ *      its scheduler and encoder threads); end every open stream (frame streams, event
+ *      streams: a suspended stream connection would never complete);
  *   2. stop the GPU thread (gpu_stop): pending requests complete with "shutting_down",
  *      which resumes every suspended connection; the renderer frees its GL objects on the
  *      GPU thread, then the context is destroyed. The gpu struct stays valid: resumed
  *      handlers still read its renderer string, late submits get "shutting_down";
  *   3. wait (briefly) until the resumed requests have been answered, stop the HTTP daemon;
- *   4. free the gpu struct; stop the irradiance cache's worker (it finishes writing
- *      computed volumes to the data directory); close the store.
+ *   4. free the gpu struct; free the view registry (no stream holds a session any more);
+ *      stop the irradiance cache's worker (it finishes writing computed volumes to the
+ *      data directory); close the store; free the event hub.
  */
 #include <dirent.h>
 #include <pthread.h>
@@ -33,6 +37,7 @@
 #include "lightsim/gpu/lightsim_gpu.h"
 #include "render/render.h"
 #include "store/store.h"
+#include "view/view.h"
 
 struct render_create_work {
     struct gpu_work work;
@@ -159,7 +164,8 @@ static int run(const struct config *cfg)
     struct store_desc sdesc = {.data_dir = cfg->data_dir,
                                .limits = cfg->http.limits,
                                .max_scenes = cfg->max_scenes,
-                               .max_env_pixels = cfg->max_env_pixels};
+                               .max_env_pixels = cfg->max_env_pixels,
+                               .max_storage_bytes = cfg->max_storage_bytes};
     struct store *store = store_open(&sdesc, &e);
     struct final_work fw = {.render = rcw.render};
     struct gpu_work final = {.run = final_run, .user = &fw};
@@ -188,14 +194,32 @@ static int run(const struct config *cfg)
     }
     if (cfg->scene_dir[0])
         load_scene_dir(store, cfg->scene_dir);
+    struct view_registry_desc vdesc = cfg->views;
+    vdesc.store = store;
+    vdesc.gpu = gpu;
+    vdesc.render = rcw.render;
+    vdesc.irradiance = fw.irradiance;
+    vdesc.events = events;
+    vdesc.request_timeout_ms = cfg->http.request_timeout_ms;
+    struct view_registry *views = view_registry_create(&vdesc, &e);
+    if (views == NULL) {
+        log_error("main", "view sessions: %s", e.msg);
+        gpu_destroy(gpu, &final);
+        irradiance_cache_destroy(fw.irradiance);
+        store_close(store);
+        event_hub_destroy(events);
+        return 1;
+    }
     struct http_app app = {.store = store,
                            .gpu = gpu,
                            .render = rcw.render,
                            .irradiance = fw.irradiance,
-                           .events = events};
+                           .events = events,
+                           .views = views};
     struct http_server *http = http_server_start(&cfg->http, &app, &e);
     if (http == NULL) {
         log_error("main", "%s", e.msg);
+        view_registry_destroy(views); /* before the GPU thread stops: frames may be in flight */
         gpu_destroy(gpu, &final);
         irradiance_cache_destroy(fw.irradiance);
         store_close(store);
@@ -213,12 +237,14 @@ static int run(const struct config *cfg)
     sigwait(&stop_signals, &sig);
     log_info("main", "signal %d: shutting down", sig);
     http_server_quiesce(http);
+    view_registry_stop(views);     /* sessions end, frames in flight finish on the GPU */
     http_server_end_streams(http); /* no stream may keep its connection suspended */
     gpu_stop(gpu, &final);         /* resumed requests still read gpu_info: free it after HTTP */
     if (!http_server_wait_idle(http, 3000))
         log_warn("main", "requests still in progress after 3 s; closing them");
     http_server_stop(http);
     gpu_destroy(gpu, NULL);
+    view_registry_destroy(views);
     irradiance_cache_destroy(fw.irradiance); /* finishes writing volumes to disk */
     store_close(store);
     event_hub_destroy(events); /* last: the cache's worker publishes until it stops */

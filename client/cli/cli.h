@@ -45,6 +45,8 @@ extern const struct cli_command cli_cmd_render;
 extern const struct cli_command cli_cmd_trace;
 extern const struct cli_command cli_cmd_light;
 extern const struct cli_command cli_cmd_irradiance;
+extern const struct cli_command cli_cmd_view;
+extern const struct cli_command cli_cmd_events;
 
 /* cli_help.c */
 

@@ -11,8 +11,17 @@
 #include "cli.h"
 
 const struct cli_command *const cli_commands[] = {
-    &cli_cmd_health, &cli_cmd_scene, &cli_cmd_volume,     &cli_cmd_env, &cli_cmd_render,
-    &cli_cmd_trace,  &cli_cmd_light, &cli_cmd_irradiance, NULL,
+    &cli_cmd_health,
+    &cli_cmd_scene,
+    &cli_cmd_volume,
+    &cli_cmd_env,
+    &cli_cmd_render,
+    &cli_cmd_trace,
+    &cli_cmd_light,
+    &cli_cmd_irradiance,
+    &cli_cmd_view,
+    &cli_cmd_events,
+    NULL,
 };
 
 const struct cli_command *cli_find_command(const char *name)

@@ -9,82 +9,7 @@
 #include <string.h>
 
 #include "../cache/irradiance_cache.h"
-#include "../store/store_mesh.h"
 #include "http_internal.h"
-
-struct render_scene_source http_scene_source(struct store_scene *v)
-{
-    return (struct render_scene_source){
-        .id = v->id,
-        .generation = v->data_generation,
-        .scene = v->scene,
-        .lookup = store_volume_lookup,
-        .lookup_ctx = v,
-        .env_rgba = v->env ? v->env->rgba : NULL,
-        .env_width = v->env ? v->env->width : 0,
-        .env_height = v->env ? v->env->height : 0,
-    };
-}
-
-static void version_retain(void *ctx)
-{
-    atomic_fetch_add(&((struct store_scene *)ctx)->refs, 1);
-}
-
-static void version_release(void *ctx)
-{
-    store_scene_release(ctx);
-}
-
-/* The channels whose uploads change light transport (scene_transport_hash's list). */
-static bool transport_channel(int ch)
-{
-    return ch == SCENE_CH_IOR || ch == SCENE_CH_ATTENUATION || ch == SCENE_CH_SCATTERING ||
-           ch == SCENE_CH_OPAQUE;
-}
-
-/* FNV-1a over the names and content checksums of the uploads the transport uses, in the
- * order the scene references them: an upload with new content is a new transport. */
-static uint64_t uploads_hash(const struct store_scene *v)
-{
-    uint64_t h = 14695981039346656037ull;
-    const struct scene *s = v->scene;
-    for (size_t o = 0; o < s->object_count; o++) {
-        for (int ch = 0; ch < SCENE_CH_COUNT; ch++) {
-            const struct scene_field *f = &s->objects[o].fields[ch];
-            for (size_t i = 0; transport_channel(ch) && i < f->count; i++) {
-                const struct scene_layer *l = &f->layers[i];
-                bool mesh = l->kind == SCENE_LAYER_SHAPE && l->shape.kind == SCENE_SHAPE_MESH;
-                if (l->kind != SCENE_LAYER_VOLUME && !mesh)
-                    continue;
-                uint64_t sum = 0;
-                for (size_t k = 0; !mesh && k < v->volume_count; k++) {
-                    if (strcmp(v->volumes[k]->name, l->volume) == 0)
-                        sum = v->volumes[k]->checksum;
-                }
-                for (size_t k = 0; mesh && k < v->mesh_count; k++) {
-                    if (strcmp(v->meshes[k]->name, l->shape.mesh) == 0)
-                        sum = v->meshes[k]->checksum;
-                }
-                const unsigned char *p = (const unsigned char *)&sum;
-                for (size_t b = 0; b < sizeof sum; b++)
-                    h = (h ^ p[b]) * 1099511628211ull;
-            }
-        }
-    }
-    return h;
-}
-
-void http_irradiance_source(struct store_scene *v, struct irradiance_source *out)
-{
-    *out = (struct irradiance_source){.scene_id = v->id,
-                                      .scene = v->scene,
-                                      .lookup = store_volume_lookup,
-                                      .lookup_ctx = v,
-                                      .uploads_hash = uploads_hash(v),
-                                      .retain = version_retain,
-                                      .release = version_release};
-}
 
 static void add_hex(cJSON *o, const char *name, uint64_t v)
 {
@@ -96,7 +21,7 @@ static void add_hex(cJSON *o, const char *name, uint64_t v)
 cJSON *http_irradiance_status(const struct http_app *app, struct store_scene *v)
 {
     struct irradiance_source src;
-    http_irradiance_source(v, &src);
+    view_irradiance_source(v, &src);
     struct irradiance_light_status st[SCENE_MAX_LIGHTS];
     int n = irradiance_cache_status(app->irradiance, &src, st);
     cJSON *root = cJSON_CreateObject();
@@ -156,7 +81,7 @@ enum MHD_Result http_handle_irradiance_exr(struct http_request *req)
     if (v == NULL)
         return answer;
     struct irradiance_source src;
-    http_irradiance_source(v, &src);
+    view_irradiance_source(v, &src);
     struct irradiance_volume vol;
     uint64_t key = 0;
     bool previous = false;

@@ -7,8 +7,8 @@
  * --max-mesh-triangles), and the answer says what was stored. Uploading under an
  * existing name replaces that mesh; the scene's GPU data is rebuilt.
  *
- * Known limit: the body is held in memory while it is parsed (up to --max-upload-bytes),
- * like the other uploads (h_uploads.c).
+ * The body arrives as a file streamed to <data>/tmp (server.c, HTTP_BODY_UPLOAD), never
+ * whole in memory; the store parses it mapped and keeps it as a blob (store_mesh.h).
  */
 #include <stdio.h>
 #include <string.h>
@@ -34,6 +34,7 @@ cJSON *http_mesh_json(const struct store_mesh *m)
     snprintf(sum, sizeof sum, "%016llx", (unsigned long long)m->checksum);
     cJSON_AddStringToObject(o, "checksum", sum);
     cJSON_AddNumberToObject(o, "bytes", (double)m->bytes);
+    cJSON_AddStringToObject(o, "sha256", m->info.sha256);
     return o;
 }
 
@@ -118,8 +119,11 @@ enum MHD_Result http_handle_mesh_post(struct http_request *req)
                                   "body");
     struct store_mesh *m = NULL;
     struct err e = {0};
-    if (store_mesh_put(req->app->store, req->params[0], name, req->body, req->body_len, format, &m,
-                       &e) != REFRACT_E_OK)
+    enum refract_code rc =
+        store_mesh_put_file(req->app->store, req->params[0], name, req->upload_path,
+                            req->upload_sha256, format, &m, &e);
+    req->upload_path[0] = '\0'; /* consumed by the store */
+    if (rc != REFRACT_E_OK)
         return http_respond_err(req, &e);
     cJSON *root = http_mesh_json(m);
     store_mesh_release(m);

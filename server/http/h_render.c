@@ -21,18 +21,6 @@
 #include "../io/io_image.h"
 #include "http_internal.h"
 
-/* After a build on the request path, record it like a background build would. */
-static void note_build(const struct http_app *app, const struct store_scene *v,
-                       const struct render_scene_status *rs)
-{
-    if (!rs->built_now)
-        return;
-    struct store_gpu_status st = {
-        .generation = v->generation, .gpu_bytes = rs->gpu_bytes, .build_ms = rs->build_ms};
-    snprintf(st.state, sizeof st.state, "ready");
-    store_gpu_status_set(app->store, v->id, &st);
-}
-
 /* ---- render ---------------------------------------------------------------------------- */
 
 struct render_job {
@@ -56,16 +44,8 @@ static void render_run(struct gpu_work *w, struct gpu *gpu)
     (void)gpu;
     struct http_request *req = w->user;
     struct render_job *job = req->job;
-    struct render_scene_source src = http_scene_source(job->version);
-    struct irradiance_source isrc;
-    http_irradiance_source(job->version, &isrc);
-    int count = 0;
-    job->irradiance = irradiance_cache_gather(req->app->irradiance, &isrc, job->lights, &count);
-    job->request.view.lights = job->lights;
-    job->request.view.light_count = count;
-    if (render_view(req->app->render, &src, &job->request.view, &job->result, &w->err) ==
-        REFRACT_E_OK)
-        note_build(req->app, job->version, &job->result.scene);
+    view_render_version(req->app->render, req->app->irradiance, req->app->store, job->version,
+                        &job->request.view, job->lights, &job->result, &job->irradiance, &w->err);
 }
 
 static enum refract_code encode(const struct render_job *job, void **bytes, size_t *len,
@@ -150,7 +130,7 @@ enum MHD_Result http_handle_render(struct http_request *req)
                                   &e) != REFRACT_E_OK)
         return http_respond_err(req, &e);
     struct irradiance_source isrc;
-    http_irradiance_source(v, &isrc);
+    view_irradiance_source(v, &isrc);
     irradiance_cache_request(req->app->irradiance, &isrc, false);
     req->work.label = "render";
     req->work.run = render_run;
@@ -182,7 +162,7 @@ static void trace_run(struct gpu_work *w, struct gpu *gpu)
     (void)gpu;
     struct http_request *req = w->user;
     struct trace_job *job = req->job;
-    struct render_scene_source src = http_scene_source(job->version);
+    struct render_scene_source src = view_scene_source(job->version);
     render_trace(req->app->render, &src, &job->settings, job->rays, job->count, job->hits,
                  &job->gpu_ms, &w->err);
 }

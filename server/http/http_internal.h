@@ -11,6 +11,9 @@
 #include <cjson/cJSON.h>
 #include <microhttpd.h>
 
+#include "../view/view.h"
+#include "../view/view_source.h"
+#include "../core/sha256.h"
 #include "http.h"
 
 #define HTTP_MAX_PARAMS 3
@@ -52,9 +55,20 @@ struct http_request {
     const struct http_route *route;
     char params[HTTP_MAX_PARAMS][HTTP_PARAM_MAX];
     int param_count;
-    char *body; /* owned; NUL-terminated */
+    char *body; /* owned; NUL-terminated; NULL for HTTP_BODY_UPLOAD routes */
     size_t body_len, body_cap, body_limit;
     bool body_too_large;
+    /* HTTP_BODY_UPLOAD routes: the body streams to a temporary file under <data>/tmp
+     * as it arrives, hashed on the way (server.c). When the handler runs, the file is
+     * complete and closed, upload_path names it and upload_sha256 is its SHA-256. A
+     * handler that hands the file on (renamed into the blob store) clears upload_path;
+     * otherwise the completion callback removes the file. A kill -9 leaves it for the
+     * start-up sweep. */
+    int upload_fd; /* -1 when not open */
+    char upload_path[1024];
+    struct sha256 upload_hash;
+    char upload_sha256[SHA256_HEX_SIZE];
+    struct err upload_err; /* code != OK when writing the file failed (answered at the end) */
     enum http_phase phase;
     double started_ms;
     /* Asynchronous GPU work (handler-specific). */
@@ -103,10 +117,36 @@ struct http_render_request {
     enum scene_tonemap tonemap;
 };
 
+/* An empty or all-space body means {}; otherwise jr_parse. *root is a new tree. */
+enum refract_code http_parse_body(const char *body, size_t len, cJSON **root, struct err *e);
+/* The readers shared by render requests and view sessions. Each starts from its default
+ * (def, or the values *exposure_ev, *tonemap, *jpeg_quality hold on entry) and changes
+ * only what root names; limits are the cfg's, with messages naming the flag.
+ *   camera: "camera" {eye, look_at, up, fov_y_deg} (merged into def), "width", "height";
+ *   settings: "integrator", "step", "max_steps", "boundary_threshold";
+ *   image options: "exposure", "tonemap", "jpeg_quality". */
+enum refract_code http_parse_camera(const cJSON *root, const struct scene_camera *def,
+                                    const struct http_config *cfg, struct scene_camera *out,
+                                    struct err *e);
+enum refract_code http_parse_settings(const cJSON *root, const struct scene_render_settings *def,
+                                      const struct http_config *cfg,
+                                      struct scene_render_settings *out, struct err *e);
+enum refract_code http_parse_image_options(const cJSON *root, double *exposure_ev,
+                                           enum scene_tonemap *tonemap, int *jpeg_quality,
+                                           struct err *e);
+
 /* Parses a render request against the scene's defaults. An empty body means "{}". */
 enum refract_code http_parse_render_request(const char *body, size_t len, const struct scene *scene,
                                             const struct http_config *cfg,
                                             struct http_render_request *out, struct err *e);
+
+/* Parses a view session's body (create or PATCH; view_request.c) on top of `current`
+ * (the session's settings, or view_settings_defaults for a new one); scene resolves the
+ * quality preset. Every field is optional. */
+enum refract_code http_parse_view_settings(const char *body, size_t len, const struct scene *scene,
+                                           const struct http_config *cfg,
+                                           const struct view_settings *current,
+                                           struct view_settings *out, struct err *e);
 
 /* Parses a trace request; *rays is a new array (caller frees) of *count rays. */
 enum refract_code http_parse_trace_request(const char *body, size_t len, const struct scene *scene,
@@ -115,6 +155,17 @@ enum refract_code http_parse_trace_request(const char *body, size_t len, const s
                                            struct render_trace_ray **rays, size_t *count,
                                            struct err *e);
 
+/* ---- volume uploads (upload_volume.c) ---- */
+
+/* Decodes the upload of req (query: format, dims, type, components, scale, offset;
+ * docs/api.md "Volume uploads") as volume `name` of the scene in params[0], checks its
+ * values against the channels the scene uses it for, and stores it. Answers errors
+ * itself (returns false; *answer holds the result); on success *out is a new
+ * reference the caller releases. */
+bool http_volume_upload(struct http_request *req, const char *name, struct store_volume **out,
+                        enum MHD_Result *answer);
+/* The 201 body describing a stored volume. */
+cJSON *http_volume_json(const struct store_volume *vol);
 /* The first query parameter of req that is not in `allowed` (NULL-terminated), or NULL:
  * a misspelt parameter is an error, never silently its default. */
 const char *http_query_unknown(struct http_request *req, const char *const *allowed);
@@ -135,6 +186,17 @@ enum MHD_Result http_handle_lights_put(struct http_request *req);
 enum MHD_Result http_handle_light_put(struct http_request *req);
 enum MHD_Result http_handle_irradiance_get(struct http_request *req);
 enum MHD_Result http_handle_irradiance_exr(struct http_request *req);
+enum MHD_Result http_handle_view_create(struct http_request *req);
+enum MHD_Result http_handle_view_list(struct http_request *req);
+enum MHD_Result http_handle_view_get(struct http_request *req);
+enum MHD_Result http_handle_view_patch(struct http_request *req);
+enum MHD_Result http_handle_view_delete(struct http_request *req);
+enum MHD_Result http_handle_view_stream(struct http_request *req);
+/* The web viewer (h_web.c). */
+enum MHD_Result http_handle_web_index(struct http_request *req);
+enum MHD_Result http_handle_web_viewer(struct http_request *req);
+enum MHD_Result http_handle_web_asset(struct http_request *req);
+enum MHD_Result http_handle_storage(struct http_request *req);
 enum MHD_Result http_handle_events(struct http_request *req);
 enum MHD_Result http_handle_scene_events(struct http_request *req);
 
@@ -152,14 +214,10 @@ void http_publish_scene(const struct http_app *app, const char *type, const char
                         const struct store_scene *version, const char *what);
 
 /* ---- irradiance (h_irradiance.c) ---- */
-struct irradiance_source;
-/* What the irradiance cache needs of a version (borrowed for as long as v). */
-void http_irradiance_source(struct store_scene *v, struct irradiance_source *out);
 /* The irradiance status body (docs/api.md) of a version. */
 cJSON *http_irradiance_status(const struct http_app *app, struct store_scene *v);
-/* The renderer's description of a version (render_scene_source.generation is the
- * version's data_generation: a lights change does not rebuild the scene's GPU data). */
-struct render_scene_source http_scene_source(struct store_scene *v);
+/* A version as render and irradiance source: view_scene_source and
+ * view_irradiance_source (server/view/view_source.h, shared with the view sessions). */
 
 /* Looks up the scene named by the first path parameter; answers 404 and returns NULL when
  * it does not exist. Returns a new reference. */

@@ -14,8 +14,7 @@ static const char *const integrator_names[] = {"euler", "rk4", NULL};
 static const char *const tonemap_names[] = {"clamp", "filmic", NULL};
 static const char *const format_names[] = {"png", "jpeg", "exr", NULL};
 
-/* An empty or all-space body means {}. */
-static enum refract_code parse_body(const char *body, size_t len, cJSON **root, struct err *e)
+enum refract_code http_parse_body(const char *body, size_t len, cJSON **root, struct err *e)
 {
     size_t i = 0;
     while (i < len && (body[i] == ' ' || body[i] == '\n' || body[i] == '\r' || body[i] == '\t'))
@@ -40,12 +39,11 @@ static enum refract_code limited_int(const cJSON *root, const char *key, int def
     return rc;
 }
 
-/* The settings keys shared by render and trace requests. */
-static enum refract_code parse_settings(const cJSON *root, const struct scene *scene,
-                                        const struct http_config *cfg,
-                                        struct scene_render_settings *st, struct err *e)
+enum refract_code http_parse_settings(const cJSON *root, const struct scene_render_settings *def,
+                                      const struct http_config *cfg,
+                                      struct scene_render_settings *st, struct err *e)
 {
-    *st = scene->render;
+    *st = *def;
     int integrator = (int)st->integrator;
     enum refract_code rc =
         jr_enum(root, "", "integrator", false, integrator, integrator_names, &integrator, e);
@@ -61,12 +59,12 @@ static enum refract_code parse_settings(const cJSON *root, const struct scene *s
     return rc;
 }
 
-static enum refract_code parse_camera(const cJSON *root, const struct scene *scene,
-                                      const struct http_config *cfg, struct scene_camera *cam,
-                                      struct err *e)
+enum refract_code http_parse_camera(const cJSON *root, const struct scene_camera *def,
+                                    const struct http_config *cfg, struct scene_camera *cam,
+                                    struct err *e)
 {
     static const char *const keys[] = {"eye", "look_at", "up", "fov_y_deg", NULL};
-    *cam = scene->camera;
+    *cam = *def;
     const cJSON *c = cJSON_GetObjectItemCaseSensitive(root, "camera");
     enum refract_code rc = REFRACT_E_OK;
     if (c) {
@@ -76,7 +74,9 @@ static enum refract_code parse_camera(const cJSON *root, const struct scene *sce
         if (rc == REFRACT_E_OK)
             rc = jr_vec3(c, "camera", "look_at", false, cam->look_at, -1e6, 1e6, &cam->look_at, e);
         if (rc == REFRACT_E_OK)
-            rc = jr_vec3(c, "camera", "up", false, cam->up, -1e6, 1e6, &cam->up, e);
+            /* jr_direction, as the scene parser: a zero or underflowing up vector was
+             * reported as "parallel to the view direction", which it is not. */
+            rc = jr_direction(c, "camera", "up", false, cam->up, &cam->up, e);
         if (rc == REFRACT_E_OK)
             rc = jr_number_gt(c, "camera", "fov_y_deg", false, cam->fov_y_deg, 0.1, 179.0,
                               &cam->fov_y_deg, e);
@@ -108,6 +108,20 @@ static enum refract_code parse_camera(const cJSON *root, const struct scene *sce
     return REFRACT_E_OK;
 }
 
+enum refract_code http_parse_image_options(const cJSON *root, double *exposure_ev,
+                                           enum scene_tonemap *tonemap, int *jpeg_quality,
+                                           struct err *e)
+{
+    int tm = (int)*tonemap;
+    enum refract_code rc = jr_enum(root, "", "tonemap", false, tm, tonemap_names, &tm, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_number(root, "", "exposure", false, *exposure_ev, -20.0, 20.0, exposure_ev, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_int(root, "", "jpeg_quality", false, *jpeg_quality, 1, 100, jpeg_quality, e);
+    *tonemap = (enum scene_tonemap)tm;
+    return rc;
+}
+
 enum refract_code http_parse_render_request(const char *body, size_t len, const struct scene *scene,
                                             const struct http_config *cfg,
                                             struct http_render_request *out, struct err *e)
@@ -117,26 +131,24 @@ enum refract_code http_parse_render_request(const char *body, size_t len, const 
         "integrator", "step",  "max_steps", "jpeg_quality", "boundary_threshold", NULL};
     memset(out, 0, sizeof *out);
     cJSON *root = NULL;
-    enum refract_code rc = parse_body(body, len, &root, e);
+    enum refract_code rc = http_parse_body(body, len, &root, e);
     if (rc != REFRACT_E_OK)
         return rc;
     rc = jr_check_object(root, "", keys, e);
     if (rc == REFRACT_E_OK)
-        rc = parse_camera(root, scene, cfg, &out->view.camera, e);
+        rc = http_parse_camera(root, &scene->camera, cfg, &out->view.camera, e);
     if (rc == REFRACT_E_OK)
-        rc = parse_settings(root, scene, cfg, &out->view.settings, e);
-    int format = HTTP_FORMAT_PNG, tonemap = (int)scene->render.tonemap;
+        rc = http_parse_settings(root, &scene->render, cfg, &out->view.settings, e);
+    int format = HTTP_FORMAT_PNG;
     if (rc == REFRACT_E_OK)
         rc = jr_enum(root, "", "format", false, HTTP_FORMAT_PNG, format_names, &format, e);
+    out->exposure_ev = scene->render.exposure_ev;
+    out->tonemap = scene->render.tonemap;
+    out->jpeg_quality = 90;
     if (rc == REFRACT_E_OK)
-        rc = jr_enum(root, "", "tonemap", false, tonemap, tonemap_names, &tonemap, e);
-    if (rc == REFRACT_E_OK)
-        rc = jr_number(root, "", "exposure", false, scene->render.exposure_ev, -20.0, 20.0,
-                       &out->exposure_ev, e);
-    if (rc == REFRACT_E_OK)
-        rc = jr_int(root, "", "jpeg_quality", false, 90, 1, 100, &out->jpeg_quality, e);
+        rc =
+            http_parse_image_options(root, &out->exposure_ev, &out->tonemap, &out->jpeg_quality, e);
     out->format = format;
-    out->tonemap = (enum scene_tonemap)tonemap;
     cJSON_Delete(root);
     return rc;
 }
@@ -180,7 +192,7 @@ enum refract_code http_parse_trace_request(const char *body, size_t len, const s
         return rc;
     rc = jr_check_object(root, "", keys, e);
     if (rc == REFRACT_E_OK)
-        rc = parse_settings(root, scene, cfg, settings, e);
+        rc = http_parse_settings(root, &scene->render, cfg, settings, e);
     const cJSON *list = cJSON_GetObjectItemCaseSensitive(root, "rays");
     if (rc == REFRACT_E_OK && list == NULL)
         rc = err_set(e, REFRACT_E_MISSING_FIELD,

@@ -1,6 +1,6 @@
 /*
- * routes.c - the route table of API v1 and path matching. proto/openapi.yaml documents
- * exactly these routes; tests/integration/test_openapi_contract.c checks both ways.
+ * routes.c - the route table of API v1 and of the web viewer, and path matching. proto/openapi.yaml
+ * documents exactly these routes; tests/integration/test_openapi_contract.c checks both ways.
  */
 #include <stdio.h>
 #include <string.h>
@@ -9,7 +9,13 @@
 #include "routes.h"
 
 static const struct http_route routes[] = {
+    /* The web viewer (h_web.c): pages and their assets, outside /v1. */
+    {"GET", "/", http_handle_web_index, HTTP_BODY_NONE},
+    {"GET", "/viewer/{id}", http_handle_web_viewer, HTTP_BODY_NONE},
+    {"GET", "/assets/{file}", http_handle_web_asset, HTTP_BODY_NONE},
+    /* API v1. */
     {"GET", "/v1/health", http_handle_health, HTTP_BODY_NONE},
+    {"GET", "/v1/storage", http_handle_storage, HTTP_BODY_NONE},
     {"GET", "/v1/scenes", http_handle_scene_list, HTTP_BODY_NONE},
     {"POST", "/v1/scenes", http_handle_scene_create, HTTP_BODY_JSON},
     {"GET", "/v1/scenes/{id}", http_handle_scene_get, HTTP_BODY_NONE},
@@ -24,6 +30,12 @@ static const struct http_route routes[] = {
     {"PUT", "/v1/scenes/{id}/lights/{name}", http_handle_light_put, HTTP_BODY_JSON},
     {"GET", "/v1/scenes/{id}/irradiance", http_handle_irradiance_get, HTTP_BODY_NONE},
     {"GET", "/v1/scenes/{id}/irradiance/{light}.exr", http_handle_irradiance_exr, HTTP_BODY_NONE},
+    {"POST", "/v1/scenes/{id}/views", http_handle_view_create, HTTP_BODY_JSON},
+    {"GET", "/v1/views", http_handle_view_list, HTTP_BODY_NONE},
+    {"GET", "/v1/views/{vid}", http_handle_view_get, HTTP_BODY_NONE},
+    {"PATCH", "/v1/views/{vid}", http_handle_view_patch, HTTP_BODY_JSON},
+    {"DELETE", "/v1/views/{vid}", http_handle_view_delete, HTTP_BODY_NONE},
+    {"GET", "/v1/views/{vid}/stream", http_handle_view_stream, HTTP_BODY_NONE},
     {"GET", "/v1/scenes/{id}/events", http_handle_scene_events, HTTP_BODY_NONE},
     {"GET", "/v1/events", http_handle_events, HTTP_BODY_NONE},
 };

@@ -6,11 +6,14 @@
  *   1. first call: allocate struct http_request into *con_cls, find the route, reject an
  *      oversized Content-Length at once;
  *   2. calls with upload data: append to the body (or drain it when over the limit);
+ *      an HTTP_BODY_UPLOAD route's body goes to a temporary file instead, hashed as it
+ *      arrives, so an upload of any size costs no memory (http_internal.h);
  *   3. the call with no more data: run the route's handler, which answers or suspends;
  *   4. after a resume (the GPU finished): run on_resume, which answers.
  * The completion callback frees the request: one owner, one free.
  */
 #include <arpa/inet.h>
+#include <errno.h>
 #include <stdatomic.h>
 #include <time.h>
 #include <netinet/in.h>
@@ -40,12 +43,24 @@ struct http_stream_set *http_server_streams(const struct http_server *srv)
     return srv->streams;
 }
 
+/* Closes and removes the streamed upload file, unless a handler took it. */
+static void upload_discard(struct http_request *req)
+{
+    if (req->upload_fd >= 0)
+        close(req->upload_fd);
+    req->upload_fd = -1;
+    if (req->upload_path[0])
+        unlink(req->upload_path);
+    req->upload_path[0] = '\0';
+}
+
 static void request_free(struct http_request *req)
 {
     struct http_server *srv = (struct http_server *)req->server;
     atomic_fetch_sub(&srv->active_requests, 1);
     if (req->job && req->job_free)
         req->job_free(req->job);
+    upload_discard(req);
     free(req->body);
     free(req);
 }
@@ -95,6 +110,7 @@ static struct http_request *request_begin(struct http_server *srv, struct MHD_Co
     req->cfg = &srv->cfg;
     req->app = &srv->app;
     req->started_ms = gpu_time_ms();
+    req->upload_fd = -1;
     req->sse = srv->sse;
     bool path_known = false;
     req->route = http_route_find(method, url, req->params, &req->param_count, &path_known);
@@ -119,6 +135,54 @@ static enum MHD_Result answer_no_route(struct http_request *req, const char *url
                               method, url);
 }
 
+/* HTTP_BODY_UPLOAD: appends a chunk to the body's temporary file (opened on the first
+ * chunk), hashing it. A write failure is recorded and answered once the body is in. */
+static void upload_append(struct http_request *req, const char *data, size_t size)
+{
+    if (req->upload_err.code != REFRACT_E_OK)
+        return;
+    if (req->upload_fd < 0 && req->upload_path[0] == '\0') {
+        req->upload_fd = store_upload_tmp_create(req->app->store, req->upload_path,
+                                                 sizeof req->upload_path, &req->upload_err);
+        if (req->upload_fd < 0) {
+            req->upload_path[0] = '\0';
+            return;
+        }
+        sha256_init(&req->upload_hash);
+    }
+    sha256_update(&req->upload_hash, data, size);
+    while (size > 0) {
+        ssize_t n = write(req->upload_fd, data, size);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0) {
+            err_set(&req->upload_err, REFRACT_E_STORAGE,
+                    "refractd could not write the upload to its data directory: %s (disk "
+                    "full?)",
+                    n < 0 ? strerror(errno) : "short write");
+            upload_discard(req);
+            return;
+        }
+        data += n;
+        size -= (size_t)n;
+    }
+}
+
+/* The whole upload body is in: closes its file (creating an empty one for an empty
+ * body, so handlers always have a file) and finishes the hash. */
+static void upload_finish(struct http_request *req)
+{
+    if (req->upload_err.code != REFRACT_E_OK)
+        return;
+    if (req->upload_fd < 0 && req->upload_path[0] == '\0')
+        upload_append(req, "", 0);
+    if (req->upload_fd >= 0) {
+        close(req->upload_fd);
+        req->upload_fd = -1;
+        sha256_final_hex(&req->upload_hash, req->upload_sha256);
+    }
+}
+
 static bool body_append(struct http_request *req, const char *data, size_t size)
 {
     if (req->body_too_large || req->route == NULL || req->route->body == HTTP_BODY_NONE)
@@ -128,6 +192,12 @@ static bool body_append(struct http_request *req, const char *data, size_t size)
         free(req->body);
         req->body = NULL;
         req->body_len = req->body_cap = 0;
+        upload_discard(req);
+        return true;
+    }
+    if (req->route->body == HTTP_BODY_UPLOAD) {
+        upload_append(req, data, size);
+        req->body_len += size;
         return true;
     }
     if (req->body_len + size + 1 > req->body_cap) {
@@ -195,6 +265,11 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
         return req->on_resume(req);
     if (req->body_too_large)
         return answer_too_large(req, 0);
+    if (req->route->body == HTTP_BODY_UPLOAD) {
+        upload_finish(req);
+        if (req->upload_err.code != REFRACT_E_OK)
+            return http_respond_err(req, &req->upload_err);
+    }
     return req->route->handler(req);
 }
 

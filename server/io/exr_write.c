@@ -20,13 +20,17 @@
  * io_encode_exr_channels writes any set of named float channels (the irradiance volumes'
  * R, G, B, dir.X..dir.W) and string header attributes; io_encode_exr is its RGBA case.
  *
- * Not here: reading (exr_read.c), half floats, tiles, multi-part files.
+ * io_encode_exr_parts writes `parts` parts of the same size and channels (one volume
+ * slice per part, the layout volume_exr.c reads).
+ *
+ * Not here: reading (exr_read.c), half floats, tiles.
  */
 #include "io_exr.h"
 #include "io_image.h"
 
 #include <openexr.h>
 #include <stdbool.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -125,10 +129,14 @@ static int channel_index(const struct exr_layout *lo, const char *name)
  * attributes (name, value pairs). Colour channels (R, G, B) are perceptually
  * logarithmic; everything else is linear data. */
 static exr_result_t define_part(exr_context_t ctxt, const struct exr_layout *lo,
-                                const char *const *attrs)
+                                const char *const *attrs, int parts)
 {
     int part = 0;
-    exr_result_t rv = exr_add_part(ctxt, "rgba", EXR_STORAGE_SCANLINE, &part);
+    char name[32] = "rgba";
+    if (parts > 1)
+        snprintf(name, sizeof name, "slice%d",
+                 exr_get_count(ctxt, &part) == EXR_ERR_SUCCESS ? part : 0);
+    exr_result_t rv = exr_add_part(ctxt, name, EXR_STORAGE_SCANLINE, &part);
     if (rv == EXR_ERR_SUCCESS)
         rv = exr_initialize_required_attr_simple(ctxt, part, lo->width, lo->height,
                                                  EXR_COMPRESSION_ZIP);
@@ -160,11 +168,11 @@ static void bind_channels(exr_encode_pipeline_t *pipe, const struct exr_layout *
 }
 
 /* Encodes and writes every chunk of the part, top to bottom. */
-static enum refract_code write_chunks(exr_context_t ctxt, const struct exr_layout *lo,
+static enum refract_code write_chunks(exr_context_t ctxt, int part, const struct exr_layout *lo,
                                       struct exr_membuf *mb)
 {
     int32_t lines_per_chunk = 0;
-    exr_result_t rv = exr_get_scanlines_per_chunk(ctxt, 0, &lines_per_chunk);
+    exr_result_t rv = exr_get_scanlines_per_chunk(ctxt, part, &lines_per_chunk);
     if (rv != EXR_ERR_SUCCESS || lines_per_chunk < 1)
         return exr_fail(mb, rv, "exr_get_scanlines_per_chunk");
 
@@ -173,24 +181,24 @@ static enum refract_code write_chunks(exr_context_t ctxt, const struct exr_layou
     enum refract_code code = REFRACT_E_OK;
     for (int y = 0; y < lo->height && code == REFRACT_E_OK; y += lines_per_chunk) {
         exr_chunk_info_t cinfo;
-        rv = exr_write_scanline_chunk_info(ctxt, 0, y, &cinfo);
+        rv = exr_write_scanline_chunk_info(ctxt, part, y, &cinfo);
         if (rv != EXR_ERR_SUCCESS) {
             code = exr_fail(mb, rv, "exr_write_scanline_chunk_info");
             break;
         }
         if (!have_pipe) {
-            rv = exr_encoding_initialize(ctxt, 0, &cinfo, &pipe);
+            rv = exr_encoding_initialize(ctxt, part, &cinfo, &pipe);
             have_pipe = rv == EXR_ERR_SUCCESS;
         } else {
-            rv = exr_encoding_update(ctxt, 0, &cinfo, &pipe);
+            rv = exr_encoding_update(ctxt, part, &cinfo, &pipe);
         }
         if (rv == EXR_ERR_SUCCESS) {
             bind_channels(&pipe, lo, y);
             if (y == 0)
-                rv = exr_encoding_choose_default_routines(ctxt, 0, &pipe);
+                rv = exr_encoding_choose_default_routines(ctxt, part, &pipe);
         }
         if (rv == EXR_ERR_SUCCESS)
-            rv = exr_encoding_run(ctxt, 0, &pipe);
+            rv = exr_encoding_run(ctxt, part, &pipe);
         if (rv != EXR_ERR_SUCCESS)
             code = exr_fail(mb, rv, "encoding a chunk");
     }
@@ -205,12 +213,19 @@ enum refract_code io_encode_exr_channels(const float *pixels, int width, int hei
                                          const char *const *names, const char *const *attrs,
                                          void **out_bytes, size_t *out_len, struct err *e)
 {
+    return io_encode_exr_parts(pixels, width, height, 1, nch, names, attrs, out_bytes, out_len, e);
+}
+
+enum refract_code io_encode_exr_parts(const float *pixels, int width, int height, int parts,
+                                      int nch, const char *const *names, const char *const *attrs,
+                                      void **out_bytes, size_t *out_len, struct err *e)
+{
     *out_bytes = NULL;
     *out_len = 0;
-    if (width < 1 || height < 1)
+    if (width < 1 || height < 1 || parts < 1)
         return err_set(e, REFRACT_E_INVALID_FIELD,
-                       "EXR encode: image is %d x %d; both sides must be at least 1", width,
-                       height);
+                       "EXR encode: image is %d x %d x %d parts; each must be at least 1", width,
+                       height, parts);
 
     struct err local;
     struct exr_membuf mb = {.e = e ? e : &local};
@@ -234,13 +249,18 @@ enum refract_code io_encode_exr_channels(const float *pixels, int width, int hei
     enum refract_code code = REFRACT_E_OK;
     struct exr_layout lo = {
         .pixels = pixels, .width = width, .height = height, .nch = nch, .names = names};
-    rv = define_part(ctxt, &lo, attrs);
+    rv = EXR_ERR_SUCCESS;
+    for (int p = 0; p < parts && rv == EXR_ERR_SUCCESS; p++)
+        rv = define_part(ctxt, &lo, attrs, parts);
     if (rv == EXR_ERR_SUCCESS)
         rv = exr_write_header(ctxt);
     if (rv != EXR_ERR_SUCCESS)
         code = exr_fail(&mb, rv, "writing the header");
-    if (code == REFRACT_E_OK)
-        code = write_chunks(ctxt, &lo, &mb);
+    size_t part_floats = (size_t)width * (size_t)height * (size_t)nch;
+    for (int p = 0; p < parts && code == REFRACT_E_OK; p++) {
+        lo.pixels = pixels + (size_t)p * part_floats;
+        code = write_chunks(ctxt, p, &lo, &mb);
+    }
     /* exr_finish writes the chunk offset table, so its result matters. */
     rv = exr_finish(&ctxt);
     if (code == REFRACT_E_OK && rv != EXR_ERR_SUCCESS)

@@ -24,6 +24,12 @@ enum refract_code io_encode_exr_channels(const float *pixels, int width, int hei
                                          const char *const *names, const char *const *attrs,
                                          void **out_bytes, size_t *out_len, struct err *e);
 
+/* The same as `parts` parts ("slice0", "slice1", ...) of width x height pixels each;
+ * pixels holds the parts one after another. */
+enum refract_code io_encode_exr_parts(const float *pixels, int width, int height, int parts,
+                                      int nch, const char *const *names, const char *const *attrs,
+                                      void **out_bytes, size_t *out_len, struct err *e);
+
 /* Reads the channels `names` (nch of them, each must exist) of the file's first part into
  * *out_pixels (width * height * nch floats, interleaved in the order of names). When
  * attr_name is not NULL, the string attribute of that name is copied into attr_value

@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -146,4 +147,38 @@ enum refract_code io_remove_tree(const char *path, struct err *e)
     if (unlink(path) != 0)
         return err_set(e, REFRACT_E_STORAGE, "cannot remove %s: %s", path, strerror(errno));
     return REFRACT_E_OK;
+}
+
+enum refract_code io_map_file(const char *path, const void **map, size_t *len, struct err *e)
+{
+    *map = NULL;
+    *len = 0;
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    struct stat st;
+    if (fd < 0 || fstat(fd, &st) != 0) {
+        int saved = errno;
+        if (fd >= 0)
+            close(fd);
+        return err_set(e, REFRACT_E_STORAGE, "cannot read %s: %s", path, strerror(saved));
+    }
+    *len = (size_t)st.st_size;
+    if (*len > 0) {
+        void *p = mmap(NULL, *len, PROT_READ, MAP_PRIVATE, fd, 0);
+        if (p == MAP_FAILED) {
+            int saved = errno;
+            close(fd);
+            *len = 0;
+            return err_set(e, REFRACT_E_STORAGE, "cannot map %s: %s", path, strerror(saved));
+        }
+        madvise(p, *len, MADV_SEQUENTIAL);
+        *map = p;
+    }
+    close(fd);
+    return REFRACT_E_OK;
+}
+
+void io_unmap_file(const void *map, size_t len)
+{
+    if (map != NULL)
+        munmap((void *)map, len);
 }

@@ -18,6 +18,9 @@ enum refract_code io_write_atomic(const char *path, const void *data, size_t len
 /* Reads a whole file: *out is a new buffer (NUL-terminated, caller frees), *len its size. */
 enum refract_code io_read_file(const char *path, size_t max_len, char **out, size_t *len,
                                struct err *e);
+/* Maps a whole file read-only: *map (NULL for an empty file) until io_unmap_file. */
+enum refract_code io_map_file(const char *path, const void **map, size_t *len, struct err *e);
+void io_unmap_file(const void *map, size_t len);
 /* rm -r; missing paths are fine. */
 enum refract_code io_remove_tree(const char *path, struct err *e);
 

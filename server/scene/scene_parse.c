@@ -116,10 +116,13 @@ static enum refract_code check_camera(const struct scene_camera *c, struct err *
 {
     char a[100], b[100];
     vec3 view = vec3_sub(c->look_at, c->eye);
-    if (vec3_length(view) == 0.0)
+    /* The same rule as a render request's camera (http/request_parse.c): a scene whose
+     * eye and look_at are closer than 1e-9 was accepted here, then refused by every
+     * render that did not override its camera. */
+    if (vec3_length(view) < 1e-9)
         return err_set(e, REFRACT_E_INVALID_FIELD,
-                       "camera.look_at: equals camera.eye (%s); the camera needs a point to look "
-                       "at that differs from where it stands",
+                       "camera.look_at: equals camera.eye (%s) or lies within 1e-9 of it; the "
+                       "camera needs a point to look at that differs from where it stands",
                        fmt_vec3(c->eye, a, sizeof a));
     vec3 f = vec3_normalize(view);
     if (vec3_length(vec3_cross(f, vec3_normalize(c->up))) < 1e-9)
@@ -211,11 +214,25 @@ static enum refract_code parse_bounds(const cJSON *obj, const char *path, struct
         rc = jr_vec3(b, p, "max", true, vec3_make(0, 0, 0), -m, m, &o->bounds_max, e);
     for (int a = 0; rc == REFRACT_E_OK && a < 3; a++) {
         double lo = vec3_get(o->bounds_min, a), hi = vec3_get(o->bounds_max, a);
+        /* The GPU marches in single precision in object space: an extent that rounds to
+         * zero in float (1e-300) made every voxel size 0 and every traced value NaN, and
+         * one below ~1e-4 of its coordinates makes voxels that float positions cannot
+         * tell apart (tests/integration/test_hard_inputs.c). Tiny objects are made with
+         * transform.scale instead. */
+        double least =
+            fmax(SCENE_BOUNDS_MIN_EXTENT, SCENE_BOUNDS_MIN_RELATIVE * fmax(fabs(lo), fabs(hi)));
         if (!(hi > lo))
             rc = err_set(e, REFRACT_E_INVALID_FIELD,
                          "%s: max must be greater than min on every axis; on %c, min = %g and "
                          "max = %g",
                          p, axis_names[a], lo, hi);
+        else if (hi - lo < least)
+            rc = err_set(e, REFRACT_E_INVALID_FIELD,
+                         "%s: too thin on %c: max - min = %g, at least %g needed here (1e-6, "
+                         "and 1e-4 of the largest |coordinate|, so that single-precision "
+                         "positions can tell the voxels apart); make the bounds larger and "
+                         "shrink the object with transform.scale",
+                         p, axis_names[a], hi - lo, least);
     }
     return rc;
 }
@@ -266,7 +283,9 @@ static enum refract_code parse_transform(const cJSON *obj, const char *path, str
         if (rc == REFRACT_E_OK)
             rc = jr_vec3(t, p, "translate", false, translate, -m, m, &translate, e);
         if (rc == REFRACT_E_OK)
-            rc = jr_number_gt(t, p, "scale", false, 1.0, 0.0, m, &scale, e);
+            /* Not below 1e-6: a scale that rounds to zero in single precision (1e-30,
+             * 1e-300) gave the GPU an infinite object_from_world and NaN traces. */
+            rc = jr_number(t, p, "scale", false, 1.0, SCENE_SCALE_MIN, m, &scale, e);
         const cJSON *r = member(t, "rotate");
         if (rc == REFRACT_E_OK && r != NULL) {
             rc = jr_check_object(r, pr, rot_keys, e);

@@ -15,6 +15,12 @@
 
 /* Largest coordinate, length or scale a scene may use, in object or world units. */
 #define SCENE_COORD_MAX 1e6
+/* Smallest transform.scale, and smallest bounds extent per axis: absolute (object units)
+ * and relative to the largest |coordinate| of the bounds on that axis. Below them the
+ * GPU's single-precision march cannot represent the object (docs/scenes.md). */
+#define SCENE_SCALE_MIN 1e-6
+#define SCENE_BOUNDS_MIN_EXTENT 1e-6
+#define SCENE_BOUNDS_MIN_RELATIVE 1e-4
 
 /* What a channel's parser needs to know about the document around it. Borrowed. */
 struct scene_parse_ctx {

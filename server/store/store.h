@@ -8,15 +8,26 @@
  * the version it started with until it releases it. So a render never sees a half-made
  * change, and readers need no lock beyond the slot lookup.
  *
- * Persistence: every accepted document and upload is written to the data directory
- * (write to a temporary name, fsync, rename) before the call returns, and everything is
- * loaded again at start-up:
- *     <data>/scenes/<id>/scene.json
- *     <data>/scenes/<id>/volumes/<name>.f32   raw little-endian float32
- *     <data>/scenes/<id>/volumes/<name>.json  {"dims": [x, y, z], "components": c}
- *     <data>/scenes/<id>/environment.img      the uploaded image file, as sent
- *     <data>/scenes/<id>/meshes/<name>.obj|.ply  uploaded meshes, as sent (store_mesh.h)
- * (issue 5 replaces this with SQLite metadata and content-addressed blobs.)
+ * Persistence (docs/ARCHITECTURE.md, "Data directory"): metadata in SQLite (WAL,
+ * synchronous=FULL), content in immutable content-addressed blob files:
+ *     <data>/refract.db (+ -wal, -shm)   scenes, uploads, jobs, job_frames, meta
+ *     <data>/blobs/<aa>/<sha256>          volumes as little-endian float32 (x fastest,
+ *                                         components interleaved), environment images
+ *                                         and meshes (OBJ or PLY) as uploaded; <aa> = the
+ *                                         hash's first 2 digits
+ *     <data>/tmp/                         uploads being received and blobs being written;
+ *                                         emptied at start-up
+ *     <data>/irradiance/                  the irradiance cache's own files (cache_disk.c)
+ * A blob is written to <data>/tmp, fsynced, renamed into blobs/ and its directory
+ * fsynced before the row naming it is committed; so every committed row names a
+ * complete blob, and a crash leaves at most an orphan blob (collected at start-up) or a
+ * temporary file (removed at start-up). Every accepted change is committed before the
+ * call returns. A data directory in the file layout of before (scenes/<id>/scene.json,
+ * volumes/<name>.f32 + .json, environment.img, meshes/<name>.obj|.ply) is converted on first open and kept as
+ * scenes.migrated/ (store_migrate.c).
+ *
+ * Volumes are mapped from their blob files (read-only): a volume costs page cache, not
+ * heap, and the HTTP upload path never holds a whole volume in memory.
  *
  * Ownership: functions returning a struct store_scene * return a new reference that the
  * caller releases with store_scene_release(). Thread: any; the store locks internally.
@@ -29,18 +40,35 @@
 #include <stdint.h>
 
 #include "../core/err.h"
+#include "../core/sha256.h"
 #include "../scene/scene.h"
 
 #define STORE_ID_MAX 64
+
+/* What an upload's row records; the 201 answer of an upload reports it. */
+struct store_upload_info {
+    int dims[3];           /* volumes; environments: width, height, 1 */
+    int components;        /* 1 or 3 (volumes), 4 (environments: RGBA after decoding) */
+    char type[16];         /* source sample type ("float32", "uint8", ...; "image") */
+    char format[8];        /* "raw", "nrrd", "exr"; "image" for environments */
+    double min[3], max[3]; /* per component, as stored */
+    double min_all, max_all;
+    uint64_t checksum;            /* FNV-1a 64 of the blob's bytes */
+    char sha256[SHA256_HEX_SIZE]; /* the blob's content address */
+    size_t bytes;                 /* the blob's size */
+    int64_t created_unix;
+};
 
 struct store_volume {
     atomic_int refs;
     char name[SCENE_VOLUME_NAME_MAX];
     struct scene_volume view; /* dims, components, data (points into `data`) */
-    float *data;              /* owned */
-    size_t count;             /* floats */
+    float *data;              /* owned: mapped from the blob (mapped) or malloc'd */
+    bool mapped;
+    size_t count; /* floats */
     double min, max;
     uint64_t checksum; /* FNV-1a 64 of the little-endian bytes */
+    struct store_upload_info info;
 };
 
 struct store_env {
@@ -48,6 +76,7 @@ struct store_env {
     int width, height;
     float *rgba; /* linear, row 0 at the top; owned */
     size_t source_bytes;
+    struct store_upload_info info;
 };
 
 struct store_scene {
@@ -80,16 +109,24 @@ struct store_gpu_status {
 };
 
 struct store_desc {
-    const char *data_dir;       /* created if missing */
-    struct scene_limits limits; /* for parsing documents */
-    int max_scenes;             /* 0 = 64 */
-    long long max_env_pixels;   /* 0 = 64M */
+    const char *data_dir;                 /* created if missing */
+    struct scene_limits limits;           /* for parsing documents */
+    int max_scenes;                       /* 0 = 64 */
+    long long max_env_pixels;             /* 0 = 64M */
+    unsigned long long max_storage_bytes; /* total blob bytes; 0 = unlimited */
+};
+
+/* What GET /v1/storage reports. */
+struct store_usage {
+    unsigned long long blob_bytes, blob_count, max_storage_bytes; /* 0 = unlimited */
+    long long scenes, uploads;
 };
 
 struct store;
 
-/* Opens (creating) the data directory and loads every scene in it. Scenes that no longer
- * parse are skipped with a warning (and left on disk). Returns a new store (close with
+/* Opens (creating) the data directory: removes temporary files, migrates the old
+ * layout, loads every scene and upload, collects orphan blobs. Scenes that no longer
+ * parse are skipped with a warning (and left in the database). Returns a new store (close with
  * store_close) or NULL with e filled. */
 struct store *store_open(const struct store_desc *desc, struct err *e);
 void store_close(struct store *s);
@@ -122,9 +159,30 @@ enum refract_code store_volume_put(struct store *s, const char *id, const char *
                                    struct store_volume **out, struct err *e);
 void store_volume_release(struct store_volume *v);
 
+/* Adds or replaces volume `name` of scene `id` from the canonical blob in file tmp_path
+ * (little-endian float32 as io_volume_decode writes it, described by info, whose sha256
+ * is the file's hash). Consumes tmp_path: it is renamed into the blob store or removed.
+ * Errors: SCENE_NOT_FOUND, LIMIT_EXCEEDED (volumes per scene), STORAGE (disk, or over
+ * --max-storage-bytes). */
+enum refract_code store_volume_put_file(struct store *s, const char *id, const char *name,
+                                        const struct store_upload_info *info, const char *tmp_path,
+                                        struct store_volume **out, struct err *e);
+
 /* Decodes and stores the environment image of scene `id` (bytes as uploaded). */
 enum refract_code store_env_put(struct store *s, const char *id, const void *bytes, size_t len,
                                 int *width, int *height, struct err *e);
+/* The same from the uploaded file tmp_path whose SHA-256 is sha256 (consumed like
+ * store_volume_put_file's). */
+enum refract_code store_env_put_file(struct store *s, const char *id, const char *tmp_path,
+                                     const char *sha256, int *width, int *height, struct err *e);
+
+/* Creates a new temporary file under <data>/tmp (removed at the next start-up if left
+ * behind): returns an fd open for writing and its path, or -1 with e filled (STORAGE).
+ * For request bodies streamed to disk (server/http/server.c). */
+int store_upload_tmp_create(struct store *s, char *path_out, size_t size, struct err *e);
+
+/* The data directory's use and limit. */
+void store_usage_get(struct store *s, struct store_usage *out);
 
 /* The scene_volume_lookup_fn of a version: ctx is a struct store_scene *. Names with
  * SCENE_MESH_LOOKUP_PREFIX find its meshes (store_mesh.h). */

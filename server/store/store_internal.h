@@ -1,24 +1,145 @@
 /*
- * store_internal.h - what store.c lends the store's other files (store_mesh.c): the
- * version edit under the store's lock, and the store's settings. Not used outside
+ * store_internal.h - what the store's files share: the store itself, the metadata
+ * database (store_db.c), the blob files (store_blob.c), the migration of the old
+ * file layout (store_migrate.c) and the meshes (store_mesh.c). Not used outside
  * server/store/.
+ *
+ * LOCKING: `lock` guards the slots, the statuses, the database connection and the
+ * blob directory's contents (blob_bytes included). Every function here named *_locked
+ * expects it held; the others take no lock.
  */
 #ifndef REFRACT_STORE_INTERNAL_H
 #define REFRACT_STORE_INTERNAL_H
 
+#include <pthread.h>
+#include <sqlite3.h>
+
 #include "store.h"
 
-/* Under the store's lock: fails with SCENE_NOT_FOUND unless scene `id` exists; runs
- * persist(scene_dir, ctx) when persist is not NULL; makes a new version of the scene (a
- * copy of the current one, with new references to its uploads), lets edit(v, ctx) change
- * it and installs it as current. Any step's error is returned and nothing is installed. */
-enum refract_code
-store_edit_version(struct store *s, const char *id,
-                   enum refract_code (*persist)(const char *scene_dir, void *ctx, struct err *e),
-                   enum refract_code (*edit)(struct store_scene *v, void *ctx, struct err *e),
-                   void *ctx, struct err *e);
+#define STORE_PATH_MAX 4096
+#define STORE_MAX_JSON_BYTES (64u << 20)
+#define STORE_MAX_VOLUMES_PER_SCENE 64
 
-/* The limits the store parses with (store_desc.limits). */
-const struct scene_limits *store_limits(const struct store *s);
+struct slot {
+    char id[STORE_ID_MAX];
+    struct store_scene *current;
+    struct store_gpu_status status;
+    bool has_status;
+};
+
+struct store {
+    pthread_mutex_t lock;
+    struct store_desc desc;
+    char data_dir[512];
+    struct slot *slots;
+    size_t slot_count, slot_cap;
+    atomic_uint_fast64_t next_generation;
+    sqlite3 *db;
+    unsigned long long blob_bytes; /* sum of the sizes of the files under <data>/blobs */
+    unsigned long long blob_count;
+};
+
+/* One row of the uploads table. */
+struct store_upload_row {
+    char scene[STORE_ID_MAX];
+    char name[SCENE_VOLUME_NAME_MAX];
+    char kind[16]; /* "volume", "environment", "mesh" */
+    struct store_upload_info info;
+};
+
+/* ---- store_db.c ---- */
+enum refract_code store_db_open(struct store *s, struct err *e);
+void store_db_close(struct store *s);
+enum refract_code store_db_begin_locked(struct store *s, struct err *e);
+enum refract_code store_db_commit_locked(struct store *s, struct err *e);
+void store_db_rollback_locked(struct store *s);
+enum refract_code store_db_scene_put_locked(struct store *s, const struct store_scene *v,
+                                            struct err *e);
+/* Deletes the scene's row and its uploads' rows; *blobs (may be NULL) gets a new array of
+ * the blob hashes those rows named (caller frees), *count their number. */
+enum refract_code store_db_scene_delete_locked(struct store *s, const char *id, bool keep_scene_row,
+                                               char (**blobs)[SHA256_HEX_SIZE], size_t *count,
+                                               struct err *e);
+/* Inserts or replaces an upload row; *old_blob gets the blob it replaced ("" if none). */
+enum refract_code store_db_upload_put_locked(struct store *s, const struct store_upload_row *row,
+                                             char old_blob[SHA256_HEX_SIZE], struct err *e);
+bool store_db_blob_referenced_locked(struct store *s, const char *hash);
+/* The bytes that replacing upload (scene, kind, name) would free: its blob's size when no
+ * other row names that blob, else 0. */
+size_t store_db_replace_credit_locked(struct store *s, const char *scene, const char *kind,
+                                      const char *name);
+typedef void (*store_db_scene_fn)(struct store *s, const char *id, const char *json, size_t len,
+                                  int64_t created, uint64_t generation, void *ctx);
+typedef void (*store_db_upload_fn)(struct store *s, const struct store_upload_row *row, void *ctx);
+enum refract_code store_db_each_scene(struct store *s, store_db_scene_fn fn, void *ctx,
+                                      struct err *e);
+enum refract_code store_db_each_upload(struct store *s, const char *scene, store_db_upload_fn fn,
+                                       void *ctx, struct err *e);
+/* meta table: key/value strings. get returns false when absent. */
+bool store_db_meta_get_locked(struct store *s, const char *key, char *out, size_t size);
+enum refract_code store_db_meta_set_locked(struct store *s, const char *key, const char *value,
+                                           struct err *e);
+/* Upload rows count, for GET /v1/storage. */
+long long store_db_upload_count_locked(struct store *s);
+
+/* ---- store_blob.c ---- */
+void store_blob_path(const struct store *s, const char *hash, char *out, size_t size);
+/* Creates <data>/tmp/<stem>-XXXXXX for writing; returns its fd (path in path_out) or -1
+ * with e filled. */
+int store_tmp_create(struct store *s, const char *stem, char *path_out, size_t size, struct err *e);
+/* Moves the finished file tmp_path (fsynced here) to blobs/<aa>/<hash>, fsyncing the
+ * directories, unless that blob exists (then tmp_path is removed). Consumes tmp_path
+ * either way. Fails with STORAGE when over --max-storage-bytes (message names the flag
+ * and the use; `credit` bytes that the commit will free, a replaced upload's blob, count as
+ * free). */
+enum refract_code store_blob_commit_locked(struct store *s, const char *tmp_path, const char *hash,
+                                           size_t bytes, size_t credit, struct err *e);
+/* Writes bytes as a new blob (hashing them); hash_out gets its address. */
+enum refract_code store_blob_write_locked(struct store *s, const void *data, size_t len,
+                                          char hash_out[SHA256_HEX_SIZE], struct err *e);
+/* Removes the blob when no row references it. */
+void store_blob_release_locked(struct store *s, const char *hash);
+/* Start-up: removes every file under <data>/tmp and stray temporaries of atomic writes
+ * under <data>/irradiance, then every blob no row references, and counts what is left. */
+void store_blob_sweep_locked(struct store *s);
+/* Maps a blob read-only; checks its size. *map is NULL for 0 bytes. */
+enum refract_code store_blob_map(const struct store *s, const char *hash, size_t bytes, void **map,
+                                 struct err *e);
+/* The storage limit check alone (for an upload that may add `bytes`). */
+enum refract_code store_storage_check_locked(struct store *s, size_t bytes, size_t credit,
+                                             struct err *e);
+
+/* ---- store_migrate.c ---- */
+/* Converts the file layout of before issue 5 (<data>/scenes/<id>/...) into rows and
+ * blobs, then renames <data>/scenes to <data>/scenes.migrated. */
+enum refract_code store_migrate_files(struct store *s, struct err *e);
+
+/* ---- store.c ---- */
+/* A new version sharing base's document, volumes and environment (new references); base
+ * may be NULL. Returns NULL when out of memory. */
+struct store_scene *store_version_new(struct store *s, const char *id,
+                                      const struct store_scene *base);
+struct slot *store_find_slot(struct store *s, const char *id);
+/* Installs v as the current version of its id (consumes the caller's reference). */
+enum refract_code store_install_locked(struct store *s, struct store_scene *v, struct err *e);
+void store_env_release(struct store_env *env);
+
+/* Commits the row of an upload whose blob is durable, in its own transaction; *old_blob
+ * gets the blob the row replaced ("" if none). */
+enum refract_code store_upload_commit_row_locked(struct store *s,
+                                                 const struct store_upload_row *row,
+                                                 char old_blob[SHA256_HEX_SIZE], struct err *e);
+
+/* ---- store_upload.c (for start-up) ---- */
+/* Restores one upload row into the scene's current version (mapping or decoding its
+ * blob). */
+enum refract_code store_upload_restore(struct store *s, const struct store_upload_row *row,
+                                       struct err *e);
+
+/* ---- store_mesh.c (for start-up) ---- */
+/* Restores a mesh row (kind "mesh"): parses its blob again into the scene's current
+ * version. */
+enum refract_code store_mesh_restore(struct store *s, const struct store_upload_row *row,
+                                     struct err *e);
 
 #endif

@@ -94,7 +94,13 @@ static void unknown_paths_are_404_and_wrong_methods_are_405(struct test_daemon *
 {
     section("routing");
     EXPECT_ERROR(d, "GET", "/v1/nope", NULL, 404, "not_found", "no route GET /v1/nope");
-    EXPECT_ERROR(d, "GET", "/", NULL, 404, "not_found", "no route GET /");
+    EXPECT_ERROR(d, "GET", "/index.html", NULL, 404, "not_found", "no route GET /index.html");
+    EXPECT_ERROR(d, "POST", "/", "{}", 405, "method_not_allowed", "POST is not allowed on /",
+                 "allowed: GET");
+    EXPECT_ERROR(d, "GET", "/viewer/no_such_scene", NULL, 404, "scene_not_found",
+                 "no scene with id \"no_such_scene\" to view");
+    EXPECT_ERROR(d, "GET", "/assets/nope.css", NULL, 404, "not_found", "/assets/nope.css",
+                 "viewer.js");
     EXPECT_ERROR(d, "POST", "/v2/scenes", VALID_SCENE, 404, "not_found", "/v2/scenes");
     EXPECT_ERROR(d, "GET", "/v1/scenes/", NULL, 404, "not_found", "/v1/scenes/");
     EXPECT_ERROR(d, "GET", "/v1/scenes/abc/volumes", NULL, 404, "not_found",

@@ -13,16 +13,24 @@
  *     format, missing or bad name, unknown parameter, bad format, unknown scene, wrong
  *     Content-Type;
  *   - after a restart on the same data directory the mesh is back, with the same checksum
- *     and the same traces.
+ *     and the same traces;
+ *   - a mesh is a content-addressed blob with an uploads row: the 201's sha256 names the
+ *     file <data>/blobs/<aa>/<sha256> of the uploaded size, GET /v1/storage counts it, and
+ *     after kill -9 right after its 201 the mesh is back (same sha256 and checksum) with
+ *     the storage figures of before the kill; replacing it removes the old blob.
  */
 #include <cjson/cJSON.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 
 #include "daemon.h"
 #include "test.h"
+#include "upload_util.h"
 #include "unit/mesh_test_util.h"
 
 #define GLASS(shape)                                                                               \
@@ -243,6 +251,111 @@ static void mesh_is_back_after_a_restart(struct test_daemon *d, const char *id)
     test_daemon_cleanup(&again);
 }
 
+static double storage_number(struct test_daemon *d, const char *key)
+{
+    char *body = NULL;
+    CHECK_INT(test_request(d, "GET", "/v1/storage", NULL, &body), 200);
+    double x = upload_json_number(body, key);
+    free(body);
+    return x;
+}
+
+/* The size of blob `sha` in data_dir, or -1 when there is no such file. */
+static long long blob_size(const char *data_dir, const char *sha)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/blobs/%.2s/%s", data_dir, sha, sha);
+    struct stat st;
+    return stat(path, &st) == 0 ? (long long)st.st_size : -1;
+}
+
+/* The "meshes" entry named `name` of the scene's GET answer, as "sha256 checksum". */
+static void listed_mesh(struct test_daemon *d, const char *id, const char *name, char *out,
+                        size_t size)
+{
+    out[0] = '\0';
+    char *json = scene_json(d, id);
+    cJSON *root = cJSON_Parse(json ? json : "");
+    const cJSON *m = NULL;
+    cJSON_ArrayForEach(m, cJSON_GetObjectItemCaseSensitive(root, "meshes"))
+    {
+        const cJSON *n = cJSON_GetObjectItemCaseSensitive(m, "name");
+        const cJSON *sha = cJSON_GetObjectItemCaseSensitive(m, "sha256");
+        const cJSON *sum = cJSON_GetObjectItemCaseSensitive(m, "checksum");
+        if (cJSON_IsString(n) && strcmp(n->valuestring, name) == 0 && cJSON_IsString(sha) &&
+            cJSON_IsString(sum))
+            snprintf(out, size, "%s %s", sha->valuestring, sum->valuestring);
+    }
+    cJSON_Delete(root);
+    refract_free(json);
+}
+
+static void kill9(struct test_daemon *d)
+{
+    refract_client_destroy(d->client);
+    d->client = NULL;
+    kill(d->pid, SIGKILL);
+    int status;
+    waitpid(d->pid, &status, 0);
+    d->pid = 0;
+}
+
+static void mesh_survives_kill9_after_its_201(const char *data_dir, const char *id,
+                                              const struct test_mesh *tm)
+{
+    const char *args[] = {"--max-mesh-triangles", "6000", NULL};
+    struct test_daemon a, b;
+    if (!test_daemon_start_in(&a, data_dir, args))
+        test_setup_failed("test_mesh_upload (kill -9 start)", a.why);
+    double used0 = storage_number(&a, "used_bytes"), blobs0 = storage_number(&a, "blobs");
+    double uploads0 = storage_number(&a, "uploads");
+    /* New content (an OBJ file), so a new blob; kill -9 as soon as the 201 is in (the row
+     * is committed by then), no shutdown. */
+    struct test_buf obj = test_write_obj(tm);
+    char *body = NULL;
+    CHECK_INT(post_mesh(&a, id, "?name=ball2", obj.p, obj.len, NULL, &body), 201);
+    kill9(&a);
+    char sha[80] = "", sum[40] = "";
+    upload_json_string(body, "sha256", sha, sizeof sha);
+    upload_json_string(body, "checksum", sum, sizeof sum);
+    free(body);
+    CHECK_INT((int)strlen(sha), 64);
+
+    if (!test_daemon_start_in(&b, data_dir, args))
+        test_setup_failed("test_mesh_upload (kill -9 restart)", b.why);
+    char want[160], got[160];
+    snprintf(want, sizeof want, "%s %s", sha, sum);
+    listed_mesh(&b, id, "ball2", got, sizeof got);
+    CHECK_STR(got, want);
+    CHECK(blob_size(data_dir, sha) == (long long)obj.len);
+    CHECK(storage_number(&b, "used_bytes") == used0 + (double)obj.len);
+    CHECK(storage_number(&b, "blobs") == blobs0 + 1);
+    CHECK(storage_number(&b, "uploads") == uploads0 + 1);
+    /* The same content under another name: one blob, two rows. */
+    CHECK_INT(post_mesh(&b, id, "?name=ball3", obj.p, obj.len, NULL, &body), 201);
+    free(body);
+    listed_mesh(&b, id, "ball3", got, sizeof got);
+    CHECK_STR(got, want);
+    CHECK(storage_number(&b, "used_bytes") == used0 + (double)obj.len);
+    CHECK(storage_number(&b, "blobs") == blobs0 + 1);
+    CHECK(storage_number(&b, "uploads") == uploads0 + 2);
+
+    /* Replacing both with the PLY content frees the OBJ blob. */
+    struct test_buf ply = test_write_ply(tm, TEST_PLY_ASCII);
+    CHECK_INT(post_mesh(&b, id, "?name=ball2", ply.p, ply.len, NULL, &body), 201);
+    free(body);
+    CHECK(blob_size(data_dir, sha) == (long long)obj.len); /* ball3 still names it */
+    CHECK_INT(post_mesh(&b, id, "?name=ball3", ply.p, ply.len, NULL, &body), 201);
+    free(body);
+    CHECK(blob_size(data_dir, sha) == -1);
+    CHECK(storage_number(&b, "used_bytes") == used0 + (double)ply.len);
+    CHECK_INT(test_daemon_stop(&b), 0);
+    test_daemon_cleanup(&a);
+    test_daemon_cleanup(&b);
+    free(obj.p);
+    free(ply.p);
+}
+
 int main(void)
 {
     struct test_daemon d;
@@ -257,6 +370,7 @@ int main(void)
     uploaded_mesh_traces_like_the_sphere(&d, id, &ply, tm.nt, tm.nv);
     each_bad_upload_gets_a_precise_4xx(&d, id, &ply);
     mesh_is_back_after_a_restart(&d, id);
+    mesh_survives_kill9_after_its_201(d.data_dir, id, &tm);
     test_daemon_cleanup(&d);
     free(ply.p);
     test_mesh_free(&tm);

@@ -518,6 +518,7 @@ static void request_examples_are_present(const struct contract *c)
 
 #define VOLUME_NAME "density"
 #define LIGHT_NAME "sun"
+#define ASSET_NAME "viewer.js" /* the {file} of GET /assets/{file} */
 
 /* A small glass sphere whose default view is 64x48, so renders take milliseconds; its one
  * light is the {light} of the irradiance routes (it needs no light simulation, so those
@@ -528,9 +529,14 @@ static const char *const test_scene =
     "\"ior\": {\"shape\": \"sphere\", \"radius\": 0.8, \"inside\": 1.5}}], "
     "\"lights\": [{\"name\": \"sun\", \"type\": \"directional\", \"direction\": [0, -1, 0]}]}";
 
-/* Writes tmpl with {id}, {name} and {light} filled in. False (test failed) for another
- * parameter. */
-static bool fill_path(const char *tmpl, const char *id, char *out, size_t size)
+/* The {vid} of the view routes: a session on the test scene, and one of its own for
+ * DELETE (main opens both). */
+static char view_id[32], scratch_view_id[32];
+
+/* Writes tmpl with {id}, {name}, {light}, {vid} and {file} filled in. False (test failed) for
+ * another parameter. */
+static bool fill_path_view(const char *tmpl, const char *id, const char *fill_vid, char *out,
+                           size_t size)
 {
     size_t used = 0;
     out[0] = '\0';
@@ -549,6 +555,14 @@ static bool fill_path(const char *tmpl, const char *id, char *out, size_t size)
             piece = LIGHT_NAME;
             len = strlen(LIGHT_NAME);
             p += 7;
+        } else if (strncmp(p, "{file}", 6) == 0) {
+            piece = ASSET_NAME;
+            len = strlen(ASSET_NAME);
+            p += 6;
+        } else if (strncmp(p, "{vid}", 5) == 0) {
+            piece = fill_vid;
+            len = strlen(fill_vid);
+            p += 5;
         } else if (*p == '{') {
             CHECK_MSG(false, "path %s: unknown parameter at \"%s\"", tmpl, p);
             return false;
@@ -564,6 +578,11 @@ static bool fill_path(const char *tmpl, const char *id, char *out, size_t size)
         out[used] = '\0';
     }
     return true;
+}
+
+static bool fill_path(const char *tmpl, const char *id, char *out, size_t size)
+{
+    return fill_path_view(tmpl, id, view_id, out, size);
 }
 
 /* One exchange; returns the HTTP status, or -1 (test failed) when none came. */
@@ -585,9 +604,14 @@ static void documented_routes_are_answered(struct test_daemon *d, const struct c
         const struct operation *op = &c->ops[i];
         char path[256];
         /* DELETE takes a scene of its own so the others keep theirs. */
-        if (!fill_path(op->path, strcmp(op->method, "DELETE") == 0 ? scratch : scene, path,
-                       sizeof path))
+        bool del = strcmp(op->method, "DELETE") == 0;
+        if (!fill_path_view(op->path, del ? scratch : scene, del ? scratch_view_id : view_id, path,
+                            sizeof path))
             continue;
+        /* A frame stream runs until its session ends: ask for one frame. */
+        size_t vlen = strlen(path);
+        if (vlen >= 7 && strcmp(path + vlen - 7, "/stream") == 0)
+            snprintf(path + vlen, sizeof path - vlen, "?frames=1");
         /* An event stream never ends by itself: a resume point that is not a number
          * makes it answer (400) at once instead. */
         size_t plen = strlen(path);
@@ -653,7 +677,11 @@ static void wrong_method_gives_405(struct test_daemon *d, const struct contract 
 
 static void undocumented_paths_give_404(struct test_daemon *d, const char *scene)
 {
-    static const char *const paths[] = {"/",
+    static const char *const paths[] = {"/index.html",
+                                        "/viewer",
+                                        "/viewer/{id}/x",
+                                        "/assets/nope.js",
+                                        "/assets/index.html",
                                         "/v1",
                                         "/v1/nope",
                                         "/v2/health",
@@ -854,6 +882,17 @@ int main(void)
     char scene[REFRACT_ID_SIZE] = "", scratch[REFRACT_ID_SIZE] = "";
     CHECK(test_create_scene(&d, test_scene, scene));
     CHECK(test_create_scene(&d, test_scene, scratch));
+    for (int i = 0; i < 2 && scene[0]; i++) {
+        char path[128], *answer = NULL;
+        snprintf(path, sizeof path, "/v1/scenes/%s/views", scene);
+        CHECK_INT(test_request(&d, "POST", path, "{}", &answer), 201);
+        cJSON *root = answer ? cJSON_Parse(answer) : NULL;
+        const cJSON *id = cJSON_GetObjectItemCaseSensitive(root, "id");
+        snprintf(i == 0 ? view_id : scratch_view_id, sizeof view_id, "%s",
+                 cJSON_IsString(id) ? id->valuestring : "");
+        cJSON_Delete(root);
+        free(answer);
+    }
     if (have_contract && scene[0] && scratch[0]) {
         documented_routes_are_answered(&d, &c, scene, scratch);
         wrong_method_gives_405(&d, &c, scene);

@@ -17,9 +17,11 @@
 #include "../../client/cli/cli_image.c"
 #include "../../client/cli/cli_irradiance.c"
 #include "../../client/cli/cli_light.c"
+#include "../../client/cli/cli_view.c"
 #include "../../client/refract_say.c"
 #include "../../client/refract_status.c"
 #include "../../client/refract_url.c"
+#include "../../client/refract_view_json.c"
 
 static void vec3_parses_three_comma_separated_numbers(void)
 {
@@ -778,6 +780,122 @@ static void progress_redraws_a_bar_on_terminals_and_logs_changes_elsewhere(void)
     free(bar);
 }
 
+/* --orbit: a turn about up keeps the distance to look_at and the height along up; a
+ * quarter turn about +y takes +z to +x (right-handed), and 360 degrees comes back. */
+static void orbit_turns_the_eye_around_look_at_about_up(void)
+{
+    const double eye[3] = {1, 2, 5};
+    const double at[3] = {1, 0, 1};
+    const double up[3] = {0, 3, 0}; /* not unit length on purpose */
+    const double zero[3] = {0, 0, 0};
+    double out[3];
+
+    CHECK(cli_orbit_eye(eye, at, up, 90, out));
+    CHECK_NEAR(out[0], 5, 1e-12);
+    CHECK_NEAR(out[1], 2, 1e-12);
+    CHECK_NEAR(out[2], 1, 1e-12);
+    CHECK(cli_orbit_eye(eye, at, up, 360, out));
+    CHECK_NEAR(out[0], 1, 1e-12);
+    CHECK_NEAR(out[2], 5, 1e-12);
+    CHECK(cli_orbit_eye(eye, at, up, 37, out));
+    CHECK_NEAR(sqrt((out[0] - 1) * (out[0] - 1) + (out[2] - 1) * (out[2] - 1)), 4, 1e-12);
+    CHECK_NEAR(out[1], 2, 1e-12);
+    out[0] = 99;
+    CHECK(!cli_orbit_eye(eye, at, zero, 10, out));
+    CHECK_NEAR(out[0], 99, 0);
+}
+
+static void frame_files_are_numbered_from_one_with_four_digits(void)
+{
+    char buf[64];
+
+    CHECK(cli_frame_path(buf, sizeof(buf), "out", 1));
+    CHECK_STR(buf, "out/frame_0001.jpg");
+    CHECK(cli_frame_path(buf, sizeof(buf), "out/", 12345));
+    CHECK_STR(buf, "out/frame_12345.jpg");
+    CHECK(cli_frame_path(buf, sizeof(buf), "", 7));
+    CHECK_STR(buf, "frame_0007.jpg");
+    CHECK(!cli_frame_path(buf, 10, "out", 1));
+}
+
+/* The options struct sends only what it sets: zero is refractd's default. */
+static void view_options_send_only_what_they_set(void)
+{
+    struct refract_view_options o = {.width = 640,
+                                     .height = 480,
+                                     .has_eye = 1,
+                                     .eye = {0, 1, 4},
+                                     .fov_y_deg = 40,
+                                     .quality = "draft",
+                                     .progressive = -1};
+    char *json = refract_view_options_json(&o);
+
+    CHECK_STR(json, "{\"camera\":{\"eye\":[0,1,4],\"fov_y_deg\":40},\"width\":640,\"height\":480,"
+                    "\"quality\":\"draft\",\"progressive\":false}");
+    free(json);
+    json = refract_view_options_json(NULL);
+    CHECK_STR(json, "{}");
+    free(json);
+    memset(&o, 0, sizeof(o));
+    o.has_exposure = 1; /* an exposure of 0 is a value when asked for */
+    o.max_fps = 2.5;
+    o.jpeg_quality = 90;
+    o.progressive = 1;
+    json = refract_view_options_json(&o);
+    CHECK_STR(json, "{\"exposure\":0,\"jpeg_quality\":90,\"max_fps\":2.5,\"progressive\":true}");
+    free(json);
+}
+
+static void view_status_reads_every_member_and_a_null_frame(void)
+{
+    static const char full[] =
+        "{\"id\": \"v1a2b3c4d5e6f7a8b\", \"scene\": \"wine_glass\", \"camera\": {},"
+        " \"width\": 640, \"height\": 480, \"quality\": \"normal\", \"max_fps\": 30,"
+        " \"stream\": \"/v1/views/v1a2b3c4d5e6f7a8b/stream\","
+        " \"viewer\": \"/viewer/wine_glass?view=v1a2b3c4d5e6f7a8b\", \"streams\": 2,"
+        " \"state\": \"idle\", \"expires_in_s\": 118.5, \"renderer\": \"llvmpipe\","
+        " \"frame\": {\"seq\": 7, \"kind\": \"preview\", \"width\": 320, \"height\": 240,"
+        " \"render_ms\": 35.1, \"encode_ms\": 4.2, \"bytes\": 41234, \"age_ms\": 120.0,"
+        " \"irradiance\": \"stale\", \"scene_generation\": 12}, \"new_member\": 1}";
+    static const char no_frame[] = "{\"id\": \"v0\", \"frame\": null}";
+    struct refract_view v;
+    char why[256] = "";
+
+    CHECK(refract_view_from_json(full, sizeof(full) - 1, &v, why, sizeof(why)));
+    CHECK_STR(v.id, "v1a2b3c4d5e6f7a8b");
+    CHECK_STR(v.scene, "wine_glass");
+    CHECK_INT(v.width, 640);
+    CHECK_INT(v.height, 480);
+    CHECK_STR(v.quality, "normal");
+    CHECK_STR(v.state, "idle");
+    CHECK_INT(v.streams, 2);
+    CHECK_NEAR(v.max_fps, 30, 0);
+    CHECK_NEAR(v.expires_in_s, 118.5, 0);
+    CHECK_STR(v.renderer, "llvmpipe");
+    CHECK_STR(v.stream, "/v1/views/v1a2b3c4d5e6f7a8b/stream");
+    CHECK_STR(v.viewer, "/viewer/wine_glass?view=v1a2b3c4d5e6f7a8b");
+    CHECK_INT(v.has_frame, 1);
+    CHECK_INT(v.frame.seq, 7);
+    CHECK_STR(v.frame.kind, "preview");
+    CHECK_INT(v.frame.width, 320);
+    CHECK_NEAR(v.frame.render_ms, 35.1, 1e-12);
+    CHECK_NEAR(v.frame.encode_ms, 4.2, 1e-12);
+    CHECK_INT(v.frame.bytes, 41234);
+    CHECK_STR(v.frame.irradiance, "stale");
+    CHECK_INT(v.frame.scene_generation, 12);
+    CHECK(v.json == NULL);
+
+    CHECK(refract_view_from_json(no_frame, sizeof(no_frame) - 1, &v, why, sizeof(why)));
+    CHECK_INT(v.has_frame, 0);
+    CHECK_INT(v.width, -1);
+    CHECK_STR(v.state, "");
+
+    CHECK(!refract_view_from_json("[1]", 3, &v, why, sizeof(why)));
+    CHECK_STR(why, "expected a JSON object {\"id\", \"scene\", ...}");
+    CHECK(!refract_view_from_json("{\"id\": 5}", 9, &v, why, sizeof(why)));
+    CHECK_STR(why, "id: expected a view id string of 1 to 63 characters");
+}
+
 int main(void)
 {
     vec3_parses_three_comma_separated_numbers();
@@ -815,5 +933,9 @@ int main(void)
     summary_lines_round_to_steps_for_logs();
     status_table_has_a_row_per_light_and_the_failures_below();
     progress_redraws_a_bar_on_terminals_and_logs_changes_elsewhere();
+    orbit_turns_the_eye_around_look_at_about_up();
+    frame_files_are_numbered_from_one_with_four_digits();
+    view_options_send_only_what_they_set();
+    view_status_reads_every_member_and_a_null_frame();
     return test_summary("test_cli_args");
 }
