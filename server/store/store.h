@@ -23,8 +23,8 @@
  * complete blob, and a crash leaves at most an orphan blob (collected at start-up) or a
  * temporary file (removed at start-up). Every accepted change is committed before the
  * call returns. A data directory in the file layout of before (scenes/<id>/scene.json,
- * volumes/<name>.f32 + .json, environment.img, meshes/<name>.obj|.ply) is converted on first open and kept as
- * scenes.migrated/ (store_migrate.c).
+ * volumes/<name>.f32 + .json, environment.img, meshes/<name>.obj|.ply) is converted on
+ * first open and kept as scenes.migrated/ (store_migrate.c).
  *
  * Volumes are mapped from their blob files (read-only): a volume costs page cache, not
  * heap, and the HTTP upload path never holds a whole volume in memory.
