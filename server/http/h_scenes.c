@@ -123,6 +123,7 @@ void http_prepare_scene(const struct http_app *app, struct store_scene *version)
     job->app = app;
     job->version = version;
     job->work = (struct gpu_work){.priority = GPU_PRIORITY_MAINTENANCE,
+                                  .skip_on_shutdown = true,
                                   .label = "scene build",
                                   .run = prepare_run,
                                   .done = prepare_done,
