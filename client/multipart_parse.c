@@ -219,6 +219,8 @@ static enum refract_multipart_result header_line(struct refract_multipart *m, ch
         part->render_ms = (end != value && *end == '\0' && isfinite(ms) && ms >= 0) ? ms : -1.0;
     } else if (strcasecmp(line, "X-Refract-Irradiance") == 0) {
         copy_value(part->irradiance, sizeof(part->irradiance), value);
+    } else if (strcasecmp(line, "X-Frame-Repeat") == 0) {
+        part->repeat = strcmp(value, "1") == 0;
     }
     return REFRACT_MULTIPART_OK;
 }

@@ -52,6 +52,7 @@ struct refract_multipart_part {
     char kind[16];            /* X-Frame-Kind: "full", "preview"; "" when absent */
     double render_ms;         /* X-Render-Time-Ms; -1 when absent */
     char irradiance[32];      /* X-Refract-Irradiance; "" when absent */
+    bool repeat;              /* X-Frame-Repeat: 1 (the part repeats the one before) */
     double start_ms;          /* the caller's now_ms when the part's boundary line began */
 };
 

@@ -347,7 +347,9 @@ struct refract_frame {
     size_t len;
     long index;            /* 0 for the first frame this stream delivered */
     long long seq;         /* X-Frame-Seq; -1 when absent. A resent frame (the 15 s
-                              keep-alive) has the seq it had before. */
+                              keep-alive, or the one repeat after a stream goes quiet)
+                              has the seq it had before. */
+    int repeat;            /* X-Frame-Repeat: the quiet-stream repeat (docs/views.md) */
     char kind[16];         /* X-Frame-Kind: "full", "preview"; "" when absent */
     double render_ms;      /* X-Render-Time-Ms; -1 when absent */
     char irradiance[32];   /* X-Refract-Irradiance; "" when absent */

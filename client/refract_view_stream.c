@@ -44,6 +44,7 @@ static bool on_part(void *user, const struct refract_multipart_part *part)
         .index = r->frames,
         .seq = part->seq,
         .render_ms = part->render_ms,
+        .repeat = part->repeat,
         .arrival_ms = part->start_ms,
     };
 

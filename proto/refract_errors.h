@@ -50,7 +50,9 @@
     X(IO, 23, 0, "io_error", "a local file could not be read or written")                          \
     X(USAGE, 24, 0, "usage", "the command line is wrong")                                          \
     X(STORAGE, 25, 507, "storage_error",                                                           \
-      "refractd could not read or write its data directory (disk full? permissions?)")
+      "refractd could not read or write its data directory (disk full? permissions?)")          \
+    X(INVALID_MESH, 26, 400, "invalid_mesh",                                                       \
+      "an uploaded mesh file is malformed (syntax, indices, values or header counts)")
 
 enum refract_code {
 #define REFRACT_X_ENUM(name, num, http, json, text) REFRACT_E_##name = num,

@@ -60,6 +60,8 @@ static const struct option_def options[] = {
     {"max-env-pixels", OPT_SIZE, 1, 1ll << 30, "N",
      "pixels of an uploaded environment image (default 64M)"},
     {"max-steps", OPT_INT, 1, 10000000, "N", "integration steps per ray (default 100000)"},
+    {"max-mesh-triangles", OPT_SIZE, 1, 1ll << 31, "N",
+     "triangles of an uploaded mesh, after splitting polygons (default 2M)"},
     {"max-scenes", OPT_INT, 1, 1000000, "N", "scenes held (default 64)"},
     {"gpu-scene-budget", OPT_SIZE, 1 << 20, 1ll << 40, "BYTES",
      "GPU memory for cached scenes before LRU eviction (default 2G)"},
@@ -206,6 +208,8 @@ static void store_int(struct config *c, const char *name, long long v)
         l->max_image_dim = (int)v;
     else if (!strcmp(name, "max-steps"))
         l->max_steps = (int)v;
+    else if (!strcmp(name, "max-mesh-triangles"))
+        l->max_mesh_triangles = v;
     else if (!strcmp(name, "max-scenes"))
         c->max_scenes = (int)v;
     else if (!strcmp(name, "max-image-pixels"))

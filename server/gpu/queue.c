@@ -112,7 +112,7 @@ static void drain_on_shutdown(struct gpu *g)
         pthread_mutex_unlock(&g->lock);
         if (w == NULL)
             return;
-        if (w->priority == GPU_PRIORITY_MAINTENANCE) {
+        if (w->priority == GPU_PRIORITY_MAINTENANCE && !w->skip_on_shutdown) {
             execute(g, w);
         } else {
             err_set(&w->err, REFRACT_E_SHUTTING_DOWN, "refractd is shutting down");

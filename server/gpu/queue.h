@@ -10,8 +10,8 @@
  * Each item carries a deadline. When the thread pops an item whose deadline has passed
  * (its requester may be gone: a suspended HTTP client can leave unnoticed), the item is
  * not run; its `done` is called with err.code = REFRACT_E_TIMEOUT. On shutdown every
- * pending item except maintenance is completed with REFRACT_E_SHUTTING_DOWN, so every
- * suspended connection gets resumed.
+ * pending item except maintenance not marked skip_on_shutdown is completed with
+ * REFRACT_E_SHUTTING_DOWN, so every suspended connection gets resumed.
  *
  * Ownership: a submitted item is borrowed by the queue until its `done` has been called;
  * the submitter must keep it alive until then and may free it inside `done`.
@@ -20,6 +20,7 @@
 #ifndef REFRACT_GPU_QUEUE_H
 #define REFRACT_GPU_QUEUE_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -41,6 +42,10 @@ struct gpu_work {
     enum gpu_priority priority;
     int64_t deadline_ms; /* gpu_now_ms() clock; 0 = no deadline */
     const char *label;   /* for logs */
+    /* Maintenance that only works ahead of use (a scene build nobody waits for): at
+     * shutdown it is completed with SHUTTING_DOWN instead of run, so stopping does not
+     * wait for builds whose results would be thrown away. Frees leave it false. */
+    bool skip_on_shutdown;
     /* Runs on the GPU thread; reports failure through w->err. */
     void (*run)(struct gpu_work *w, struct gpu *gpu);
     /* Called on the GPU thread after run, or instead of it with w->err.code set to

@@ -11,6 +11,7 @@
 #include "../core/log.h"
 #include "../events/events.h"
 #include "../gpu/resources.h"
+#include "../store/store_mesh.h"
 #include "http_internal.h"
 
 static time_t started_at;
@@ -122,6 +123,7 @@ void http_prepare_scene(const struct http_app *app, struct store_scene *version)
     job->app = app;
     job->version = version;
     job->work = (struct gpu_work){.priority = GPU_PRIORITY_MAINTENANCE,
+                                  .skip_on_shutdown = true,
                                   .label = "scene build",
                                   .run = prepare_run,
                                   .done = prepare_done,
@@ -237,6 +239,11 @@ void http_scene_summary(const struct http_app *app, const struct store_scene *v,
         scene_missing_volumes(v->scene, store_volume_lookup, (void *)v, missing, sizeof missing);
     if (n > 0)
         cJSON_AddStringToObject(obj, "missing_volumes", missing);
+    cJSON *meshes = cJSON_AddArrayToObject(obj, "meshes");
+    for (size_t i = 0; i < v->mesh_count; i++)
+        cJSON_AddItemToArray(meshes, http_mesh_json(v->meshes[i]));
+    if (scene_missing_meshes(v->scene, store_volume_lookup, (void *)v, missing, sizeof missing) > 0)
+        cJSON_AddStringToObject(obj, "missing_meshes", missing);
     cJSON *doc = cJSON_ParseWithLength(v->json, v->json_len);
     if (doc)
         cJSON_AddItemToObject(obj, "document", doc);

@@ -21,6 +21,11 @@
 
 #define FRAME_BOUNDARY "refract-frame"
 #define FRAME_KEEPALIVE_MS 15000 /* docs/views.md: the newest frame again after 15 s */
+/* docs/views.md: once a stream has gone quiet after a new frame, that frame is sent once
+ * more after about a second. Chromium shows a part of a multipart <img> only when the
+ * headers of the part after it arrive, so without the repeat a plain <img> would show
+ * each change only with the next one (or the keep-alive). */
+#define FRAME_REPEAT_MS 1000
 
 /* Answers 404 naming the id, for a session that does not exist (any more). */
 static enum MHD_Result view_not_found(struct http_request *req, const char *id)
@@ -158,6 +163,8 @@ struct frame_stream {
     bool opened; /* the opening boundary line has been sent */
     uint64_t sent_seq;
     int64_t sent_ms;
+    bool sending_repeat;   /* the part being sent repeats the last one */
+    bool repeat_due;       /* a new frame went and has not been repeated yet */
     long long frames_left; /* ?frames=N: the parts still to send; -1 = no end */
 };
 
@@ -179,13 +186,14 @@ static void frame_stream_free(void *ctx)
 
 static void part_begin(struct frame_stream *fs, struct view_frame *f)
 {
-    int n =
-        snprintf(fs->head, sizeof fs->head,
-                 "%sContent-Type: image/jpeg\r\nContent-Length: %zu\r\n"
-                 "X-Frame-Seq: %llu\r\nX-Frame-Kind: %s\r\nX-Render-Time-Ms: %.3f\r\n"
-                 "X-Refract-Irradiance: %s\r\n\r\n",
-                 fs->opened ? "" : "--" FRAME_BOUNDARY "\r\n", f->len, (unsigned long long)f->seq,
-                 view_frame_kind_name(f->kind), f->render_ms, f->irradiance);
+    fs->sending_repeat = f->seq == fs->sent_seq;
+    int n = snprintf(fs->head, sizeof fs->head,
+                     "%sContent-Type: image/jpeg\r\nContent-Length: %zu\r\n"
+                     "X-Frame-Seq: %llu\r\nX-Frame-Kind: %s\r\nX-Render-Time-Ms: %.3f\r\n"
+                     "X-Refract-Irradiance: %s\r\n%s\r\n",
+                     fs->opened ? "" : "--" FRAME_BOUNDARY "\r\n", f->len,
+                     (unsigned long long)f->seq, view_frame_kind_name(f->kind), f->render_ms,
+                     f->irradiance, fs->sending_repeat ? "X-Frame-Repeat: 1\r\n" : "");
     fs->head_len = n > 0 && (size_t)n < sizeof fs->head ? (size_t)n : 0;
     fs->opened = true;
     /* The last part of a ?frames=N stream ends with the closing delimiter. */
@@ -225,6 +233,8 @@ static size_t part_copy(struct frame_stream *fs, char *buf, size_t max)
             fs->frames_left--;
         fs->sent_seq = f->seq;
         fs->sent_ms = gpu_now_ms();
+        /* Streams with an end (?frames=N) are for programs: no repeats there. */
+        fs->repeat_due = !fs->sending_repeat && fs->frames_left < 0;
         view_frame_release(fs->sending);
         fs->sending = NULL;
     }
@@ -233,18 +243,20 @@ static size_t part_copy(struct frame_stream *fs, char *buf, size_t max)
 
 static ssize_t frame_stream_produce(void *ctx, struct http_stream *s, char *buf, size_t max)
 {
-    (void)s;
     struct frame_stream *fs = ctx;
     if (fs->sending == NULL) {
         if (fs->frames_left == 0)
             return HTTP_STREAM_END; /* ?frames=N sent */
         bool ended = false;
         struct view_frame *f = view_session_frame(fs->session, &ended);
-        /* Woken by the keep-alive timer (it sleeps FRAME_KEEPALIVE_MS before waking us;
-         * the margin absorbs its one-second tick). */
-        bool keepalive = gpu_now_ms() - fs->sent_ms >= FRAME_KEEPALIVE_MS - 500;
-        if (ended || f == NULL || (f->seq == fs->sent_seq && !keepalive)) {
+        /* Woken by the keep-alive timer (it sleeps the stream's keep-alive period before
+         * waking us; the margins absorb its 250 ms tick). */
+        int64_t quiet_ms = gpu_now_ms() - fs->sent_ms;
+        bool keepalive = quiet_ms >= FRAME_KEEPALIVE_MS - 500;
+        bool repeat = fs->repeat_due && quiet_ms >= FRAME_REPEAT_MS - 300;
+        if (ended || f == NULL || (f->seq == fs->sent_seq && !keepalive && !repeat)) {
             view_frame_release(f);
+            http_stream_set_keepalive(s, fs->repeat_due ? FRAME_REPEAT_MS : FRAME_KEEPALIVE_MS);
             return ended ? HTTP_STREAM_END : 0;
         }
         part_begin(fs, f);

@@ -178,6 +178,7 @@ enum MHD_Result http_handle_scene_get(struct http_request *req);
 enum MHD_Result http_handle_scene_delete(struct http_request *req);
 enum MHD_Result http_handle_volume_put(struct http_request *req);
 enum MHD_Result http_handle_environment_put(struct http_request *req);
+enum MHD_Result http_handle_mesh_post(struct http_request *req);
 enum MHD_Result http_handle_render(struct http_request *req);
 enum MHD_Result http_handle_trace(struct http_request *req);
 enum MHD_Result http_handle_lights_get(struct http_request *req);
@@ -215,7 +216,7 @@ struct http_sse *http_sse_create(struct event_hub *hub, struct err *e);
 void http_sse_destroy(struct http_sse *sse);
 /* Publishes a scene event (EVENT_SCENE_CREATED, _UPDATED, _DELETED) with data {"scene",
  * "generation" (of version, when not NULL), "what" (when not NULL: "document", "volume",
- * "environment", "lights")}. A no-op without a hub. */
+ * "environment", "mesh", "lights")}. A no-op without a hub. */
 void http_publish_scene(const struct http_app *app, const char *type, const char *scene_id,
                         const struct store_scene *version, const char *what);
 
@@ -228,6 +229,11 @@ cJSON *http_irradiance_status(const struct http_app *app, struct store_scene *v)
 /* Looks up the scene named by the first path parameter; answers 404 and returns NULL when
  * it does not exist. Returns a new reference. */
 struct store_scene *http_scene_or_404(struct http_request *req, enum MHD_Result *answer);
+
+/* The description of an uploaded mesh (h_meshes.c): name, format, triangles, vertices,
+ * closed, bounds, checksum, bytes. Returns a new cJSON object. */
+struct store_mesh;
+cJSON *http_mesh_json(const struct store_mesh *m);
 
 /* Adds the scene's version, GPU status and uploads to a JSON object. */
 void http_scene_summary(const struct http_app *app, const struct store_scene *v, cJSON *obj,

@@ -22,6 +22,7 @@ static const struct http_route routes[] = {
     {"DELETE", "/v1/scenes/{id}", http_handle_scene_delete, HTTP_BODY_NONE},
     {"PUT", "/v1/scenes/{id}/volumes/{name}", http_handle_volume_put, HTTP_BODY_UPLOAD},
     {"PUT", "/v1/scenes/{id}/environment", http_handle_environment_put, HTTP_BODY_UPLOAD},
+    {"POST", "/v1/scenes/{id}/meshes", http_handle_mesh_post, HTTP_BODY_UPLOAD},
     {"POST", "/v1/scenes/{id}/render", http_handle_render, HTTP_BODY_JSON},
     {"POST", "/v1/scenes/{id}/trace", http_handle_trace, HTTP_BODY_JSON},
     {"GET", "/v1/scenes/{id}/lights", http_handle_lights_get, HTTP_BODY_NONE},

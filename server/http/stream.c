@@ -24,6 +24,7 @@ struct http_stream {
     bool closed;   /* libmicrohttpd freed the response: the connection is gone */
     bool ending;   /* http_stream_set_end_all: the next read ends the body */
     int64_t slept_ms;
+    int keepalive_ms; /* starts as ops.keepalive_ms */
     /* under set->lock */
     struct http_stream *next;
 };
@@ -78,6 +79,13 @@ static void wake_locked(struct http_stream *s)
     } else {
         s->pending = true;
     }
+}
+
+void http_stream_set_keepalive(struct http_stream *s, int keepalive_ms)
+{
+    pthread_mutex_lock(&s->lock);
+    s->keepalive_ms = keepalive_ms;
+    pthread_mutex_unlock(&s->lock);
 }
 
 void http_stream_wake(struct http_stream *s)
@@ -153,6 +161,7 @@ enum MHD_Result http_respond_stream(struct http_request *req, const char *conten
     pthread_mutex_init(&s->lock, NULL);
     s->conn = req->conn;
     s->ops = *ops;
+    s->keepalive_ms = ops->keepalive_ms;
     s->ctx = ctx;
     s->set = set;
     struct MHD_Response *resp = MHD_create_response_from_callback(
@@ -198,8 +207,7 @@ static void set_pass_locked(struct http_stream_set *set)
         struct http_stream *s = *link;
         pthread_mutex_lock(&s->lock);
         bool closed = s->closed;
-        if (!closed && s->sleeping && s->ops.keepalive_ms > 0 &&
-            now - s->slept_ms >= s->ops.keepalive_ms)
+        if (!closed && s->sleeping && s->keepalive_ms > 0 && now - s->slept_ms >= s->keepalive_ms)
             wake_locked(s);
         pthread_mutex_unlock(&s->lock);
         if (closed) {
@@ -222,7 +230,11 @@ static void *set_thread(void *arg)
         } else {
             struct timespec ts;
             clock_gettime(CLOCK_REALTIME, &ts);
-            ts.tv_sec += 1;
+            ts.tv_nsec += 250 * 1000 * 1000;
+            if (ts.tv_nsec >= 1000 * 1000 * 1000) {
+                ts.tv_sec += 1;
+                ts.tv_nsec -= 1000 * 1000 * 1000;
+            }
             pthread_cond_timedwait(&set->changed, &set->lock, &ts);
         }
     }

@@ -45,7 +45,8 @@ struct http_stream_ops {
     void (*free)(void *ctx);
     /* > 0: a stream asleep this long is woken (produce is called again, and decides
      * whether to send a keep-alive: a comment for SSE, the newest frame again for MJPEG).
-     * One timer thread in stream.c serves every stream. 0 = never. */
+     * One timer thread in stream.c serves every stream. 0 = never.
+     * http_stream_set_keepalive changes it per stream. */
     int keepalive_ms;
 };
 
@@ -59,6 +60,9 @@ enum MHD_Result http_respond_stream(struct http_request *req, const char *conten
                                     void *ctx, struct http_stream **out);
 
 void http_stream_wake(struct http_stream *s);
+/* Changes the stream's keep-alive period (ops->keepalive_ms) from now on, e.g. to be woken
+ * sooner once. The keep-alive thread ticks every 250 ms, so periods are that coarse. */
+void http_stream_set_keepalive(struct http_stream *s, int keepalive_ms);
 void http_stream_retain(struct http_stream *s);
 void http_stream_release(struct http_stream *s);
 /* True once the client has gone (the response was freed): wakers may drop the stream. */
@@ -67,7 +71,7 @@ bool http_stream_closed(struct http_stream *s);
 /* ---- the server's set of streams (server.c owns one) ---- */
 
 /* Every open stream of a server, and the one thread that wakes sleeping streams for their
- * keep-alive (it ticks once a second while there are streams, and sleeps otherwise). */
+ * keep-alive (it ticks every 250 ms while there are streams, and sleeps otherwise). */
 struct http_stream_set;
 struct http_stream_set *http_stream_set_create(struct err *e);
 /* Ends every open stream: each one's next produce is replaced by HTTP_STREAM_END, and

@@ -56,6 +56,7 @@ enum scene_shape_kind {
     SCENE_SHAPE_LATHE = 4,
     SCENE_SHAPE_TEXT = 5,
     SCENE_SHAPE_BUMPY_SPHERE = 6, /* sphere whose radius is modulated: caustic cusps (hard case) */
+    SCENE_SHAPE_MESH = 7,         /* an uploaded triangle mesh (server/mesh), voxelized */
 };
 
 /* All lengths in object-space units of the owning object. */
@@ -73,6 +74,8 @@ struct scene_shape {
     double depth;          /* text: extrusion length along z, centred on center.z */
     double bump_amplitude; /* bumpy_sphere: r(theta, phi) = radius + a sin(f theta) sin(f phi) */
     int bump_frequency;    /* bumpy_sphere: f, 1..32 */
+    char mesh[SCENE_VOLUME_NAME_MAX]; /* mesh: upload name */
+    struct xform object_from_mesh;    /* mesh: center + scale * R(rotate) * p_mesh */
 };
 
 struct scene_layer {
@@ -250,9 +253,11 @@ struct scene_limits {
     int max_text_length;
     int max_image_dim; /* camera width/height */
     int max_steps;
+    int64_t max_mesh_triangles; /* per uploaded mesh, after splitting polygons */
 };
 
-/* Defaults: 512, 64M voxels, 8 objects, 64 layers, 1024 points, 64 chars, 4096, 100000. */
+/* Defaults: 512, 64M voxels, 8 objects, 64 layers, 1024 points, 64 chars, 4096, 100000,
+ * 2M triangles. */
 struct scene_limits scene_limits_default(void);
 
 /* Parses and validates a whole scene document (not NUL-terminated; len bytes).
@@ -264,14 +269,31 @@ void scene_destroy(struct scene *s);
 
 /* ---- uploaded volumes referenced by SCENE_LAYER_VOLUME ---- */
 
+struct mesh; /* server/mesh/mesh.h */
+
 struct scene_volume {
-    int dims[3];       /* x, y, z */
-    int components;    /* 1 or 3 */
-    const float *data; /* dims[0]*dims[1]*dims[2]*components floats, x fastest */
+    int dims[3];             /* x, y, z */
+    int components;          /* 1 or 3 */
+    const float *data;       /* dims[0]*dims[1]*dims[2]*components floats, x fastest */
+    const struct mesh *mesh; /* set (and the rest unused) when looked up as a mesh */
 };
 
-/* Returns the volume uploaded under `name`, or NULL. Borrowed for the call. */
+/* Returns the volume uploaded under `name`, or NULL. Borrowed for the call.
+ *
+ * Meshes (SCENE_SHAPE_MESH) are found through the same function, asked for
+ * SCENE_MESH_LOOKUP_PREFIX followed by the mesh's name ("mesh:glass"); upload names are
+ * [A-Za-z0-9_-], so the two kinds never collide. The answer then has `mesh` set.
+ * CONCEPT: a second scene_mesh_lookup_fn next to this one. REALITY: every caller of
+ * scene_field_eval (render, lightsim, the irradiance cache, tests) passes one function
+ * and one ctx through several interfaces; adding a second function to each would have
+ * touched all of them while other branches change them, so meshes share the function
+ * and scene_mesh_lookup() hides the naming. */
 typedef const struct scene_volume *(*scene_volume_lookup_fn)(void *ctx, const char *name);
+
+#define SCENE_MESH_LOOKUP_PREFIX "mesh:"
+
+/* The mesh uploaded under `name` (lookup(ctx, "mesh:" name)->mesh), or NULL. Borrowed. */
+const struct mesh *scene_mesh_lookup(scene_volume_lookup_fn lookup, void *ctx, const char *name);
 
 /* Number of floats per voxel that scene_field_eval writes for a channel: 1 for ior and
  * anisotropy, 4 for the others (RGB + 0 for attenuation/emission/scattering; RGB +
@@ -285,17 +307,25 @@ bool scene_channel_used(const struct scene_object *obj, enum scene_channel ch);
 int scene_missing_volumes(const struct scene *s, scene_volume_lookup_fn lookup, void *ctx,
                           char *buf, size_t buf_size);
 
+/* Lists mesh names referenced by mesh shapes that lookup cannot find, comma separated,
+ * into buf, each once. Returns how many are missing. */
+int scene_missing_meshes(const struct scene *s, scene_volume_lookup_fn lookup, void *ctx, char *buf,
+                         size_t buf_size);
+
 /* Evaluates channel ch of obj at every voxel centre into out (x fastest, then y, then
  * z; scene_channel_components(ch) floats per voxel). Voxel (i,j,k) has its centre at
  * bounds_min + (i + 0.5) * (bounds_max - bounds_min) / resolution. Borrows everything
- * until return. Fails only on a missing or mismatched volume (REFRACT_E_CONFLICT). */
+ * until return. Fails only on a missing or mismatched volume or a missing mesh
+ * (REFRACT_E_CONFLICT), or OUT_OF_MEMORY for a mesh layer's coverage grid. Mesh layers
+ * are voxelized here, in parallel on all CPUs (mesh_voxelize). */
 enum refract_code scene_field_eval(const struct scene *s, const struct scene_object *obj,
                                    enum scene_channel ch, scene_volume_lookup_fn lookup, void *ctx,
                                    float *out, struct err *e);
 
 /* Signed distance from p (object space) to the shape's surface: negative inside.
  * Exact for sphere, box, rounded_box, cylinder, lathe and text; for bumpy_sphere a
- * first-order estimate near the surface, with the exact sign (shapes.c). */
+ * first-order estimate near the surface, with the exact sign (shapes.c). Meshes are not
+ * known here (they are uploads): INFINITY, and scene_field.c voxelizes them instead. */
 double scene_shape_sdf(const struct scene_shape *shape, vec3 p);
 
 /* Axis-aligned box (object space) that contains the shape's solid. Returns false, and

@@ -35,6 +35,7 @@ struct scene_limits scene_limits_default(void)
         .max_text_length = 64,
         .max_image_dim = 4096,
         .max_steps = 100000,
+        .max_mesh_triangles = 2000000,
     };
 }
 

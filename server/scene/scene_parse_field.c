@@ -107,8 +107,8 @@ static enum refract_code value_member(const cJSON *obj, const char *path, const 
 
 /* ---- shapes ---- */
 
-static const char *const shape_names[] = {"sphere", "box",  "rounded_box",  "cylinder",
-                                          "lathe",  "text", "bumpy_sphere", NULL};
+static const char *const shape_names[] = {
+    "sphere", "box", "rounded_box", "cylinder", "lathe", "text", "bumpy_sphere", "mesh", NULL};
 static const char *const axis_names[] = {"x", "y", "z", NULL};
 
 /* Keys of each shape besides "shape", "inside" and "outside". */
@@ -120,6 +120,7 @@ static const char *const shape_keys[][6] = {
     [SCENE_SHAPE_LATHE] = {"base", "axis", "profile", NULL},
     [SCENE_SHAPE_TEXT] = {"text", "center", "height", "depth", NULL},
     [SCENE_SHAPE_BUMPY_SPHERE] = {"center", "radius", "bump_amplitude", "bump_frequency", NULL},
+    [SCENE_SHAPE_MESH] = {"mesh", "center", "scale", "rotate", NULL},
 };
 
 /* An array of 3 numbers, each > 0 and <= SCENE_COORD_MAX (box edge lengths). */
@@ -285,6 +286,44 @@ static enum refract_code parse_text(const cJSON *obj, const char *path,
     return REFRACT_E_OK;
 }
 
+static bool valid_volume_name(const char *s);
+
+/* A mesh shape: the upload's name and where its mesh space sits in the object,
+ * p_object = center + scale * R(rotate) * p_mesh (the object transform's form). */
+static enum refract_code parse_mesh_placement(const cJSON *o, const char *path,
+                                              struct scene_shape *s, struct err *e)
+{
+    static const char *const rot_keys[] = {"axis", "angle_deg", NULL};
+    const cJSON *name = member(o, "mesh");
+    char p[256], got[80];
+    if (name == NULL)
+        return err_set(e, REFRACT_E_MISSING_FIELD,
+                       "%s: missing required field \"mesh\" (the name given to POST "
+                       "/v1/scenes/{id}/meshes?name=NAME)",
+                       path);
+    if (!cJSON_IsString(name) || !valid_volume_name(name->valuestring))
+        return err_set(e, REFRACT_E_INVALID_FIELD,
+                       "%s: expected a mesh name of 1..%d characters from A-Z a-z 0-9 _ -, got %s",
+                       jr_path(p, sizeof p, path, "mesh"), SCENE_VOLUME_NAME_MAX - 1,
+                       jr_describe(name, got, sizeof got));
+    snprintf(s->mesh, sizeof s->mesh, "%s", name->valuestring);
+    double scale = 1.0, angle = 0.0;
+    vec3 axis = {0, 1, 0};
+    enum refract_code rc =
+        jr_number_gt(o, path, "scale", false, 1.0, 0.0, SCENE_COORD_MAX, &scale, e);
+    const cJSON *r = member(o, "rotate");
+    jr_path(p, sizeof p, path, "rotate");
+    if (rc == REFRACT_E_OK && r != NULL) {
+        rc = jr_check_object(r, p, rot_keys, e);
+        if (rc == REFRACT_E_OK)
+            rc = jr_direction(r, p, "axis", true, axis, &axis, e);
+        if (rc == REFRACT_E_OK)
+            rc = jr_number(r, p, "angle_deg", true, 0.0, -3600.0, 3600.0, &angle, e);
+    }
+    s->object_from_mesh = xform_make(s->center, axis, angle, scale);
+    return rc;
+}
+
 /* The geometry keys of a shape (everything except shape, inside, outside). */
 static enum refract_code parse_geometry(const cJSON *o, const char *path,
                                         const struct scene_limits *lim, struct scene_shape *s,
@@ -351,6 +390,10 @@ static enum refract_code parse_geometry(const cJSON *o, const char *path,
             rc = jr_number_gt(o, path, "height", true, 0.0, 0.0, m, &s->height, e);
         if (rc == REFRACT_E_OK)
             rc = jr_number_gt(o, path, "depth", true, 0.0, 0.0, m, &s->depth, e);
+        break;
+    case SCENE_SHAPE_MESH:
+        if (rc == REFRACT_E_OK)
+            rc = parse_mesh_placement(o, path, s, e);
         break;
     }
     s->axis = axis;

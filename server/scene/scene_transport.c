@@ -100,6 +100,15 @@ static void mix_shape(uint64_t *h, const struct scene_shape *sh)
     mix_double(h, sh->depth);
     mix_double(h, sh->bump_amplitude);
     mix_int(h, sh->bump_frequency);
+    if (sh->kind == SCENE_SHAPE_MESH) {
+        /* The name; the caller mixes in the mesh's content checksum like a volume's. */
+        mix_string(h, sh->mesh);
+        mix_vec3(h, sh->object_from_mesh.translate);
+        for (int r = 0; r < 3; r++)
+            mix_vec3(h, vec3_make(sh->object_from_mesh.rot[r][0], sh->object_from_mesh.rot[r][1],
+                                  sh->object_from_mesh.rot[r][2]));
+        mix_double(h, sh->object_from_mesh.scale);
+    }
 }
 
 static void mix_profile(uint64_t *h, const struct grin_profile *g)

@@ -256,6 +256,8 @@ double scene_shape_sdf(const struct scene_shape *s, vec3 p)
         return text_sdf(s, p);
     case SCENE_SHAPE_BUMPY_SPHERE:
         return bumpy_sphere_sdf(s, d);
+    case SCENE_SHAPE_MESH:
+        break; /* an upload: voxelized by scene_field.c */
     }
     return INFINITY;
 }

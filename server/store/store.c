@@ -1,7 +1,7 @@
 /*
  * store.c - the scene registry: slots of immutable scene versions, persisted to the data
  * directory (SQLite rows: store_db.c). See store.h for the design; the uploads are in
- * store_upload.c, start-up in store_open.c.
+ * store_upload.c (meshes in store_mesh.c), start-up in store_open.c.
  *
  * INVARIANT: slots[0..slot_count) have distinct ids and a non-NULL `current`; each slot
  * holds one reference to its current version. `lock` guards the slot array and the
@@ -17,6 +17,7 @@
 
 #include "../core/log.h"
 #include "store_internal.h"
+#include "store_mesh.h"
 
 bool store_name_valid(const char *name, bool allow_upper)
 {
@@ -61,6 +62,7 @@ void store_scene_release(struct store_scene *sc)
     for (size_t i = 0; i < sc->volume_count; i++)
         store_volume_release(sc->volumes[i]);
     free(sc->volumes);
+    store_mesh_release_all(sc);
     store_env_release(sc->env);
     scene_destroy(sc->scene);
     free(sc->json);
@@ -108,12 +110,19 @@ struct store_scene *store_version_new(struct store *s, const char *id,
         v->env = base->env;
     }
     v->created_unix = base->created_unix;
+    if (!store_mesh_share(v, base)) {
+        store_scene_release(v);
+        return NULL;
+    }
     return v;
 }
 
 const struct scene_volume *store_volume_lookup(void *ctx, const char *name)
 {
     const struct store_scene *sc = ctx;
+    size_t prefix = strlen(SCENE_MESH_LOOKUP_PREFIX);
+    if (strncmp(name, SCENE_MESH_LOOKUP_PREFIX, prefix) == 0)
+        return store_mesh_lookup(sc, name + prefix);
     for (size_t i = 0; i < sc->volume_count; i++) {
         if (strcmp(sc->volumes[i]->name, name) == 0)
             return &sc->volumes[i]->view;

@@ -13,7 +13,8 @@
  *     <data>/refract.db (+ -wal, -shm)   scenes, uploads, jobs, job_frames, meta
  *     <data>/blobs/<aa>/<sha256>          volumes as little-endian float32 (x fastest,
  *                                         components interleaved), environment images
- *                                         as uploaded; <aa> = the hash's first 2 digits
+ *                                         and meshes (OBJ or PLY) as uploaded; <aa> = the
+ *                                         hash's first 2 digits
  *     <data>/tmp/                         uploads being received and blobs being written;
  *                                         emptied at start-up
  *     <data>/irradiance/                  the irradiance cache's own files (cache_disk.c)
@@ -22,8 +23,8 @@
  * complete blob, and a crash leaves at most an orphan blob (collected at start-up) or a
  * temporary file (removed at start-up). Every accepted change is committed before the
  * call returns. A data directory in the file layout of before (scenes/<id>/scene.json,
- * volumes/<name>.f32 + .json, environment.img) is converted on first open and kept as
- * scenes.migrated/ (store_migrate.c).
+ * volumes/<name>.f32 + .json, environment.img, meshes/<name>.obj|.ply) is converted on
+ * first open and kept as scenes.migrated/ (store_migrate.c).
  *
  * Volumes are mapped from their blob files (read-only): a volume costs page cache, not
  * heap, and the HTTP upload path never holds a whole volume in memory.
@@ -94,6 +95,8 @@ struct store_scene {
     size_t volume_count;
     struct store_env *env; /* owned reference or NULL */
     int64_t created_unix;
+    struct store_mesh **meshes; /* owned references (store_mesh.h); NULL when none */
+    size_t mesh_count;
 };
 
 /* What the GPU thread last reported about a scene's build. */
@@ -187,7 +190,8 @@ int store_upload_tmp_create(struct store *s, char *path_out, size_t size, struct
 /* The data directory's use and limit. */
 void store_usage_get(struct store *s, struct store_usage *out);
 
-/* The scene_volume_lookup_fn of a version: ctx is a struct store_scene *. */
+/* The scene_volume_lookup_fn of a version: ctx is a struct store_scene *. Names with
+ * SCENE_MESH_LOOKUP_PREFIX find its meshes (store_mesh.h). */
 const struct scene_volume *store_volume_lookup(void *ctx, const char *name);
 
 void store_gpu_status_set(struct store *s, const char *id, const struct store_gpu_status *st);

@@ -1,7 +1,8 @@
 /*
  * store_internal.h - what the store's files share: the store itself, the metadata
- * database (store_db.c), the blob files (store_blob.c) and the migration of the old
- * file layout (store_migrate.c). Not used outside server/store/.
+ * database (store_db.c), the blob files (store_blob.c), the migration of the old
+ * file layout (store_migrate.c) and the meshes (store_mesh.c). Not used outside
+ * server/store/.
  *
  * LOCKING: `lock` guards the slots, the statuses, the database connection and the
  * blob directory's contents (blob_bytes included). Every function here named *_locked
@@ -42,7 +43,7 @@ struct store {
 struct store_upload_row {
     char scene[STORE_ID_MAX];
     char name[SCENE_VOLUME_NAME_MAX];
-    char kind[16]; /* "volume", "environment" (and "mesh": branch mesh) */
+    char kind[16]; /* "volume", "environment", "mesh" */
     struct store_upload_info info;
 };
 
@@ -123,10 +124,22 @@ struct slot *store_find_slot(struct store *s, const char *id);
 enum refract_code store_install_locked(struct store *s, struct store_scene *v, struct err *e);
 void store_env_release(struct store_env *env);
 
+/* Commits the row of an upload whose blob is durable, in its own transaction; *old_blob
+ * gets the blob the row replaced ("" if none). */
+enum refract_code store_upload_commit_row_locked(struct store *s,
+                                                 const struct store_upload_row *row,
+                                                 char old_blob[SHA256_HEX_SIZE], struct err *e);
+
 /* ---- store_upload.c (for start-up) ---- */
 /* Restores one upload row into the scene's current version (mapping or decoding its
  * blob). */
 enum refract_code store_upload_restore(struct store *s, const struct store_upload_row *row,
                                        struct err *e);
+
+/* ---- store_mesh.c (for start-up) ---- */
+/* Restores a mesh row (kind "mesh"): parses its blob again into the scene's current
+ * version. */
+enum refract_code store_mesh_restore(struct store *s, const struct store_upload_row *row,
+                                     struct err *e);
 
 #endif

@@ -4,6 +4,7 @@
  *     <data>/scenes/<id>/volumes/<name>.f32   raw little-endian float32
  *     <data>/scenes/<id>/volumes/<name>.json  {"dims": [x, y, z], "components": c}
  *     <data>/scenes/<id>/environment.img      the uploaded image file
+ *     <data>/scenes/<id>/meshes/<name>.obj|.ply  uploaded meshes (branch mesh's layout)
  * into rows and blobs, once: every blob is written (durably) first, then all rows and
  * meta.migrated_files = 1 commit in one transaction, then scenes/ is renamed to
  * scenes.migrated/ (kept, for the operator to remove). A crash before the commit leaves
@@ -119,6 +120,57 @@ static enum refract_code migrate_env(struct store *s, const char *id, const char
     return store_db_upload_put_locked(s, &row, old, e);
 }
 
+/* A mesh file as uploaded becomes its blob and a "mesh" row; it is parsed (and its bounds
+ * found) when the row is loaded (store_mesh_restore). */
+static enum refract_code migrate_mesh(struct store *s, const char *id, const char *path,
+                                      const char *name, const char *format, struct err *e)
+{
+    char *bytes = NULL;
+    size_t len = 0;
+    struct store_upload_row row = {0};
+    struct store_upload_info *in = &row.info;
+    enum refract_code rc = io_read_file(path, (size_t)1 << 32, &bytes, &len, e);
+    if (rc == REFRACT_E_OK) {
+        snprintf(in->type, sizeof in->type, "mesh");
+        snprintf(in->format, sizeof in->format, "%s", format);
+        in->checksum = io_fnv1a64_update(IO_FNV1A64_INIT, bytes, len);
+        in->bytes = len;
+        in->created_unix = (int64_t)time(NULL);
+        rc = store_blob_write_locked(s, bytes, len, in->sha256, e);
+    }
+    free(bytes);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    snprintf(row.scene, sizeof row.scene, "%.63s", id);
+    snprintf(row.name, sizeof row.name, "%.63s", name);
+    snprintf(row.kind, sizeof row.kind, "mesh");
+    char old[SHA256_HEX_SIZE];
+    return store_db_upload_put_locked(s, &row, old, e);
+}
+
+static void migrate_meshes(struct store *s, const char *id, const char *dir)
+{
+    char mdir[1000];
+    snprintf(mdir, sizeof mdir, "%s/meshes", dir);
+    DIR *d = opendir(mdir);
+    struct dirent *ent;
+    while (d && (ent = readdir(d)) != NULL) {
+        size_t n = strlen(ent->d_name);
+        bool obj = n > 4 && strcmp(ent->d_name + n - 4, ".obj") == 0;
+        bool ply = n > 4 && strcmp(ent->d_name + n - 4, ".ply") == 0;
+        char name[SCENE_VOLUME_NAME_MAX] = {0}, path[1400];
+        if ((!obj && !ply) || n - 4 >= sizeof name)
+            continue;
+        memcpy(name, ent->d_name, n - 4);
+        snprintf(path, sizeof path, "%s/%s", mdir, ent->d_name);
+        struct err me;
+        if (migrate_mesh(s, id, path, name, obj ? "obj" : "ply", &me) != REFRACT_E_OK)
+            log_warn("store", "migration: mesh %s of scene %s not converted: %s", name, id, me.msg);
+    }
+    if (d)
+        closedir(d);
+}
+
 static enum refract_code migrate_scene(struct store *s, const char *scenes, const char *id,
                                        int *volumes, struct err *e)
 {
@@ -160,6 +212,8 @@ static enum refract_code migrate_scene(struct store *s, const char *scenes, cons
     if (rc == REFRACT_E_OK && access(path, R_OK) == 0 &&
         migrate_env(s, id, path, &ee) != REFRACT_E_OK)
         log_warn("store", "migration: environment of scene %s not converted: %s", id, ee.msg);
+    if (rc == REFRACT_E_OK)
+        migrate_meshes(s, id, dir);
     return rc;
 }
 

@@ -1,7 +1,7 @@
 /*
  * store_upload.c - uploads: volumes (mapped from their blobs) and environment images
- * (decoded from theirs), each committed as blob first, row second (store_blob.c says
- * why that order is crash safe), then installed as a new version of the scene.
+ * (decoded from theirs; meshes: store_mesh.c), each committed as blob first, row second
+ * (store_blob.c says why that order is crash safe), then installed as a new version of the scene.
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -104,9 +104,9 @@ static enum refract_code volume_room_locked(struct store *s, const char *id, con
     return REFRACT_E_OK;
 }
 
-/* Commits the row of an upload whose blob is durable, in its own transaction. */
-static enum refract_code commit_row_locked(struct store *s, const struct store_upload_row *row,
-                                           char old_blob[SHA256_HEX_SIZE], struct err *e)
+enum refract_code store_upload_commit_row_locked(struct store *s,
+                                                 const struct store_upload_row *row,
+                                                 char old_blob[SHA256_HEX_SIZE], struct err *e)
 {
     enum refract_code rc = store_db_begin_locked(s, e);
     if (rc == REFRACT_E_OK)
@@ -127,7 +127,7 @@ static enum refract_code finish_volume_locked(struct store *s, const char *id,
     snprintf(row.name, sizeof row.name, "%s", vol->name);
     snprintf(row.kind, sizeof row.kind, "volume");
     char old_blob[SHA256_HEX_SIZE];
-    enum refract_code rc = commit_row_locked(s, &row, old_blob, e);
+    enum refract_code rc = store_upload_commit_row_locked(s, &row, old_blob, e);
     if (rc != REFRACT_E_OK) {
         store_blob_release_locked(s, vol->info.sha256);
         return rc;
@@ -259,7 +259,7 @@ static enum refract_code finish_env_locked(struct store *s, const char *id, stru
     snprintf(row.name, sizeof row.name, "environment");
     snprintf(row.kind, sizeof row.kind, "environment");
     char old_blob[SHA256_HEX_SIZE];
-    enum refract_code rc = commit_row_locked(s, &row, old_blob, e);
+    enum refract_code rc = store_upload_commit_row_locked(s, &row, old_blob, e);
     if (rc != REFRACT_E_OK) {
         store_blob_release_locked(s, env->info.sha256);
         return rc;
@@ -364,10 +364,15 @@ enum refract_code store_upload_restore(struct store *s, const struct store_uploa
         store_env_release(env);
         return rc;
     }
+    if (strcmp(row->kind, "mesh") == 0) {
+        if (map)
+            munmap(map, row->info.bytes);
+        return store_mesh_restore(s, row, e);
+    }
     if (strcmp(row->kind, "volume") != 0) {
         if (map)
             munmap(map, row->info.bytes);
-        return REFRACT_E_OK; /* meshes: branch mesh restores its own */
+        return err_set(e, REFRACT_E_STORAGE, "unknown upload kind \"%s\"", row->kind);
     }
     size_t expect = (size_t)row->info.dims[0] * row->info.dims[1] * row->info.dims[2] *
                     (size_t)row->info.components * sizeof(float);

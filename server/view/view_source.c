@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "../store/store_mesh.h"
 #include "view_source.h"
 
 struct render_scene_source view_scene_source(struct store_scene *v)
@@ -50,12 +51,18 @@ static uint64_t uploads_hash(const struct store_scene *v)
         for (int ch = 0; ch < SCENE_CH_COUNT; ch++) {
             const struct scene_field *f = &s->objects[o].fields[ch];
             for (size_t i = 0; transport_channel(ch) && i < f->count; i++) {
-                if (f->layers[i].kind != SCENE_LAYER_VOLUME)
+                const struct scene_layer *l = &f->layers[i];
+                bool mesh = l->kind == SCENE_LAYER_SHAPE && l->shape.kind == SCENE_SHAPE_MESH;
+                if (l->kind != SCENE_LAYER_VOLUME && !mesh)
                     continue;
                 uint64_t sum = 0;
-                for (size_t k = 0; k < v->volume_count; k++) {
-                    if (strcmp(v->volumes[k]->name, f->layers[i].volume) == 0)
+                for (size_t k = 0; !mesh && k < v->volume_count; k++) {
+                    if (strcmp(v->volumes[k]->name, l->volume) == 0)
                         sum = v->volumes[k]->checksum;
+                }
+                for (size_t k = 0; mesh && k < v->mesh_count; k++) {
+                    if (strcmp(v->meshes[k]->name, l->shape.mesh) == 0)
+                        sum = v->meshes[k]->checksum;
                 }
                 const unsigned char *p = (const unsigned char *)&sum;
                 for (size_t b = 0; b < sizeof sum; b++)

@@ -12,7 +12,8 @@
  *   - over --max-storage-bytes an upload gets 507 storage_error naming the flag and the
  *     use; the same content under a second name costs nothing (content addressing);
  *     DELETE of the scene frees the bytes and removes the blob files;
- *   - a data directory in the old file layout is converted on first open.
+ *   - a data directory in the old file layout (a volume, and a mesh as branch mesh kept
+ *     them) is converted on first open.
  */
 #include <arpa/inet.h>
 #include <dirent.h>
@@ -278,6 +279,15 @@ static void old_layout_is_converted(void)
     const char *meta = "{\"dims\": [2, 3, 4], \"components\": 1}\n";
     snprintf(path, sizeof path, "%s/scenes/old1/volumes/v.json", root);
     write_file(path, meta, strlen(meta));
+    /* A mesh in branch mesh's file layout. */
+    const char *obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    snprintf(path, sizeof path, "%s/scenes/old1/meshes", root);
+    mkdir(path, 0750);
+    snprintf(path, sizeof path, "%s/scenes/old1/meshes/tri.obj", root);
+    write_file(path, obj, strlen(obj));
+    char mesh_sum[40];
+    snprintf(mesh_sum, sizeof mesh_sum, "\"checksum\":\"%016llx\"",
+             (unsigned long long)upload_fnv1a64(obj, strlen(obj)));
     struct test_daemon d;
     if (!test_daemon_start_in(&d, root, NULL))
         test_setup_failed("test_store_durability (migration)", d.why);
@@ -286,6 +296,8 @@ static void old_layout_is_converted(void)
     upload_fnv_hex(v, 24, want);
     CHECK_CONTAINS(body, want);
     CHECK_CONTAINS(body, "\"dims\":[2,3,4]");
+    CHECK_CONTAINS(body, "\"name\":\"tri\",\"format\":\"obj\",\"triangles\":1");
+    CHECK_CONTAINS(body, mesh_sum);
     free(body);
     struct stat st;
     snprintf(path, sizeof path, "%s/scenes.migrated/old1/scene.json", root);
@@ -299,6 +311,7 @@ static void old_layout_is_converted(void)
         test_setup_failed("test_store_durability (migration restart)", d2.why);
     CHECK_INT(test_request(&d2, "GET", "/v1/scenes/old1", NULL, &body), 200);
     CHECK_CONTAINS(body, want);
+    CHECK_CONTAINS(body, mesh_sum);
     free(body);
     CHECK_INT(test_daemon_stop(&d2), 0);
     test_daemon_cleanup(&d2);

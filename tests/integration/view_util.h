@@ -140,6 +140,7 @@ struct mjpeg_frame {
     char kind[16];
     char irradiance[16];
     double render_ms;
+    bool repeat; /* X-Frame-Repeat: the part repeats the one before (docs/views.md) */
 };
 
 /* Next raw byte, waiting until deadline_ms: 1 = got one, 0 = timeout, -1 = closed. */
@@ -302,7 +303,7 @@ static inline int mjpeg_delimiter(struct mjpeg_stream *s, double deadline)
     return 1;
 }
 
-static inline int mjpeg_next(struct mjpeg_stream *s, struct mjpeg_frame *f, int timeout_ms)
+static inline int mjpeg_next_part(struct mjpeg_stream *s, struct mjpeg_frame *f, int timeout_ms)
 {
     memset(f, 0, sizeof *f);
     double deadline = view_now_ms() + timeout_ms;
@@ -329,6 +330,8 @@ static inline int mjpeg_next(struct mjpeg_stream *s, struct mjpeg_frame *f, int 
             snprintf(f->irradiance, sizeof f->irradiance, "%.15s", line + 22);
         else if (strncasecmp(line, "X-Render-Time-Ms: ", 18) == 0)
             f->render_ms = atof(line + 18);
+        else if (strncasecmp(line, "X-Frame-Repeat: 1", 17) == 0)
+            f->repeat = true;
     } while ((rc = mjpeg_body_line(s, deadline, line, sizeof line)) == 1 && line[0] != '\0');
     if (rc <= 0 || len < 0) {
         fprintf(stderr, "stream: a part without Content-Length or cut short\n");
@@ -354,6 +357,21 @@ static inline int mjpeg_next(struct mjpeg_stream *s, struct mjpeg_frame *f, int 
     if (mjpeg_delimiter(s, deadline) == 0)
         fprintf(stderr, "stream: no delimiter after frame %lld\n", f->seq);
     return 1;
+}
+
+/* The next new frame, skipping repeats (X-Frame-Repeat: the one-time repeat after a
+ * stream goes quiet, and keep-alives): as mjpeg_next_part otherwise. */
+static inline int mjpeg_next(struct mjpeg_stream *s, struct mjpeg_frame *f, int timeout_ms)
+{
+    double deadline = view_now_ms() + timeout_ms;
+    for (;;) {
+        int left = (int)(deadline - view_now_ms());
+        int rc = mjpeg_next_part(s, f, left > 0 ? left : 0);
+        if (rc != 1 || !f->repeat)
+            return rc;
+        free(f->jpeg);
+        f->jpeg = NULL;
+    }
 }
 
 /* Reads frames until one of kind "full" with seq > after; returns 1 (f filled) or <= 0. */
