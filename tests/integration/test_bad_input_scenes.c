@@ -183,7 +183,7 @@ static const struct json_error_case scene_cases[] = {
     {__LINE__, "{\"camera\": {\"fov\": 30}, \"objects\": [" OBJ "]}", 400, "unknown_field",
      {"camera: unknown field \"fov\"", "allowed: eye, look_at, up, fov_y_deg, width, height"}},
     {__LINE__, "{\"render\": {\"steps\": 1}, \"objects\": [" OBJ "]}", 400, "unknown_field",
-     {"render: unknown field \"steps\"", "allowed: integrator, step, max_steps"}},
+     {"render: unknown field \"steps\"", "allowed: integrator, step, tolerance, max_steps"}},
     {__LINE__, "{\"objects\": [{" BOUNDS ", \"colour\": 1, \"ior\": 1.5}]}", 400, "unknown_field",
      {"objects[0]: unknown field \"colour\"", "allowed: name, bounds, resolution, transform"}},
     {__LINE__,
@@ -229,7 +229,7 @@ static const struct json_error_case scene_cases[] = {
     {__LINE__, "{\"camera\": {\"eye\": [0, 0, 0], \"look_at\": [0, 0, 0]}, \"objects\": [" OBJ "]}",
      400, "invalid_field", {"camera.look_at: equals camera.eye"}},
     {__LINE__, "{\"render\": {\"integrator\": \"verlet\"}, \"objects\": [" OBJ "]}", 400,
-     "invalid_field", {"render.integrator: expected one of \"euler\", \"rk4\", got \"verlet\""}},
+     "invalid_field", {"render.integrator: expected one of \"euler\", \"rk4\", \"rk2\", \"adaptive\", got \"verlet\""}},
     /* huge numbers overflow to infinity and are rejected with their path */
     {__LINE__, "{\"ambient_ior\": 1e999, \"objects\": [" OBJ "]}", 400, "invalid_field",
      {"ambient_ior: expected a finite number in 1..4", "got inf"}},
