@@ -221,29 +221,32 @@ static enum refract_code frame_version(struct job_runner *r, struct store_scene 
                                        const struct job_frame *f, struct store_scene **out,
                                        struct err *e)
 {
-    if (f->light_field == JOB_LIGHT_NONE) {
+    if (f->light_count == 0) {
         atomic_fetch_add(&base->refs, 1);
         *out = base;
         return REFRACT_E_OK;
     }
     cJSON *doc = cJSON_ParseWithLength(base->json, base->json_len);
     cJSON *lights = doc ? cJSON_GetObjectItemCaseSensitive(doc, "lights") : NULL;
-    cJSON *light = NULL, *item;
-    cJSON_ArrayForEach(item, lights)
-    {
-        const cJSON *name = cJSON_GetObjectItemCaseSensitive(item, "name");
-        if (cJSON_IsString(name) && strcmp(name->valuestring, f->light) == 0)
-            light = item;
+    for (int k = 0; k < f->light_count; k++) {
+        const struct job_light_override *o = &f->lights[k];
+        cJSON *light = NULL, *item;
+        cJSON_ArrayForEach(item, lights)
+        {
+            const cJSON *name = cJSON_GetObjectItemCaseSensitive(item, "name");
+            if (cJSON_IsString(name) && strcmp(name->valuestring, o->light) == 0)
+                light = item;
+        }
+        if (light == NULL) {
+            cJSON_Delete(doc);
+            return err_set(e, REFRACT_E_CONFLICT,
+                           "the scene no longer has light \"%s\" that the job moves", o->light);
+        }
+        const double v[3] = {o->value.x, o->value.y, o->value.z};
+        const char *key = o->field == JOB_LIGHT_DIRECTION ? "direction" : "position";
+        cJSON_DeleteItemFromObjectCaseSensitive(light, key);
+        cJSON_AddItemToObject(light, key, cJSON_CreateDoubleArray(v, 3));
     }
-    if (light == NULL) {
-        cJSON_Delete(doc);
-        return err_set(e, REFRACT_E_CONFLICT,
-                       "the scene no longer has light \"%s\" that the job moves", f->light);
-    }
-    const double v[3] = {f->light_value.x, f->light_value.y, f->light_value.z};
-    const char *key = f->light_field == JOB_LIGHT_DIRECTION ? "direction" : "position";
-    cJSON_DeleteItemFromObjectCaseSensitive(light, key);
-    cJSON_AddItemToObject(light, key, cJSON_CreateDoubleArray(v, 3));
     char *json = cJSON_PrintUnformatted(doc);
     cJSON_Delete(doc);
     if (json == NULL)
@@ -260,7 +263,7 @@ static void frame_source(struct store_scene *v, const struct job_frame *f, const
                          struct irradiance_source *out)
 {
     view_irradiance_source(v, out);
-    if (f->light_field != JOB_LIGHT_NONE)
+    if (f->light_count > 0)
         out->scene_id = slot_id;
 }
 
@@ -269,7 +272,7 @@ static void frame_source(struct store_scene *v, const struct job_frame *f, const
 static void prefetch(struct job_runner *r, struct store_scene *base, const struct job_frame *next,
                      const char *slot_id)
 {
-    if (next == NULL || next->light_field == JOB_LIGHT_NONE)
+    if (next == NULL || next->light_count == 0)
         return;
     struct store_scene *nv = NULL;
     struct err e = {0};

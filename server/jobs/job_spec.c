@@ -115,11 +115,81 @@ static enum refract_code count_ok(long long n, const struct job_limits *lim, con
     return REFRACT_E_OK;
 }
 
-static enum refract_code expand_list(const cJSON *list, const struct job_limits *lim,
-                                     const struct job_frame *def, struct job_frame **frames,
-                                     int *count, struct err *e)
+/* A frame's "lights": [{"name", "direction" | "position"}, ...], each naming a light of the
+ * scene at most once, with the field its kind has. */
+static enum refract_code read_lights(const cJSON *item, const char *path, const struct scene *s,
+                                     struct job_frame *f, struct err *e)
 {
-    static const char *const keys[] = {"camera", "width", "height", "format", "exposure", NULL};
+    static const char *const keys[] = {"name", "direction", "position", NULL};
+    const cJSON *list = cJSON_GetObjectItemCaseSensitive(item, "lights");
+    if (list == NULL)
+        return REFRACT_E_OK;
+    char p[96], what[64];
+    jr_path(p, sizeof p, path, "lights");
+    if (!cJSON_IsArray(list) || cJSON_GetArraySize(list) > SCENE_MAX_LIGHTS)
+        return err_set(e, REFRACT_E_INVALID_FIELD,
+                       "%s: expected an array of at most %d light changes, got %s", p,
+                       SCENE_MAX_LIGHTS, jr_describe(list, what, sizeof what));
+    int k = 0;
+    const cJSON *o;
+    cJSON_ArrayForEach(o, list)
+    {
+        char q[128], name[SCENE_LIGHT_NAME_MAX];
+        jr_path_index(q, sizeof q, p, k);
+        enum refract_code rc = jr_check_object(o, q, keys, e);
+        if (rc == REFRACT_E_OK)
+            rc = jr_string(o, q, "name", true, "", SCENE_LIGHT_NAME_MAX - 1, name, sizeof name, e);
+        if (rc != REFRACT_E_OK)
+            return rc;
+        const struct scene_light *light = NULL;
+        for (size_t i = 0; i < s->light_count; i++) {
+            if (strcmp(s->lights[i].name, name) == 0)
+                light = &s->lights[i];
+        }
+        if (light == NULL)
+            return err_set(e, REFRACT_E_INVALID_FIELD,
+                           "%s.name: the scene has no light \"%s\"; GET /v1/scenes/{id}/lights"
+                           " lists them",
+                           q, name);
+        for (int j = 0; j < k; j++) {
+            if (strcmp(f->lights[j].light, name) == 0)
+                return err_set(e, REFRACT_E_INVALID_FIELD,
+                               "%s.name: light \"%s\" is changed twice in one frame", q, name);
+        }
+        bool has_dir = cJSON_GetObjectItemCaseSensitive(o, "direction") != NULL;
+        bool has_pos = cJSON_GetObjectItemCaseSensitive(o, "position") != NULL;
+        if (has_dir == has_pos)
+            return err_set(e, has_dir ? REFRACT_E_INVALID_FIELD : REFRACT_E_MISSING_FIELD,
+                           "%s: a light change gives exactly one of \"direction\" or"
+                           " \"position\"",
+                           q);
+        if (has_dir && light->kind == SCENE_LIGHT_POINT)
+            return err_set(e, REFRACT_E_INVALID_FIELD,
+                           "%s.direction: light \"%s\" is a point light, which has no direction", q,
+                           name);
+        if (has_pos && light->kind == SCENE_LIGHT_DIRECTIONAL)
+            return err_set(e, REFRACT_E_INVALID_FIELD,
+                           "%s.position: light \"%s\" is directional, which has no position", q,
+                           name);
+        struct job_light_override *ov = &f->lights[k];
+        ov->field = has_dir ? JOB_LIGHT_DIRECTION : JOB_LIGHT_POSITION;
+        snprintf(ov->light, sizeof ov->light, "%s", name);
+        rc = has_dir ? jr_direction(o, q, "direction", true, light->direction, &ov->value, e)
+                     : jr_vec3(o, q, "position", true, light->position, -1e6, 1e6, &ov->value, e);
+        if (rc != REFRACT_E_OK)
+            return rc;
+        k++;
+    }
+    f->light_count = k;
+    return REFRACT_E_OK;
+}
+
+static enum refract_code expand_list(const cJSON *list, const struct scene *s,
+                                     const struct job_limits *lim, const struct job_frame *def,
+                                     struct job_frame **frames, int *count, struct err *e)
+{
+    static const char *const keys[] = {"camera",   "width",  "height", "format",
+                                       "exposure", "lights", NULL};
     if (!cJSON_IsArray(list) || cJSON_GetArraySize(list) == 0) {
         char what[64];
         return err_set(e, REFRACT_E_INVALID_FIELD,
@@ -144,6 +214,8 @@ static enum refract_code expand_list(const cJSON *list, const struct job_limits 
             rc = read_image(item, p, lim, def, &(*frames)[i], e);
         if (rc == REFRACT_E_OK)
             rc = read_camera(item, p, &(*frames)[i].camera, e);
+        if (rc == REFRACT_E_OK)
+            rc = read_lights(item, p, s, &(*frames)[i], e);
         if (rc != REFRACT_E_OK) {
             free(*frames);
             *frames = NULL;
@@ -206,12 +278,12 @@ static enum refract_code expand_light_path(const cJSON *lp, const struct scene *
 {
     static const char *const keys[] = {"light", "keyframes", "frames", NULL};
     static const char *const kf_keys[] = {"direction", "position", NULL};
-    char name[SCENE_NAME_MAX];
+    char name[SCENE_LIGHT_NAME_MAX];
     int n = 0;
     enum refract_code rc = jr_check_object(lp, "light_path", keys, e);
     if (rc == REFRACT_E_OK)
-        rc = jr_string(lp, "light_path", "light", true, "", SCENE_NAME_MAX - 1, name, sizeof name,
-                       e);
+        rc = jr_string(lp, "light_path", "light", true, "", SCENE_LIGHT_NAME_MAX - 1, name,
+                       sizeof name, e);
     if (rc == REFRACT_E_OK)
         rc = jr_int(lp, "light_path", "frames", true, 0, 1, 1 << 30, &n, e);
     if (rc == REFRACT_E_OK)
@@ -286,11 +358,13 @@ static enum refract_code expand_light_path(const cJSON *lp, const struct scene *
         double u = t - seg;
         struct job_frame *f = &(*frames)[i];
         *f = *def;
-        f->light_field = field;
-        snprintf(f->light, sizeof f->light, "%s", name);
-        f->light_value = field == JOB_LIGHT_DIRECTION ? job_slerp(values[seg], values[seg + 1], u)
-                                                      : vec3_add(vec3_scale(values[seg], 1 - u),
-                                                                 vec3_scale(values[seg + 1], u));
+        f->light_count = 1;
+        f->lights[0].field = field;
+        snprintf(f->lights[0].light, sizeof f->lights[0].light, "%s", name);
+        f->lights[0].value =
+            field == JOB_LIGHT_DIRECTION
+                ? job_slerp(values[seg], values[seg + 1], u)
+                : vec3_add(vec3_scale(values[seg], 1 - u), vec3_scale(values[seg + 1], u));
     }
     free(values);
     if (rc == REFRACT_E_OK)
@@ -325,7 +399,7 @@ enum refract_code job_spec_expand(const cJSON *root, const struct scene *s,
                        " or \"light_path\" (generators)%s",
                        given ? "; it has more than one" : "");
     if (list)
-        return expand_list(list, lim, &def, frames, count, e);
+        return expand_list(list, s, lim, &def, frames, count, e);
     if (path)
         return expand_light_path(path, s, lim, &def, frames, count, e);
     return expand_turntable(turn, lim, &def, frames, count, e);

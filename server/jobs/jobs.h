@@ -34,17 +34,24 @@ enum job_format { JOB_FORMAT_PNG = 0, JOB_FORMAT_JPEG = 1, JOB_FORMAT_EXR = 2 };
 /* "png", "jpeg", "exr"; NULL-terminated, indexed by enum job_format. */
 extern const char *const job_format_names[];
 
-/* What a light-path frame changes: one light's direction or position. */
+/* What a frame changes of one light: its direction or its position. */
 enum job_light_field { JOB_LIGHT_NONE = 0, JOB_LIGHT_DIRECTION = 1, JOB_LIGHT_POSITION = 2 };
+
+struct job_light_override {
+    enum job_light_field field;
+    char light[SCENE_LIGHT_NAME_MAX]; /* the light it moves */
+    vec3 value;                       /* unit direction or position */
+};
 
 /* One frame to render. */
 struct job_frame {
     struct scene_camera camera; /* with width and height */
     enum job_format format;
     double exposure_ev;
-    enum job_light_field light_field; /* NONE: the scene's lights */
-    char light[SCENE_NAME_MAX];       /* the light it moves */
-    vec3 light_value;                 /* unit direction or position */
+    /* Light poses that differ from the scene's (a light path's one light, or a frame's
+     * "lights" list); 0 = the scene's lights. */
+    struct job_light_override lights[SCENE_MAX_LIGHTS];
+    int light_count;
 };
 
 struct job_limits {

@@ -44,6 +44,14 @@ static void bad_specs(struct test_daemon *d, const char *s)
         "{\"scene\": \"%s\", \"light_path\": {\"light\": \"sun\", \"frames\": 2, \"keyframes\": "
         "[{\"direction\": [0, 0, 0]}, {\"direction\": [0, -1, 0]}]}}",
         "{\"scene\": \"%s\", \"light_path\": {\"light\": \"sun\", \"keyframes\": [{}, {}]}}",
+        "{\"scene\": \"%s\", \"frames\": [{\"lights\": [{\"name\": \"moon\", \"direction\": [0, "
+        "-1, 0]}]}]}",
+        "{\"scene\": \"%s\", \"frames\": [{\"lights\": [{\"name\": \"sun\"}]}]}",
+        "{\"scene\": \"%s\", \"frames\": [{\"lights\": [{\"name\": \"sun\", \"position\": [0, 1, "
+        "0]}]}]}",
+        "{\"scene\": \"%s\", \"frames\": [{\"lights\": [{\"name\": \"sun\", \"direction\": [0, -1, "
+        "0]}, {\"name\": \"sun\", \"direction\": [0, -1, 0]}]}]}",
+        "{\"scene\": \"%s\", \"frames\": [{\"lights\": {\"sun\": 1}}]}",
     };
     for (size_t i = 0; i < sizeof fmt / sizeof fmt[0]; i++)
         snprintf(buf[i], sizeof buf[i], fmt[i], s);
@@ -75,6 +83,11 @@ static void bad_specs(struct test_daemon *d, const char *s)
         {__LINE__, buf[22], 400, "invalid_field", {"keyframes[0].position", "directional"}},
         {__LINE__, buf[23], 400, "invalid_field", {"keyframes[0].direction"}},
         {__LINE__, buf[24], 400, "missing_field", {"light_path", "frames"}},
+        {__LINE__, buf[25], 400, "invalid_field", {"frames[0].lights[0].name", "moon"}},
+        {__LINE__, buf[26], 400, "missing_field", {"frames[0].lights[0]", "exactly one"}},
+        {__LINE__, buf[27], 400, "invalid_field", {"frames[0].lights[0].position", "directional"}},
+        {__LINE__, buf[28], 400, "invalid_field", {"frames[0].lights[1].name", "twice"}},
+        {__LINE__, buf[29], 400, "invalid_field", {"frames[0].lights", "array"}},
         {__LINE__,
          "{\"scene\": \"nosuch\", \"turntable\": {\"frames\": 2}}",
          404,

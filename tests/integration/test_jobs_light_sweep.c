@@ -5,6 +5,7 @@
  * render of the scene with the spot set to that direction once that pose's volume is ready
  * (the middle one is the closed form normalize(a + b), independent of the job's slerp).
  * The frames differ (the light moved), and the scene's own light is unchanged by the job.
+ * A frame list's per-frame "lights" change to the last pose gives the sweep's last frame.
  */
 #include <math.h>
 
@@ -88,6 +89,23 @@ int main(void)
         }
         io_image_free(&ref);
     }
+    /* A frame list's per-frame light change to the last pose renders that pose (a cache hit
+     * now): the same image as the sweep's last frame. */
+    char list_id[64] = "";
+    snprintf(spec, sizeof spec,
+             "{\"scene\": \"%s\", \"width\": %d, \"height\": %d, \"frames\": [{\"lights\": "
+             "[{\"name\": \"spot\", \"direction\": [0.3, -1, 0]}]}]}",
+             scene, W, H);
+    CHECK(job_submit_json(&d, spec, list_id));
+    st = job_wait(&d, list_id, 120);
+    CHECK_STR(job_str(st, "state"), "done");
+    cJSON_Delete(st);
+    struct io_image moved = {0};
+    CHECK(job_frame_image(&d, list_id, 0, W, H, &moved));
+    if (moved.rgba && frames[2].rgba)
+        CHECK_MSG(job_image_max_diff(&moved, &frames[2]) < 1e-6,
+                  "a frame's light change differs from the light path's same pose");
+    io_image_free(&moved);
     if (frames[0].rgba && frames[2].rgba)
         CHECK_MSG(job_image_max_diff(&frames[0], &frames[2]) > 0.02,
                   "the first and last frames are alike: the light did not move");

@@ -107,11 +107,12 @@ static void light_path(const struct scene *s)
     /* t = i / 4 * 2 segments: 0, 0.5, 1, 1.5, 2. */
     const double want[5][3] = {{0, 2, 0}, {1, 2, 0}, {2, 2, 0}, {2, 2, 2}, {2, 2, 4}};
     for (int i = 0; f && i < n; i++) {
-        CHECK_INT(f[i].light_field, JOB_LIGHT_POSITION);
-        CHECK_STR(f[i].light, "bulb");
-        CHECK_NEAR(f[i].light_value.x, want[i][0], 1e-12);
-        CHECK_NEAR(f[i].light_value.y, want[i][1], 1e-12);
-        CHECK_NEAR(f[i].light_value.z, want[i][2], 1e-12);
+        CHECK_INT(f[i].light_count, 1);
+        CHECK_INT(f[i].lights[0].field, JOB_LIGHT_POSITION);
+        CHECK_STR(f[i].lights[0].light, "bulb");
+        CHECK_NEAR(f[i].lights[0].value.x, want[i][0], 1e-12);
+        CHECK_NEAR(f[i].lights[0].value.y, want[i][1], 1e-12);
+        CHECK_NEAR(f[i].lights[0].value.z, want[i][2], 1e-12);
         CHECK_INT(f[i].camera.width, 64); /* the scene camera's size */
     }
     free(f);
