@@ -156,6 +156,9 @@ int refract_take_reply(refract_client *c, const char *method, const char *path, 
 int refract_call_reply(refract_client *c, const char *method, const char *path, const char *body,
                        const char *what, refract_reply_reader reader, void *out, char **json_slot,
                        long *http_status);
+/* The options every request of c sets on c->curl (URL, protocols, paths as they are, error
+ * buffer, no signals, connect timeout, user agent, headers); the caller adds the rest. */
+void refract_http_set_common(refract_client *c, const char *url, struct curl_slist *headers);
 /* Copies src into dst (dst_size bytes), cutting it if needed; dst is NUL-terminated. */
 void refract_copy_string(char *dst, size_t dst_size, const char *src);
 
