@@ -98,6 +98,40 @@ int refract_call_json(refract_client *c, const char *method, const char *path, c
     return refract_call_json_status(c, method, path, body, body_len, content_type, json_out, NULL);
 }
 
+int refract_take_reply(refract_client *c, const char *method, const char *path, char *body,
+                       const char *what, refract_reply_reader reader, void *out, char **json_slot)
+{
+    char why[256] = "";
+
+    if (out == NULL) {
+        free(body);
+        return REFRACT_E_OK;
+    }
+    if (!reader(body, body != NULL ? strlen(body) : 0, out, why, sizeof(why))) {
+        free(body);
+        return refract_fail(c, REFRACT_E_PROTOCOL, "%s %s: refractd's reply is not %s: %s", method,
+                            path, what, why);
+    }
+    *json_slot = body; /* ownership moves to the caller */
+    return REFRACT_E_OK;
+}
+
+int refract_call_reply(refract_client *c, const char *method, const char *path, const char *body,
+                       const char *what, refract_reply_reader reader, void *out, char **json_slot,
+                       long *http_status)
+{
+    char *reply = NULL;
+    int code =
+        refract_call_json_status(c, method, path, body, body != NULL ? strlen(body) : 0,
+                                 body != NULL ? "application/json" : NULL, &reply, http_status);
+
+    if (code != REFRACT_E_OK) {
+        free(reply);
+        return code;
+    }
+    return refract_take_reply(c, method, path, reply, what, reader, out, json_slot);
+}
+
 int refract_scene_call_json(refract_client *c, const char *call, const char *method,
                             const char *scene_id, const char *suffix, const void *body,
                             size_t body_len, const char *content_type, char **json_out)

@@ -167,8 +167,7 @@ static void set_method(CURL *curl, const char *method, const void *body, size_t 
     }
 }
 
-static void set_options(refract_client *c, const char *url, struct curl_slist *headers,
-                        struct exchange *x)
+void refract_http_set_common(refract_client *c, const char *url, struct curl_slist *headers)
 {
     CURL *curl = c->curl;
     long connect_ms = REFRACT_CONNECT_TIMEOUT_MS;
@@ -182,10 +181,18 @@ static void set_options(refract_client *c, const char *url, struct curl_slist *h
     curl_easy_setopt(curl, CURLOPT_ERRORBUFFER, c->curl_error);
     /* No signals: timeouts must not use SIGALRM in a library that may run in threads. */
     curl_easy_setopt(curl, CURLOPT_NOSIGNAL, 1L);
-    curl_easy_setopt(curl, CURLOPT_TIMEOUT_MS, c->timeout_ms);
     curl_easy_setopt(curl, CURLOPT_CONNECTTIMEOUT_MS, connect_ms);
     curl_easy_setopt(curl, CURLOPT_USERAGENT, "librefract/" REFRACT_VERSION);
     curl_easy_setopt(curl, CURLOPT_HTTPHEADER, headers);
+}
+
+static void set_options(refract_client *c, const char *url, struct curl_slist *headers,
+                        struct exchange *x)
+{
+    CURL *curl = c->curl;
+
+    refract_http_set_common(c, url, headers);
+    curl_easy_setopt(curl, CURLOPT_TIMEOUT_MS, c->timeout_ms);
     curl_easy_setopt(curl, CURLOPT_WRITEFUNCTION, on_body);
     curl_easy_setopt(curl, CURLOPT_WRITEDATA, x);
     curl_easy_setopt(curl, CURLOPT_HEADERFUNCTION, on_header);

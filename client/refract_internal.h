@@ -142,6 +142,23 @@ int refract_scene_call_json(refract_client *c, const char *call, const char *met
 int refract_call_json_status(refract_client *c, const char *method, const char *path,
                              const void *body, size_t body_len, const char *content_type,
                              char **json_out, long *http_status);
+/* Reads a JSON reply (one of refractd's status objects) into the struct out, or writes why
+ * not into why. */
+typedef bool (*refract_reply_reader)(const char *json, size_t len, void *out, char *why,
+                                     size_t why_size);
+/* Reads the reply body (owned; taken) of method path with reader into out and hands the body
+ * to *json_slot (out's copy of the JSON); when out is NULL the body is freed. what names
+ * the reply in the error ("a view status"). */
+int refract_take_reply(refract_client *c, const char *method, const char *path, char *body,
+                       const char *what, refract_reply_reader reader, void *out, char **json_slot);
+/* refract_call_json_status() with body (NULL: none; else JSON) whose reply is read with
+ * refract_take_reply(). */
+int refract_call_reply(refract_client *c, const char *method, const char *path, const char *body,
+                       const char *what, refract_reply_reader reader, void *out, char **json_slot,
+                       long *http_status);
+/* The options every request of c sets on c->curl (URL, protocols, paths as they are, error
+ * buffer, no signals, connect timeout, user agent, headers); the caller adds the rest. */
+void refract_http_set_common(refract_client *c, const char *url, struct curl_slist *headers);
 /* Copies src into dst (dst_size bytes), cutting it if needed; dst is NUL-terminated. */
 void refract_copy_string(char *dst, size_t dst_size, const char *src);
 

@@ -2,7 +2,7 @@
  * refract_lights.c - the calls of refract.h for lights and irradiance volumes:
  * PUT /v1/scenes/{id}/lights[/{name}], the scene's lights, GET .../irradiance and the
  * volume as OpenEXR. Built like refract_calls.c: check the arguments, build the path
- * with escaped segments, exchange through refract_call_json_status(), and read an
+ * with escaped segments, exchange through refract_call_reply(), and read an
  * irradiance status reply into struct refract_irradiance (refract_status.c).
  */
 #include <stdlib.h>
@@ -36,40 +36,23 @@ int refract_irradiance_parse(refract_client *c, const char *json, struct refract
     return REFRACT_E_OK;
 }
 
-/* Reads the reply body (owned; taken) of method path into *out, or frees it. */
-static int take_status(refract_client *c, const char *method, const char *path, char *body,
-                       long http_status, struct refract_irradiance *out)
+static bool read_status(const char *json, size_t len, void *out, char *why, size_t why_size)
 {
-    char why[256] = "";
-
-    if (out == NULL) {
-        free(body);
-        return REFRACT_E_OK;
-    }
-    if (!refract_status_from_json(body, body != NULL ? strlen(body) : 0, out, why, sizeof(why))) {
-        free(body);
-        return refract_fail(c, REFRACT_E_PROTOCOL,
-                            "%s %s: refractd's reply is not an irradiance "
-                            "status: %s",
-                            method, path, why);
-    }
-    out->json = body; /* ownership moves to the caller */
-    out->http_status = http_status;
-    return REFRACT_E_OK;
+    return refract_status_from_json(json, len, out, why, why_size);
 }
 
-/* PUT path with body; the reply is an irradiance status. */
-static int put_lights(refract_client *c, const char *path, const char *body,
-                      struct refract_irradiance *status_out)
+/* The exchange of method path with body (NULL: none); the reply is an irradiance status,
+ * read into out (NULL: dropped). */
+static int call_status(refract_client *c, const char *method, const char *path, const char *body,
+                       struct refract_irradiance *out)
 {
     long http_status = 0;
-    char *reply = NULL;
-    int code = refract_call_json_status(c, "PUT", path, body, strlen(body), "application/json",
-                                        &reply, &http_status);
+    int code = refract_call_reply(c, method, path, body, "an irradiance status", read_status, out,
+                                  out != NULL ? &out->json : NULL, &http_status);
 
-    if (code != REFRACT_E_OK)
-        return code;
-    return take_status(c, "PUT", path, reply, http_status, status_out);
+    if (code == REFRACT_E_OK && out != NULL)
+        out->http_status = http_status;
+    return code;
 }
 
 int refract_light_put(refract_client *c, const char *scene_id, const char *name,
@@ -95,7 +78,7 @@ int refract_light_put(refract_client *c, const char *scene_id, const char *name,
     esc_name = refract_url_escape_dup(name);
     suffix = esc_name != NULL ? refract_path_printf("/lights/%s", esc_name) : NULL;
     path = suffix != NULL ? refract_scene_path(scene_id, suffix) : NULL;
-    code = path != NULL ? put_lights(c, path, light_json, status_out)
+    code = path != NULL ? call_status(c, "PUT", path, light_json, status_out)
                         : refract_out_of_memory(c, "building the request path");
     free(path);
     free(suffix);
@@ -121,7 +104,7 @@ int refract_lights_put(refract_client *c, const char *scene_id, const char *ligh
     path = refract_scene_path(scene_id, "/lights");
     if (path == NULL)
         return refract_out_of_memory(c, "building the request path");
-    code = put_lights(c, path, lights_json, status_out);
+    code = call_status(c, "PUT", path, lights_json, status_out);
     free(path);
     return code;
 }
@@ -139,8 +122,6 @@ int refract_lights_get(refract_client *c, const char *scene_id, char **json_out)
 int refract_irradiance_status(refract_client *c, const char *scene_id,
                               struct refract_irradiance *out)
 {
-    long http_status = 0;
-    char *reply = NULL;
     char *path;
     int code;
 
@@ -156,9 +137,7 @@ int refract_irradiance_status(refract_client *c, const char *scene_id,
     path = refract_scene_path(scene_id, "/irradiance");
     if (path == NULL)
         return refract_out_of_memory(c, "building the request path");
-    code = refract_call_json_status(c, "GET", path, NULL, 0, NULL, &reply, &http_status);
-    if (code == REFRACT_E_OK)
-        code = take_status(c, "GET", path, reply, http_status, out);
+    code = call_status(c, "GET", path, NULL, out);
     free(path);
     return code;
 }

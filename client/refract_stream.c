@@ -174,19 +174,10 @@ static void set_stream_options(refract_client *c, const char *url, struct curl_s
                                struct streaming *s)
 {
     CURL *curl = c->curl;
-    long connect_ms = REFRACT_CONNECT_TIMEOUT_MS;
 
-    if (c->timeout_ms > 0 && c->timeout_ms < connect_ms)
-        connect_ms = c->timeout_ms;
-    curl_easy_setopt(curl, CURLOPT_URL, url);
-    curl_easy_setopt(curl, CURLOPT_PROTOCOLS_STR, "http,https");
-    curl_easy_setopt(curl, CURLOPT_PATH_AS_IS, 1L);
-    curl_easy_setopt(curl, CURLOPT_ERRORBUFFER, c->curl_error);
-    curl_easy_setopt(curl, CURLOPT_NOSIGNAL, 1L);
-    curl_easy_setopt(curl, CURLOPT_CONNECTTIMEOUT_MS, connect_ms);
-    curl_easy_setopt(curl, CURLOPT_USERAGENT, "librefract/" REFRACT_VERSION);
+    /* No CURLOPT_TIMEOUT_MS: a stream has no end; on_progress bounds its silences. */
+    refract_http_set_common(c, url, headers);
     curl_easy_setopt(curl, CURLOPT_HTTPGET, 1L);
-    curl_easy_setopt(curl, CURLOPT_HTTPHEADER, headers);
     curl_easy_setopt(curl, CURLOPT_WRITEFUNCTION, on_stream_body);
     curl_easy_setopt(curl, CURLOPT_WRITEDATA, s);
     curl_easy_setopt(curl, CURLOPT_HEADERFUNCTION, on_stream_header);

@@ -4,7 +4,7 @@
  * by refract_view_stream.c.
  *
  * Built like refract_lights.c: argument checks, a path with the id percent-encoded as one
- * segment, refract_call_json(), and the reply read into a struct (refract_view_json.c).
+ * segment, refract_call_reply(), and the reply read into a struct (refract_view_json.c).
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,24 +22,26 @@ void refract_view_free(struct refract_view *v)
     memset(v, 0, sizeof(*v));
 }
 
+static bool read_view(const char *json, size_t len, void *out, char *why, size_t why_size)
+{
+    return refract_view_from_json(json, len, out, why, why_size);
+}
+
 /* Reads the reply body (owned; taken) of method path into *out, or frees it when out is
  * NULL. */
 static int take_view(refract_client *c, const char *method, const char *path, char *body,
                      struct refract_view *out)
 {
-    char why[256] = "";
+    return refract_take_reply(c, method, path, body, "a view status", read_view, out,
+                              out != NULL ? &out->json : NULL);
+}
 
-    if (out == NULL) {
-        free(body);
-        return REFRACT_E_OK;
-    }
-    if (!refract_view_from_json(body, body != NULL ? strlen(body) : 0, out, why, sizeof(why))) {
-        free(body);
-        return refract_fail(c, REFRACT_E_PROTOCOL,
-                            "%s %s: refractd's reply is not a view status: %s", method, path, why);
-    }
-    out->json = body; /* ownership moves to the caller */
-    return REFRACT_E_OK;
+/* The exchange of method path with body (NULL: none), its reply read into out. */
+static int call_view(refract_client *c, const char *method, const char *path, const char *body,
+                     struct refract_view *out)
+{
+    return refract_call_reply(c, method, path, body, "a view status", read_view, out,
+                              out != NULL ? &out->json : NULL, NULL);
 }
 
 int refract_view_parse(refract_client *c, const char *json, struct refract_view *out)
@@ -76,7 +78,6 @@ static char *view_path(const char *view_id, const char *suffix)
 static int view_call(refract_client *c, const char *call, const char *method, const char *view_id,
                      const char *body, struct refract_view *out)
 {
-    char *reply = NULL;
     char *path;
     int code = refract_check_segment(c, call, "view id", view_id);
 
@@ -85,12 +86,7 @@ static int view_call(refract_client *c, const char *call, const char *method, co
     path = view_path(view_id, "");
     if (path == NULL)
         return refract_out_of_memory(c, "building the request path");
-    code = refract_call_json(c, method, path, body, body != NULL ? strlen(body) : 0,
-                             body != NULL ? "application/json" : NULL, &reply);
-    if (code == REFRACT_E_OK)
-        code = take_view(c, method, path, reply, out);
-    else
-        free(reply);
+    code = call_view(c, method, path, body, out);
     free(path);
     return code;
 }
@@ -99,7 +95,6 @@ int refract_view_create(refract_client *c, const char *scene_id, const char *req
                         struct refract_view *out)
 {
     const char *body = request_json != NULL ? request_json : "{}";
-    char *reply = NULL;
     char *path;
     int code;
 
@@ -117,11 +112,7 @@ int refract_view_create(refract_client *c, const char *scene_id, const char *req
     path = refract_scene_path(scene_id, "/views");
     if (path == NULL)
         return refract_out_of_memory(c, "building the request path");
-    code = refract_call_json(c, "POST", path, body, strlen(body), "application/json", &reply);
-    if (code == REFRACT_E_OK)
-        code = take_view(c, "POST", path, reply, out);
-    else
-        free(reply);
+    code = call_view(c, "POST", path, body, out);
     free(path);
     return code;
 }

@@ -13,52 +13,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "exr_mem.h"
 #include "io_exr.h"
 
-struct exr_membuf_in {
-    const uint8_t *bytes;
-    size_t len;
-    struct err *e;
-    int have_error;
-};
-
-static void on_read_error(exr_const_context_t ctxt, exr_result_t code, const char *msg)
-{
-    void *ud = NULL;
-    if (ctxt == NULL || exr_get_user_data(ctxt, &ud) != EXR_ERR_SUCCESS || ud == NULL)
-        return;
-    struct exr_membuf_in *mb = ud;
-    if (mb->have_error)
-        return;
-    mb->have_error = 1;
-    err_set(mb->e,
-            code == EXR_ERR_OUT_OF_MEMORY ? REFRACT_E_OUT_OF_MEMORY : REFRACT_E_INVALID_IMAGE,
-            "OpenEXR: %s (%s)", msg ? msg : "", exr_get_error_code_as_string(code));
-}
-
-static int64_t read_mem(exr_const_context_t ctxt, void *userdata, void *buffer, uint64_t sz,
-                        uint64_t offset, exr_stream_error_func_ptr_t error_cb)
-{
-    (void)ctxt;
-    (void)error_cb;
-    struct exr_membuf_in *mb = userdata;
-    if (offset >= mb->len)
-        return 0;
-    uint64_t n = mb->len - offset < sz ? mb->len - offset : sz;
-    memcpy(buffer, mb->bytes + offset, (size_t)n);
-    return (int64_t)n;
-}
-
-static int64_t size_mem(exr_const_context_t ctxt, void *userdata)
-{
-    (void)ctxt;
-    return (int64_t)((struct exr_membuf_in *)userdata)->len;
-}
-
-static enum refract_code fail(struct exr_membuf_in *mb, exr_result_t rv, const char *what)
+static enum refract_code fail(struct exr_mem_src *mb, exr_result_t rv, const char *what)
 {
     if (!mb->have_error) {
-        mb->have_error = 1;
+        mb->have_error = true;
         err_set(mb->e,
                 rv == EXR_ERR_OUT_OF_MEMORY ? REFRACT_E_OUT_OF_MEMORY : REFRACT_E_INVALID_IMAGE,
                 "OpenEXR: %s failed: %s", what, exr_get_default_error_message(rv));
@@ -101,7 +62,7 @@ static int wanted_index(int nch, const char *const *names, const char *name)
 
 static enum refract_code read_chunks(exr_context_t ctxt, int nch, const char *const *names,
                                      float *out, int width, int height, int y0,
-                                     struct exr_membuf_in *mb)
+                                     struct exr_mem_src *mb)
 {
     int32_t lines = 0;
     exr_result_t rv = exr_get_scanlines_per_chunk(ctxt, 0, &lines);
@@ -160,14 +121,12 @@ enum refract_code io_decode_exr_channels(const void *bytes, size_t len, int nch,
     if (attr_value && attr_size)
         attr_value[0] = '\0';
     struct err local;
-    struct exr_membuf_in mb = {.bytes = bytes, .len = len, .e = e ? e : &local};
+    struct exr_mem_src mb = {
+        .bytes = bytes, .len = len, .e = e ? e : &local, .bad_input = REFRACT_E_INVALID_IMAGE};
     if (len < 4 || memcmp(bytes, "\x76\x2f\x31\x01", 4) != 0)
         return err_set(mb.e, REFRACT_E_INVALID_IMAGE, "not an OpenEXR file (bad magic number)");
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-    init.error_handler_fn = on_read_error;
-    init.user_data = &mb;
-    init.read_fn = read_mem;
-    init.size_fn = size_mem;
+    exr_mem_src_attach(&init, &mb);
     exr_context_t ctxt = NULL;
     exr_result_t rv = exr_start_read(&ctxt, "volume.exr", &init);
     if (rv != EXR_ERR_SUCCESS) {

@@ -15,49 +15,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "exr_mem.h"
 #include "volume_internal.h"
 
-struct exr_src {
-    const unsigned char *bytes;
-    size_t len;
-    struct err *e;
-    bool have_error;
-};
-
-static void on_error(exr_const_context_t ctxt, exr_result_t code, const char *msg)
-{
-    void *ud = NULL;
-    if (ctxt == NULL || exr_get_user_data(ctxt, &ud) != EXR_ERR_SUCCESS || ud == NULL)
-        return;
-    struct exr_src *s = ud;
-    if (s->have_error)
-        return;
-    s->have_error = true;
-    err_set(s->e,
-            code == EXR_ERR_OUT_OF_MEMORY ? REFRACT_E_OUT_OF_MEMORY : REFRACT_E_INVALID_VOLUME,
-            "OpenEXR: %s (%s)", msg ? msg : "", exr_get_error_code_as_string(code));
-}
-
-static int64_t read_src(exr_const_context_t ctxt, void *userdata, void *buffer, uint64_t sz,
-                        uint64_t offset, exr_stream_error_func_ptr_t error_cb)
-{
-    (void)ctxt;
-    (void)error_cb;
-    const struct exr_src *s = userdata;
-    if (offset >= s->len)
-        return 0;
-    uint64_t n = s->len - offset < sz ? s->len - offset : sz;
-    memcpy(buffer, s->bytes + offset, (size_t)n);
-    return (int64_t)n;
-}
-
-static int64_t size_src(exr_const_context_t ctxt, void *userdata)
-{
-    (void)ctxt;
-    return (int64_t)((const struct exr_src *)userdata)->len;
-}
-
-static enum refract_code fail(struct exr_src *s, exr_result_t rv, const char *what)
+static enum refract_code fail(struct exr_mem_src *s, exr_result_t rv, const char *what)
 {
     if (!s->have_error) {
         s->have_error = true;
@@ -120,7 +81,7 @@ struct part_shape {
 };
 
 static enum refract_code part_shape(exr_context_t ctxt, int part, struct part_shape *ps,
-                                    struct exr_src *s)
+                                    struct exr_mem_src *s)
 {
     exr_storage_t storage;
     exr_attr_box2i_t dw;
@@ -153,7 +114,7 @@ static int wanted(const char *const names[3], int comps, const char *name)
 /* Decodes all rows of one part into the sink, chunk by chunk. */
 static enum refract_code read_part(exr_context_t ctxt, int part, const struct part_shape *ps,
                                    const char *const names[3], int comps, struct volume_sink *sink,
-                                   struct exr_src *s)
+                                   struct exr_mem_src *s)
 {
     int32_t lines = 0;
     exr_result_t rv = exr_get_scanlines_per_chunk(ctxt, part, &lines);
@@ -223,7 +184,7 @@ static enum refract_code read_part(exr_context_t ctxt, int part, const struct pa
 
 static enum refract_code decode(exr_context_t ctxt, const struct io_volume_desc *d,
                                 struct volume_sink *sink, struct io_volume_info *info,
-                                struct exr_src *s)
+                                struct exr_mem_src *s)
 {
     int parts = 0;
     exr_result_t rv = exr_get_count(ctxt, &parts);
@@ -286,16 +247,14 @@ enum refract_code volume_decode_exr(const unsigned char *src, size_t len,
                                     const struct io_volume_desc *d, struct volume_sink *sink,
                                     struct io_volume_info *info, struct err *e)
 {
-    struct exr_src s = {.bytes = src, .len = len, .e = e};
+    struct exr_mem_src s = {
+        .bytes = src, .len = len, .e = e, .bad_input = REFRACT_E_INVALID_VOLUME};
     if (len < 4 || memcmp(src, "\x76\x2f\x31\x01", 4) != 0)
         return err_set(e, REFRACT_E_INVALID_VOLUME,
                        "not an OpenEXR file (bad magic number); say ?format=raw or nrrd for "
                        "other files");
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-    init.error_handler_fn = on_error;
-    init.user_data = &s;
-    init.read_fn = read_src;
-    init.size_fn = size_src;
+    exr_mem_src_attach(&init, &s);
     exr_context_t ctxt = NULL;
     exr_result_t rv = exr_start_read(&ctxt, "volume.exr", &init);
     enum refract_code rc = rv == EXR_ERR_SUCCESS ? decode(ctxt, d, sink, info, &s)

@@ -70,15 +70,21 @@ static const char *volume_at(const struct scene *s, size_t i, int ch, size_t k)
     return l->kind == SCENE_LAYER_VOLUME ? l->volume : NULL;
 }
 
-/* True when a layer before (i, ch, k), in document order, names the same volume. */
-static bool seen_before(const struct scene *s, size_t i, int ch, size_t k, const char *name)
+/* The name layer k of channel ch of object i gives (a volume's, a mesh's), or NULL. */
+typedef const char *(*layer_name_fn)(const struct scene *s, size_t i, int ch, size_t k);
+/* True when the scene's lookup finds `name`. */
+typedef bool (*name_found_fn)(scene_volume_lookup_fn lookup, void *ctx, const char *name);
+
+/* True when a layer before (i, ch, k), in document order, gives the same name. */
+static bool seen_before(const struct scene *s, layer_name_fn name_at, size_t i, int ch, size_t k,
+                        const char *name)
 {
     for (size_t oi = 0; oi <= i; oi++) {
         for (int oc = 0; oc < SCENE_CH_COUNT; oc++) {
             for (size_t ok = 0; ok < s->objects[oi].fields[oc].count; ok++) {
                 if (oi == i && oc == ch && ok == k)
                     return false;
-                const char *other = volume_at(s, oi, oc, ok);
+                const char *other = name_at(s, oi, oc, ok);
                 if (other != NULL && strcmp(other, name) == 0)
                     return true;
             }
@@ -87,8 +93,10 @@ static bool seen_before(const struct scene *s, size_t i, int ch, size_t k, const
     return false;
 }
 
-int scene_missing_volumes(const struct scene *s, scene_volume_lookup_fn lookup, void *ctx,
-                          char *buf, size_t buf_size)
+/* Counts the distinct names the layers give (name_at) that found() does not find, and
+ * writes them comma-separated into buf (cut at buf_size). */
+static int missing_names(const struct scene *s, layer_name_fn name_at, name_found_fn found,
+                         scene_volume_lookup_fn lookup, void *ctx, char *buf, size_t buf_size)
 {
     /* Quadratic in the number of layers (at most objects * 4 * max_layers, 2048 by
      * default), which is cheap next to evaluating a single channel. */
@@ -99,10 +107,10 @@ int scene_missing_volumes(const struct scene *s, scene_volume_lookup_fn lookup, 
     for (size_t i = 0; i < s->object_count; i++) {
         for (int ch = 0; ch < SCENE_CH_COUNT; ch++) {
             for (size_t k = 0; k < s->objects[i].fields[ch].count; k++) {
-                const char *name = volume_at(s, i, ch, k);
-                if (name == NULL || seen_before(s, i, ch, k, name))
+                const char *name = name_at(s, i, ch, k);
+                if (name == NULL || seen_before(s, name_at, i, ch, k, name))
                     continue;
-                if (lookup != NULL && lookup(ctx, name) != NULL)
+                if (found(lookup, ctx, name))
                     continue;
                 if (buf != NULL && used < buf_size) {
                     int n = snprintf(buf + used, buf_size - used, "%s%s", missing ? "," : "", name);
@@ -113,6 +121,17 @@ int scene_missing_volumes(const struct scene *s, scene_volume_lookup_fn lookup, 
         }
     }
     return missing;
+}
+
+static bool volume_found(scene_volume_lookup_fn lookup, void *ctx, const char *name)
+{
+    return lookup != NULL && lookup(ctx, name) != NULL;
+}
+
+int scene_missing_volumes(const struct scene *s, scene_volume_lookup_fn lookup, void *ctx,
+                          char *buf, size_t buf_size)
+{
+    return missing_names(s, volume_at, volume_found, lookup, ctx, buf, buf_size);
 }
 
 /* ---- meshes ---- */
@@ -134,46 +153,15 @@ static const char *mesh_at(const struct scene *s, size_t i, int ch, size_t k)
     return l->kind == SCENE_LAYER_SHAPE && l->shape.kind == SCENE_SHAPE_MESH ? l->shape.mesh : NULL;
 }
 
-static bool mesh_seen_before(const struct scene *s, size_t i, int ch, size_t k, const char *name)
+static bool mesh_found(scene_volume_lookup_fn lookup, void *ctx, const char *name)
 {
-    for (size_t oi = 0; oi <= i; oi++) {
-        for (int oc = 0; oc < SCENE_CH_COUNT; oc++) {
-            for (size_t ok = 0; ok < s->objects[oi].fields[oc].count; ok++) {
-                if (oi == i && oc == ch && ok == k)
-                    return false;
-                const char *other = mesh_at(s, oi, oc, ok);
-                if (other != NULL && strcmp(other, name) == 0)
-                    return true;
-            }
-        }
-    }
-    return false;
+    return scene_mesh_lookup(lookup, ctx, name) != NULL;
 }
 
 int scene_missing_meshes(const struct scene *s, scene_volume_lookup_fn lookup, void *ctx, char *buf,
                          size_t buf_size)
 {
-    int missing = 0;
-    size_t used = 0;
-    if (buf != NULL && buf_size > 0)
-        buf[0] = '\0';
-    for (size_t i = 0; i < s->object_count; i++) {
-        for (int ch = 0; ch < SCENE_CH_COUNT; ch++) {
-            for (size_t k = 0; k < s->objects[i].fields[ch].count; k++) {
-                const char *name = mesh_at(s, i, ch, k);
-                if (name == NULL || mesh_seen_before(s, i, ch, k, name))
-                    continue;
-                if (scene_mesh_lookup(lookup, ctx, name) != NULL)
-                    continue;
-                if (buf != NULL && used < buf_size) {
-                    int n = snprintf(buf + used, buf_size - used, "%s%s", missing ? "," : "", name);
-                    used += n > 0 ? (size_t)n : 0;
-                }
-                missing++;
-            }
-        }
-    }
-    return missing;
+    return missing_names(s, mesh_at, mesh_found, lookup, ctx, buf, buf_size);
 }
 
 /* ---- evaluation ---- */

@@ -124,11 +124,17 @@ struct slot *store_find_slot(struct store *s, const char *id);
 enum refract_code store_install_locked(struct store *s, struct store_scene *v, struct err *e);
 void store_env_release(struct store_env *env);
 
-/* Commits the row of an upload whose blob is durable, in its own transaction; *old_blob
- * gets the blob the row replaced ("" if none). */
-enum refract_code store_upload_commit_row_locked(struct store *s,
-                                                 const struct store_upload_row *row,
-                                                 char old_blob[SHA256_HEX_SIZE], struct err *e);
+/* Makes `item` (a volume, mesh or environment) part of a new version of scene id. */
+typedef enum refract_code (*store_upload_install_fn)(struct store *s, const char *id, void *item,
+                                                     struct err *e);
+
+/* The commit path of an upload whose blob (info->sha256) is durable: commits its uploads row
+ * (scene id, kind, name, info) in its own transaction (on failure the new blob is
+ * released), then installs item and releases the blob the row replaced. */
+enum refract_code store_upload_finish_locked(struct store *s, const char *id, const char *kind,
+                                             const char *name, const struct store_upload_info *info,
+                                             store_upload_install_fn install, void *item,
+                                             struct err *e);
 
 /* ---- store_upload.c (for start-up) ---- */
 /* Restores one upload row into the scene's current version (mapping or decoding its

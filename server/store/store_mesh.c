@@ -129,9 +129,10 @@ static enum refract_code mesh_room_locked(struct store *s, const char *id, const
 }
 
 /* Swaps in a copy of `id`'s current version with m added or replacing its namesake. */
-static enum refract_code install_mesh_locked(struct store *s, const char *id, struct store_mesh *m,
+static enum refract_code install_mesh_locked(struct store *s, const char *id, void *item,
                                              struct err *e)
 {
+    struct store_mesh *m = item;
     enum refract_code rc = mesh_room_locked(s, id, m->name, e);
     if (rc != REFRACT_E_OK)
         return rc;
@@ -150,25 +151,6 @@ static enum refract_code install_mesh_locked(struct store *s, const char *id, st
         v->mesh_count++;
     v->meshes[i] = m;
     return store_install_locked(s, v, e);
-}
-
-/* Row, install and release of the replaced blob, for a mesh whose blob is durable. */
-static enum refract_code finish_mesh_locked(struct store *s, const char *id, struct store_mesh *m,
-                                            struct err *e)
-{
-    struct store_upload_row row = {.info = m->info};
-    snprintf(row.scene, sizeof row.scene, "%s", id);
-    snprintf(row.name, sizeof row.name, "%s", m->name);
-    snprintf(row.kind, sizeof row.kind, "mesh");
-    char old_blob[SHA256_HEX_SIZE];
-    enum refract_code rc = store_upload_commit_row_locked(s, &row, old_blob, e);
-    if (rc != REFRACT_E_OK) {
-        store_blob_release_locked(s, m->info.sha256);
-        return rc;
-    }
-    rc = install_mesh_locked(s, id, m, e);
-    store_blob_release_locked(s, old_blob);
-    return rc;
 }
 
 enum refract_code store_mesh_put_file(struct store *s, const char *id, const char *name,
@@ -200,7 +182,8 @@ enum refract_code store_mesh_put_file(struct store *s, const char *id, const cha
     else
         unlink(tmp_path);
     if (rc == REFRACT_E_OK)
-        rc = finish_mesh_locked(s, id, m, e);
+        rc =
+            store_upload_finish_locked(s, id, "mesh", m->name, &m->info, install_mesh_locked, m, e);
     pthread_mutex_unlock(&s->lock);
     if (rc == REFRACT_E_OK && out)
         *out = m;

@@ -64,9 +64,10 @@ static void describe_floats(const float *data, size_t count, int components,
 }
 
 /* Swaps in a copy of `id`'s current version with `vol` added or replacing its namesake. */
-static enum refract_code install_volume_locked(struct store *s, const char *id,
-                                               struct store_volume *vol, struct err *e)
+static enum refract_code install_volume_locked(struct store *s, const char *id, void *item,
+                                               struct err *e)
 {
+    struct store_volume *vol = item;
     struct slot *slot = store_find_slot(s, id);
     if (slot == NULL)
         return err_set(e, REFRACT_E_SCENE_NOT_FOUND, "no scene with id \"%s\"", id);
@@ -104,9 +105,10 @@ static enum refract_code volume_room_locked(struct store *s, const char *id, con
     return REFRACT_E_OK;
 }
 
-enum refract_code store_upload_commit_row_locked(struct store *s,
-                                                 const struct store_upload_row *row,
-                                                 char old_blob[SHA256_HEX_SIZE], struct err *e)
+/* Commits the row of an upload whose blob is durable, in its own transaction; *old_blob
+ * gets the blob the row replaced ("" if none). */
+static enum refract_code commit_row_locked(struct store *s, const struct store_upload_row *row,
+                                           char old_blob[SHA256_HEX_SIZE], struct err *e)
 {
     enum refract_code rc = store_db_begin_locked(s, e);
     if (rc == REFRACT_E_OK)
@@ -118,21 +120,22 @@ enum refract_code store_upload_commit_row_locked(struct store *s,
     return rc;
 }
 
-/* Row, install and release of the replaced blob, for a volume whose blob is durable. */
-static enum refract_code finish_volume_locked(struct store *s, const char *id,
-                                              struct store_volume *vol, struct err *e)
+enum refract_code store_upload_finish_locked(struct store *s, const char *id, const char *kind,
+                                             const char *name, const struct store_upload_info *info,
+                                             store_upload_install_fn install, void *item,
+                                             struct err *e)
 {
-    struct store_upload_row row = {.info = vol->info};
+    struct store_upload_row row = {.info = *info};
     snprintf(row.scene, sizeof row.scene, "%s", id);
-    snprintf(row.name, sizeof row.name, "%s", vol->name);
-    snprintf(row.kind, sizeof row.kind, "volume");
+    snprintf(row.name, sizeof row.name, "%s", name);
+    snprintf(row.kind, sizeof row.kind, "%s", kind);
     char old_blob[SHA256_HEX_SIZE];
-    enum refract_code rc = store_upload_commit_row_locked(s, &row, old_blob, e);
+    enum refract_code rc = commit_row_locked(s, &row, old_blob, e);
     if (rc != REFRACT_E_OK) {
-        store_blob_release_locked(s, vol->info.sha256);
+        store_blob_release_locked(s, info->sha256);
         return rc;
     }
-    rc = install_volume_locked(s, id, vol, e);
+    rc = install(s, id, item, e);
     store_blob_release_locked(s, old_blob);
     return rc;
 }
@@ -163,7 +166,8 @@ enum refract_code store_volume_put(struct store *s, const char *id, const char *
         }
     }
     if (rc == REFRACT_E_OK)
-        rc = finish_volume_locked(s, id, vol, e);
+        rc = store_upload_finish_locked(s, id, "volume", vol->name, &vol->info,
+                                        install_volume_locked, vol, e);
     pthread_mutex_unlock(&s->lock);
     free(data);
     if (rc == REFRACT_E_OK && out)
@@ -202,7 +206,8 @@ enum refract_code store_volume_put_file(struct store *s, const char *id, const c
         }
     }
     if (rc == REFRACT_E_OK)
-        rc = finish_volume_locked(s, id, vol, e);
+        rc = store_upload_finish_locked(s, id, "volume", vol->name, &vol->info,
+                                        install_volume_locked, vol, e);
     pthread_mutex_unlock(&s->lock);
     if (rc == REFRACT_E_OK && out)
         *out = vol;
@@ -245,34 +250,30 @@ static enum refract_code decode_env(struct store *s, const void *bytes, size_t l
     return REFRACT_E_OK;
 }
 
-/* Commits the environment row (blob durable) and installs it. */
-static enum refract_code finish_env_locked(struct store *s, const char *id, struct store_env *env,
-                                           struct err *e)
+/* Swaps in a copy of `id`'s current version with environment `item`. */
+static enum refract_code install_env_locked(struct store *s, const char *id, void *item,
+                                            struct err *e)
 {
-    struct slot *slot = store_find_slot(s, id);
-    if (slot == NULL) {
-        store_blob_release_locked(s, env->info.sha256);
-        return err_set(e, REFRACT_E_SCENE_NOT_FOUND, "no scene with id \"%s\"", id);
-    }
-    struct store_upload_row row = {.info = env->info};
-    snprintf(row.scene, sizeof row.scene, "%s", id);
-    snprintf(row.name, sizeof row.name, "environment");
-    snprintf(row.kind, sizeof row.kind, "environment");
-    char old_blob[SHA256_HEX_SIZE];
-    enum refract_code rc = store_upload_commit_row_locked(s, &row, old_blob, e);
-    if (rc != REFRACT_E_OK) {
-        store_blob_release_locked(s, env->info.sha256);
-        return rc;
-    }
-    struct store_scene *v = store_version_new(s, id, slot->current);
+    struct store_env *env = item;
+    struct store_scene *v = store_version_new(s, id, store_find_slot(s, id)->current);
     if (v == NULL)
         return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory");
     store_env_release(v->env);
     atomic_fetch_add(&env->refs, 1);
     v->env = env;
-    rc = store_install_locked(s, v, e);
-    store_blob_release_locked(s, old_blob);
-    return rc;
+    return store_install_locked(s, v, e);
+}
+
+/* Commits the environment row (blob durable) and installs it. */
+static enum refract_code finish_env_locked(struct store *s, const char *id, struct store_env *env,
+                                           struct err *e)
+{
+    if (store_find_slot(s, id) == NULL) {
+        store_blob_release_locked(s, env->info.sha256);
+        return err_set(e, REFRACT_E_SCENE_NOT_FOUND, "no scene with id \"%s\"", id);
+    }
+    return store_upload_finish_locked(s, id, "environment", "environment", &env->info,
+                                      install_env_locked, env, e);
 }
 
 enum refract_code store_env_put(struct store *s, const char *id, const void *bytes, size_t len,
