@@ -63,6 +63,7 @@ cat <<MSG
 
 refractd is running (pid $(cat "$OUT/refractd.pid")) and listens on $URL
   picture:   $OUT/demo.png
+  viewer:    $URL/viewer/$SCENE   (open it in a browser: drag to orbit, move the light)
   log:       $OUT/refractd.log
   try:       ./build/refract --url $URL render luneburg_lens -o out/luneburg.png
              curl $URL/v1/health
