@@ -62,6 +62,20 @@ char *refract_scene_path(const char *scene_id, const char *suffix)
     return path;
 }
 
+int refract_scene_route(refract_client *c, const char *call, const char *scene_id,
+                        const char *suffix, char **path_out)
+{
+    int code = refract_check_segment(c, call, "scene id", scene_id);
+
+    *path_out = NULL;
+    if (code != REFRACT_E_OK)
+        return code;
+    *path_out = refract_scene_path(scene_id, suffix);
+    if (*path_out == NULL)
+        return refract_out_of_memory(c, "building the request path");
+    return REFRACT_E_OK;
+}
+
 int refract_call_json_status(refract_client *c, const char *method, const char *path,
                              const void *body, size_t body_len, const char *content_type,
                              char **json_out, long *http_status)
@@ -137,13 +151,10 @@ int refract_scene_call_json(refract_client *c, const char *call, const char *met
                             size_t body_len, const char *content_type, char **json_out)
 {
     char *path;
-    int code = refract_check_segment(c, call, "scene id", scene_id);
+    int code = refract_scene_route(c, call, scene_id, suffix, &path);
 
     if (code != REFRACT_E_OK)
         return code;
-    path = refract_scene_path(scene_id, suffix);
-    if (path == NULL)
-        return refract_out_of_memory(c, "building the request path");
     code = refract_call_json(c, method, path, body, body_len, content_type, json_out);
     free(path);
     return code;
@@ -424,12 +435,9 @@ int refract_render(refract_client *c, const char *scene_id, const char *request_
         return REFRACT_E_USAGE;
     if (out == NULL)
         return refract_fail(c, REFRACT_E_USAGE, "refract_render: out is NULL");
-    code = refract_check_segment(c, "refract_render", "scene id", scene_id);
+    code = refract_scene_route(c, "refract_render", scene_id, "/render", &path);
     if (code != REFRACT_E_OK)
         return code;
-    path = refract_scene_path(scene_id, "/render");
-    if (path == NULL)
-        return refract_out_of_memory(c, "building the request path");
     code = refract_http_exchange(c, "POST", path, body, strlen(body), "application/json", &r);
     if (code == REFRACT_E_OK)
         code = refract_http_check(c, "POST", path, &r);

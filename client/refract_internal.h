@@ -124,6 +124,10 @@ int refract_check_segment(refract_client *c, const char *call, const char *what,
 char *refract_path_printf(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 /* Returns a new path "/v1/scenes/<escaped id><suffix>", or NULL when out of memory. */
 char *refract_scene_path(const char *scene_id, const char *suffix);
+/* refract_check_segment of the scene id (named by call), then refract_scene_path into
+ * *path_out (caller frees; NULL on failure). Returns the code with c's message set. */
+int refract_scene_route(refract_client *c, const char *call, const char *scene_id,
+                        const char *suffix, char **path_out);
 /* Sets c's message to "out of memory while <what>"; returns REFRACT_E_OUT_OF_MEMORY. */
 int refract_out_of_memory(refract_client *c, const char *what);
 /* The common tail of every JSON call: exchange, check the status, check that a non-empty

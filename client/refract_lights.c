@@ -131,12 +131,9 @@ int refract_irradiance_status(refract_client *c, const char *scene_id,
         return REFRACT_E_USAGE;
     if (out == NULL)
         return refract_fail(c, REFRACT_E_USAGE, "refract_irradiance_status: out is NULL");
-    code = refract_check_segment(c, "refract_irradiance_status", "scene id", scene_id);
+    code = refract_scene_route(c, "refract_irradiance_status", scene_id, "/irradiance", &path);
     if (code != REFRACT_E_OK)
         return code;
-    path = refract_scene_path(scene_id, "/irradiance");
-    if (path == NULL)
-        return refract_out_of_memory(c, "building the request path");
     code = call_status(c, "GET", path, NULL, out);
     free(path);
     return code;

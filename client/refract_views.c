@@ -106,12 +106,9 @@ int refract_view_create(refract_client *c, const char *scene_id, const char *req
         return refract_fail(c, REFRACT_E_USAGE,
                             "refract_view_create: out is NULL (the new "
                             "session's id is returned there)");
-    code = refract_check_segment(c, "refract_view_create", "scene id", scene_id);
+    code = refract_scene_route(c, "refract_view_create", scene_id, "/views", &path);
     if (code != REFRACT_E_OK)
         return code;
-    path = refract_scene_path(scene_id, "/views");
-    if (path == NULL)
-        return refract_out_of_memory(c, "building the request path");
     code = call_view(c, "POST", path, body, out);
     free(path);
     return code;
