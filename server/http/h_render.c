@@ -53,26 +53,16 @@ static enum refract_code encode(const struct render_job *job, void **bytes, size
 {
     const struct render_view_result *r = &job->result;
     const struct http_render_request *rq = &job->request;
-    if (rq->format == HTTP_FORMAT_EXR) {
-        *content_type = "image/x-exr";
-        return io_encode_exr(r->rgba, r->width, r->height, bytes, len, e);
-    }
-    uint8_t *px = malloc((size_t)r->width * (size_t)r->height * 4);
-    if (px == NULL)
-        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory encoding the image");
-    io_tonemap_srgb8(r->rgba, r->width, r->height, rq->exposure_ev,
-                     rq->tonemap == SCENE_TONEMAP_FILMIC ? IO_TONEMAP_FILMIC : IO_TONEMAP_CLAMP,
-                     px);
-    enum refract_code rc;
-    if (rq->format == HTTP_FORMAT_JPEG) {
-        *content_type = "image/jpeg";
-        rc = io_encode_jpeg(px, r->width, r->height, rq->jpeg_quality, bytes, len, e);
-    } else {
-        *content_type = "image/png";
-        rc = io_encode_png(px, r->width, r->height, bytes, len, e);
-    }
-    free(px);
-    return rc;
+    enum io_frame_format format = rq->format == HTTP_FORMAT_EXR    ? IO_FRAME_EXR
+                                  : rq->format == HTTP_FORMAT_JPEG ? IO_FRAME_JPEG
+                                                                   : IO_FRAME_PNG;
+    *content_type = format == IO_FRAME_EXR    ? "image/x-exr"
+                    : format == IO_FRAME_JPEG ? "image/jpeg"
+                                              : "image/png";
+    return io_encode_frame(r->rgba, r->width, r->height, format, rq->exposure_ev,
+                           rq->tonemap == SCENE_TONEMAP_FILMIC ? IO_TONEMAP_FILMIC
+                                                               : IO_TONEMAP_CLAMP,
+                           rq->jpeg_quality, bytes, len, e);
 }
 
 static enum MHD_Result render_answer(struct http_request *req)

@@ -63,6 +63,16 @@ enum refract_code io_encode_png(const uint8_t *rgba8, int width, int height, voi
 /* RGBA8 -> baseline JPEG bytes, quality 1..100. */
 enum refract_code io_encode_jpeg(const uint8_t *rgba8, int width, int height, int quality,
                                  void **out_bytes, size_t *out_len, struct err *e);
+enum io_frame_format { IO_FRAME_PNG = 0, IO_FRAME_JPEG = 1, IO_FRAME_EXR = 2 };
+
+/* A rendered frame (linear RGBA float) in one of the output formats: EXR as linear
+ * floats; PNG and JPEG tone-mapped first (io_tonemap_srgb8 with exposure_ev and tonemap;
+ * jpeg_quality for JPEG). The one path POST /render, view frames and batch jobs share. */
+enum refract_code io_encode_frame(const float *rgba, int width, int height,
+                                  enum io_frame_format format, double exposure_ev,
+                                  enum io_tonemap tonemap, int jpeg_quality, void **out_bytes,
+                                  size_t *out_len, struct err *e);
+
 /* Linear RGBA float -> OpenEXR bytes: channels R, G, B, A as 32-bit FLOAT, scanline,
  * ZIP compression, written with OpenEXR's C API (openexr.h) to memory. */
 enum refract_code io_encode_exr(const float *rgba, int width, int height, void **out_bytes,

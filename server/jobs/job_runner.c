@@ -201,18 +201,12 @@ static enum refract_code encode(const struct render_view_result *res, const stru
                                 enum scene_tonemap tonemap, void **bytes, size_t *len,
                                 struct err *e)
 {
-    if (f->format == JOB_FORMAT_EXR)
-        return io_encode_exr(res->rgba, res->width, res->height, bytes, len, e);
-    uint8_t *px = malloc((size_t)res->width * (size_t)res->height * 4);
-    if (px == NULL)
-        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory encoding a frame");
-    io_tonemap_srgb8(res->rgba, res->width, res->height, f->exposure_ev,
-                     tonemap == SCENE_TONEMAP_FILMIC ? IO_TONEMAP_FILMIC : IO_TONEMAP_CLAMP, px);
-    enum refract_code rc = f->format == JOB_FORMAT_JPEG
-                               ? io_encode_jpeg(px, res->width, res->height, 90, bytes, len, e)
-                               : io_encode_png(px, res->width, res->height, bytes, len, e);
-    free(px);
-    return rc;
+    enum io_frame_format format = f->format == JOB_FORMAT_EXR    ? IO_FRAME_EXR
+                                  : f->format == JOB_FORMAT_JPEG ? IO_FRAME_JPEG
+                                                                 : IO_FRAME_PNG;
+    return io_encode_frame(res->rgba, res->width, res->height, format, f->exposure_ev,
+                           tonemap == SCENE_TONEMAP_FILMIC ? IO_TONEMAP_FILMIC : IO_TONEMAP_CLAMP,
+                           90, bytes, len, e);
 }
 
 /* The version frame f renders: base itself, or for a light-path frame a private version

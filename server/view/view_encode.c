@@ -4,7 +4,7 @@
  *
  * DESIGN. A FIFO of rendered jobs under one mutex and condition variable; the GPU
  * thread's done callback only appends (it must not block), the threads take jobs, encode
- * them (io_tonemap_srgb8 + io_encode_jpeg: the same calls as POST .../render's JPEG) and
+ * them (io_encode_frame, the path POST .../render and batch jobs use too) and
  * hand the frame to view_job_finish. A job whose GPU work failed passes through with its
  * error. The queue never holds more than one job per session (one frame in flight), so
  * it needs no bound of its own.
@@ -31,20 +31,12 @@ static struct view_frame *encode(const struct view_job *job, struct err *e)
 {
     const struct render_view_result *r = &job->result;
     double t0 = gpu_time_ms();
-    uint8_t *px = malloc((size_t)r->width * (size_t)r->height * 4);
-    if (px == NULL) {
-        err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory encoding a %dx%d view frame", r->width,
-                r->height);
-        return NULL;
-    }
-    io_tonemap_srgb8(
-        r->rgba, r->width, r->height, job->settings.exposure_ev,
-        job->settings.tonemap == SCENE_TONEMAP_FILMIC ? IO_TONEMAP_FILMIC : IO_TONEMAP_CLAMP, px);
     void *bytes = NULL;
     size_t len = 0;
-    enum refract_code rc =
-        io_encode_jpeg(px, r->width, r->height, job->settings.jpeg_quality, &bytes, &len, e);
-    free(px);
+    enum refract_code rc = io_encode_frame(
+        r->rgba, r->width, r->height, IO_FRAME_JPEG, job->settings.exposure_ev,
+        job->settings.tonemap == SCENE_TONEMAP_FILMIC ? IO_TONEMAP_FILMIC : IO_TONEMAP_CLAMP,
+        job->settings.jpeg_quality, &bytes, &len, e);
     if (rc != REFRACT_E_OK)
         return NULL;
     struct view_frame *f = view_frame_create(bytes, len);
