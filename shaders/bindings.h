@@ -42,6 +42,8 @@
 #define BIND_SSBO_HITS_OUT 2  /* trace_rays: trace_hit_out[] */
 #define BIND_SSBO_FIELD_IN 3  /* smooth_ior / gradient_ior: float per voxel */
 #define BIND_SSBO_FIELD_OUT 4 /* smooth_ior: float per voxel */
+#define BIND_SSBO_SKIP_CELLS 19 /* render_view, trace_rays: uint per macro cell, 1 = empty
+                                   (after the light simulator's 5..18) */
 
 /* ---- texture units (samplers) ---- */
 #define UNIT_IOR_GRAD 0    /* sampler3D atlas: rgb = grad n (object units), a = n */

@@ -24,10 +24,20 @@
 #ifndef MARCH_LIGHTS
 #define MARCH_LIGHTS 1
 #endif
+#ifndef MARCH_SKIP
+#define MARCH_SKIP 1
+#endif
 
 layout(std140, binding = BIND_UBO_RENDER) uniform march_params_block
 {
     march_params params;
+};
+
+// The empty-space map (docs/tracing.md "Empty space"): one uint per macro cell of every
+// object, 1 where the cell is empty; object i's cells start at params.skip_cells[i].w.
+layout(std430, binding = BIND_SSBO_SKIP_CELLS) readonly buffer skip_cells_block
+{
+    uint skip_empty[];
 };
 
 layout(binding = UNIT_IOR_GRAD) uniform sampler3D ior_grad_atlas;

@@ -14,12 +14,14 @@
 #define MARCH_RADIANCE 0
 #endif
 // The variant switches MARCH_INTEGRATOR, MARCH_ATTENUATION, MARCH_EMISSION, MARCH_OPAQUE,
-// MARCH_SCATTERING and MARCH_LIGHTS are set in march_bindings.glsl.
+// MARCH_SCATTERING, MARCH_LIGHTS and MARCH_SKIP are set in march_bindings.glsl.
 
 const float MARCH_INDEX_EPS = 1e-6;       // |n_field - n_ambient| below this: no interface
-const float MARCH_ABSORBED = 1e-6;        // throughput below this: the ray is absorbed
+// The absorbed cut-off (throughput below it ends the ray) is params.settings_f3.x,
+// render.min_throughput (default 1e-6; 0: never).
 const float MARCH_EXIT_EPS = 1e-3;        // voxels: a bounds this close behind is already left
 const float MARCH_RAMP_SLOPE_RATIO = 0.5; // zone sides keep this much of the slope: a ramp
+const float MARCH_SKIP_EXIT_PAD = 1e-3;   // voxels: a skip to the bounds ends this far past them
 
 struct march_state {
     vec3 x;          // world position
@@ -291,6 +293,71 @@ bool march_face(inout march_state s, int obj, vec3 p, inout vec3 q, vec3 N, floa
     return true;
 }
 
+#if MARCH_SKIP
+// Empty-space skipping (docs/tracing.md "Empty space"): the distance (object units) along
+// the unit direction q from p over consecutive empty macro cells, a 3D DDA (Amanatides and
+// Woo) over params.skip_cells; t_bounds when they reach the bounds (to_bounds), 0 when p's
+// own cell is not empty. In an empty cell grad n = 0 and n is constant, so the ray equation
+// (tevs2007 eqs. 4.8/4.9) gives a straight line: one jump replaces the steps. CPU twin:
+// macrocell_skip_distance (server/core/macrocell.c).
+float march_skip_distance(int obj, vec3 p, vec3 q, out bool to_bounds)
+{
+    ivec4 sc = params.skip_cells[obj];
+    float cell = params.settings_f3.y;
+    vec3 bmin = params.objects[obj].bounds_min.xyz;
+    vec3 bmax = params.objects[obj].bounds_max.xyz;
+    vec3 inv_vs = params.objects[obj].inv_voxel_size.xyz;
+    vec3 c0 = (p - bmin) * inv_vs / cell;
+    vec3 dc = q * inv_vs / cell;
+    float t_bounds = 1e30;
+    ivec3 ci, stp;
+    vec3 tmax, tdelta;
+    for (int a = 0; a < 3; a++) {
+        ci[a] = clamp(int(floor(c0[a])), 0, sc[a] - 1);
+        if (q[a] > 0.0)
+            t_bounds = min(t_bounds, (bmax[a] - p[a]) / q[a]);
+        else if (q[a] < 0.0)
+            t_bounds = min(t_bounds, (bmin[a] - p[a]) / q[a]);
+        if (dc[a] > 0.0) {
+            stp[a] = 1;
+            tmax[a] = (float(ci[a] + 1) - c0[a]) / dc[a];
+            tdelta[a] = 1.0 / dc[a];
+        } else if (dc[a] < 0.0) {
+            stp[a] = -1;
+            tmax[a] = (float(ci[a]) - c0[a]) / dc[a];
+            tdelta[a] = -1.0 / dc[a];
+        } else {
+            stp[a] = 0;
+            tmax[a] = 1e30;
+            tdelta[a] = 1e30;
+        }
+    }
+    t_bounds = max(t_bounds, 0.0);
+    to_bounds = false;
+    float t = 0.0;
+    int guard = sc.x + sc.y + sc.z + 3;
+    for (int k = 0; k < guard; k++) {
+        if (skip_empty[sc.w + (ci.z * sc.y + ci.y) * sc.x + ci.x] == 0u)
+            break;
+        int a = tmax.x <= tmax.y && tmax.x <= tmax.z ? 0 : (tmax.y <= tmax.z ? 1 : 2);
+        t = max(t, tmax[a]);
+        if (t >= t_bounds) {
+            t = t_bounds;
+            to_bounds = true;
+            break;
+        }
+        ci[a] += stp[a];
+        tmax[a] += tdelta[a];
+        if (ci[a] < 0 || ci[a] >= sc[a]) {
+            t = t_bounds; // the cells end at the bounds (or beyond, in a partial cell)
+            to_bounds = true;
+            break;
+        }
+    }
+    return t;
+}
+#endif
+
 // Integrates through object obj from object-space point p with unit direction q until the
 // ray leaves the bounds or stops. Updates s.x and s.d on exit.
 //
@@ -321,6 +388,10 @@ void march_through_object(inout march_state s, int obj, vec3 p, vec3 q)
     zone.armed = false;
     zone.n_lo = zone.n_hi = zone.n_mid = s0.a;
     float n_before = s0.a;
+    float min_throughput = params.settings_f3.x;
+#if MARCH_SKIP
+    bool skipped = false; // the last step was a skip
+#endif
     while (s.status == RAY_STATUS_RUNNING) {
         bool leaving = false, entering = false, crossed = false, opaque = false, absorbed = false;
         int exit_axis = 0;
@@ -333,22 +404,47 @@ void march_through_object(inout march_state s, int obj, vec3 p, vec3 q)
             }
             vec3 p1 = p;
             vec3 w1 = w;
-#if MARCH_INTEGRATOR == INTEGRATOR_EULER
-            ray_equation_step_euler(obj, s0, h, p1, w1);
-#elif MARCH_INTEGRATOR == INTEGRATOR_RK2
-            ray_equation_step_rk2(obj, s0, h, p1, w1);
-#elif MARCH_INTEGRATOR == INTEGRATOR_ADAPTIVE
-            float err = ray_equation_step_bs23(obj, s0, h, extent, p1, w1);
-            float h_next = ray_equation_next_step(h, err, tol, h_max);
-            if (err > tol && h > RAY_BS23_FLOOR * h_max * 1.0001) {
-                h = h_next; // rejected: retry from p with the smaller step
-                s.steps++;  // a rejected attempt counts against the budget too
-                continue;
+#if MARCH_SKIP
+            // An empty run of two steps or more: jump over it (w unchanged), then integrate
+            // at least once before the next jump. A skip counts as one step.
+            bool skip = false;
+            if (!skipped) {
+                vec3 qs = normalize(w);
+                bool to_bounds;
+                float t_skip = march_skip_distance(obj, p, qs, to_bounds);
+                // Whole steps (in empty space a step advances p by h_max q), so the steps
+                // after the jump sample where they would have; to the bounds: a little
+                // past them, and the cut lands it on the face as the last step would.
+                float whole = floor(t_skip / h_max);
+                if (to_bounds ? t_skip >= 2.0 * h_max : whole >= 2.0) {
+                    skip = true;
+                    t_skip = to_bounds ? t_skip + MARCH_SKIP_EXIT_PAD * h_min : whole * h_max;
+                    p1 = p + t_skip * qs;
+                }
             }
-            h = h_next; // accepted: p1, w1 stand; the next step tries h_next
-#else
-            ray_equation_step_rk4(obj, s0, h, p1, w1);
+            skipped = skip;
+            if (skip) {
+                h = h_max; // the adaptive integrator restarts as in empty space
+            } else
 #endif
+            {
+#if MARCH_INTEGRATOR == INTEGRATOR_EULER
+                ray_equation_step_euler(obj, s0, h, p1, w1);
+#elif MARCH_INTEGRATOR == INTEGRATOR_RK2
+                ray_equation_step_rk2(obj, s0, h, p1, w1);
+#elif MARCH_INTEGRATOR == INTEGRATOR_ADAPTIVE
+                float err = ray_equation_step_bs23(obj, s0, h, extent, p1, w1);
+                float h_next = ray_equation_next_step(h, err, tol, h_max);
+                if (err > tol && h > RAY_BS23_FLOOR * h_max * 1.0001) {
+                    h = h_next; // rejected: retry from p with the smaller step
+                    s.steps++;  // a rejected attempt counts against the budget too
+                    continue;
+                }
+                h = h_next; // accepted: p1, w1 stand; the next step tries h_next
+#else
+                ray_equation_step_rk4(obj, s0, h, p1, w1);
+#endif
+            }
             s.steps++;
             leaving = march_outside(obj, p1);
             if (leaving) {
@@ -385,7 +481,7 @@ void march_through_object(inout march_state s, int obj, vec3 p, vec3 q)
             op = volume_sample_opaque(obj, p1);
             opaque = op.a >= 0.5;
 #endif
-            absorbed = march_throughput(s) < MARCH_ABSORBED;
+            absorbed = march_throughput(s) < min_throughput;
             p = p1;
             w = w1;
             s0 = s1;
@@ -406,7 +502,7 @@ void march_through_object(inout march_state s, int obj, vec3 p, vec3 q)
             march_opaque_hit(s, obj, p, op, s0.a, q);
             break;
         }
-        if (absorbed || march_throughput(s) < MARCH_ABSORBED) {
+        if (absorbed || march_throughput(s) < min_throughput) {
             s.status = RAY_STATUS_ABSORBED;
             break;
         }

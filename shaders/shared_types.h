@@ -55,6 +55,11 @@ struct march_params {
     vec4 env;         /* x: environment rotation about +y (degrees) */
     vec4 settings_f2; /* x: adaptive integrator's tolerance per step (voxels) */
     object_params objects[MAX_OBJECTS];
+    /* Only what a scene needs (docs/tracing.md "Empty space"); appended to keep the
+     * members above where they were. */
+    vec4 settings_f3;              /* x: min_throughput (0: never); y: macro cell edge (voxels) */
+    ivec4 skip_cells[MAX_OBJECTS]; /* xyz: macro cells per axis; w: the object's first cell in
+                                      the BIND_SSBO_SKIP_CELLS buffer */
 };
 
 /* Uniform block of smooth_ior.comp and gradient_ior.comp: one object's grid. */

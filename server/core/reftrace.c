@@ -37,6 +37,7 @@
 #define EXIT_EPS_VOXELS 1e-3 /* an object counts only if its exit is further than this */
 #define ABSORBED_EPS 1e-6    /* T_f * max(exp(-alpha)) below this: absorbed */
 #define RAMP_SLOPE_RATIO 0.5 /* zone sides keep this much of the slope: a ramp, no event */
+#define SKIP_EXIT_PAD 1e-3   /* voxels: a skip to the bounds ends this far past them */
 /* Adaptive integrator: step-size factors per step and the smallest step relative to
  * the object's largest extent. */
 #define ADAPT_SHRINK_MIN 0.2
@@ -367,6 +368,9 @@ static double bs23_next_step(double h, double err, double tol, double h_max)
     return fmin(fmax(h * fac, BS23_FLOOR * h_max), h_max);
 }
 
+static void finish_step(struct march *m, const struct object_frame *fr, vec3 p, vec3 w,
+                        const struct reftrace_field *f0, struct step_out *s);
+
 /* Euler, RK2, RK4 or Bogacki-Shampine step with the straight-segment cut and trapezoid
  * accumulation: the integrators the GPU has. The page is silent on w at the cut; like
  * the GLSL twin it is interpolated with the same fraction, w + f (w' - w). For BS23, *h
@@ -397,6 +401,14 @@ static void fixed_step(struct march *m, const struct object_frame *fr, vec3 p, v
     } else {
         reftrace_step_rk4(fr->o, h, &s->p, &s->w);
     }
+    finish_step(m, fr, p, w, f0, s);
+}
+
+/* The rest of a step from (p, w) to (s->p, s->w), for an integration step and a skip
+ * alike: the straight-segment cut at the bounds, then the trapezoid accumulation. */
+static void finish_step(struct march *m, const struct object_frame *fr, vec3 p, vec3 w,
+                        const struct reftrace_field *f0, struct step_out *s)
+{
     s->leaving = outside_bounds(fr->o, s->p);
     if (s->leaving) {
         double f = exit_fraction(fr->o, p, s->p, &s->axis, &s->sign);
@@ -421,6 +433,54 @@ static void fixed_step(struct march *m, const struct object_frame *fr, vec3 p, v
                                            s->f.sigma_s, s->f.g);
         m->L = vec3_add(m->L, vec3_mul(t, Ls));
     }
+}
+
+/* Empty-space skipping (docs/tracing.md "Empty space"; the GLSL twin is march_skip in
+ * shaders/ray_march.glsl): where p's macro cell and the ones after it along the ray are
+ * empty, the ray equation gives a straight line with constant n (tevs2007 eqs. 4.8/4.9
+ * with grad n = 0), so one jump to the far side of the last empty cell replaces the
+ * integration steps there; w is unchanged. The jump is a whole number of steps h (in empty
+ * space a step advances p by exactly h q), so it lands where the steps would have; one
+ * that reaches the bounds goes a little past them (SKIP_EXIT_PAD voxels) so the usual cut
+ * lands it on the face, as the last step would. Returns false, touching nothing, when the
+ * jump would replace fewer than two steps. */
+static bool skip_step(struct march *m, const struct object_frame *fr, vec3 p, vec3 w,
+                      const struct reftrace_field *f0, struct step_out *s)
+{
+    const struct reftrace_object *o = fr->o;
+    vec3 q = vec3_normalize(w);
+    double v0[3], dv[3];
+    double t_bounds = INFINITY;
+    for (int a = 0; a < 3; a++) {
+        double vs = vec3_get(fr->vs, a), qa = vec3_get(q, a), pa = vec3_get(p, a);
+        v0[a] = (pa - vec3_get(o->bmin, a)) / vs;
+        dv[a] = qa / vs;
+        if (qa > 0.0)
+            t_bounds = fmin(t_bounds, (vec3_get(o->bmax, a) - pa) / qa);
+        else if (qa < 0.0)
+            t_bounds = fmin(t_bounds, (vec3_get(o->bmin, a) - pa) / qa);
+    }
+    t_bounds = fmax(t_bounds, 0.0);
+    bool to_bounds;
+    double t = macrocell_skip_distance(o->cells, v0, dv, t_bounds, &to_bounds);
+    double h = m->set->step_voxels * fr->h_min;
+    if (to_bounds) {
+        if (t < 2.0 * h)
+            return false;
+        t += SKIP_EXIT_PAD * fr->h_min; /* the cut lands it on the face */
+    } else {
+        /* Whole steps only: the jump ends where the steps it replaces would have, so the
+         * integration after it samples the same points as without skipping. */
+        double k = floor(t / h);
+        if (k < 2.0)
+            return false;
+        t = k * h;
+    }
+    s->p = vec3_madd(p, q, t);
+    s->w = w;
+    s->rejected = false;
+    finish_step(m, fr, p, w, f0, s);
+    return true;
 }
 
 /* How far p is outside the box along the worst axis: > 0 outside, <= 0 inside (minus
@@ -529,6 +589,12 @@ static void march_object(struct march *m, const struct object_frame *fr, vec3 p,
     vec3 w = vec3_scale(q, f0.n); /* tevs2007 eqs. 4.8/4.9: w = n dx/ds */
     struct zone zone = {.inside = false, .armed = false};
     double h_adapt = set->step_voxels * fr->h_min;
+    bool can_skip = set->empty_space_skipping && fr->o->cells != NULL && fr->o->grid != NULL &&
+                    set->integrator != REFTRACE_ADAPTIVE;
+    bool skipped = false; /* the last step was a skip: integrate once before the next */
+    double cut = set->min_throughput > 0.0   ? set->min_throughput
+                 : set->min_throughput < 0.0 ? 0.0
+                                             : ABSORBED_EPS;
     for (;;) {
         /* The budget is checked before each step (as the GLSL twin). */
         if (m->steps >= set->max_steps) {
@@ -538,11 +604,17 @@ static void march_object(struct march *m, const struct object_frame *fr, vec3 p,
             return;
         }
         struct step_out s = {.rejected = false};
-        if (set->integrator == REFTRACE_ADAPTIVE)
+        bool skip = can_skip && !skipped && skip_step(m, fr, p, w, &f0, &s);
+        if (skip)
+            h_adapt = set->step_voxels * fr->h_min; /* BS23 after a skip: as in empty space */
+        else if (set->integrator == REFTRACE_ADAPTIVE)
             adaptive_step(m, fr, p, w, &h_adapt, &s);
         else
             fixed_step(m, fr, p, w, &f0, &h_adapt, &s);
-        m->steps++; /* a rejected BS23 attempt counts against the budget too (as on the GPU) */
+        skipped = skip;
+        /* A skip counts as one step; a rejected BS23 attempt counts against the budget too
+         * (as on the GPU). */
+        m->steps++;
         if (s.rejected)
             continue;
         vec3 q1 = vec3_normalize(s.w);
@@ -563,7 +635,7 @@ static void march_object(struct march *m, const struct object_frame *fr, vec3 p,
             opaque_hit(m, fr, s.p, q1, s.f.n, colour);
             stop(m, RAY_ABSORBED);
             stopped = true;
-        } else if (throughput(m) < ABSORBED_EPS) {
+        } else if (throughput(m) < cut) {
             stop(m, RAY_ABSORBED);
             stopped = true;
         }

@@ -18,6 +18,7 @@
 #include <stdbool.h>
 
 #include "brdf.h"
+#include "macrocell.h"
 #include "ray_status.h"
 #include "vec3.h"
 #include "xform.h"
@@ -46,7 +47,9 @@ struct reftrace_object {
     const struct reftrace_grid *grid; /* voxel fields; when NULL, `ior` is used */
     reftrace_ior_fn ior;              /* exact field (no attenuation/emission/opaque) */
     void *ior_ctx;
-    struct brdf_params brdf; /* reflection of lights at its Fresnel events; zero: none */
+    struct brdf_params brdf;           /* reflection of lights at its Fresnel events; zero: none */
+    const struct macrocell_map *cells; /* empty-space map of the voxel fields (macrocell.h);
+                                          NULL: no skipping in this object */
 };
 
 /* One light as the reference sees it (docs/tracing.md "Light"); the CPU twin of the GPU's
@@ -98,6 +101,10 @@ struct reftrace_settings {
     double env_intensity;    /* procedural environment multiplier for radiance */
     const struct reftrace_lighting *lighting; /* lights and receiver; NULL: none. In-scattering
                                                  is not modelled by REFTRACE_ADAPTIVE. */
+    bool empty_space_skipping;                /* jump over the objects' empty cells (render.
+                                                 empty_space_skipping; not with REFTRACE_ADAPTIVE) */
+    double min_throughput; /* the absorbed cut-off (render.min_throughput); 0: the
+                              default 1e-6; negative: never */
 };
 
 struct reftrace_result {

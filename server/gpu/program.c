@@ -27,10 +27,17 @@ static unsigned variant_mask(enum gpu_kernel kernel)
         return GPU_VARIANT_COUNT - 1;
     case GPU_KERNEL_TRACE_RAYS:
         return GPU_VARIANT_INTEGRATOR_BITS | GPU_VARIANT_ATTENUATION | GPU_VARIANT_OPAQUE |
-               GPU_VARIANT_SCATTERING;
+               GPU_VARIANT_SCATTERING | GPU_VARIANT_SKIP;
     default:
         return 0;
     }
+}
+
+/* Compiled on first use: the rare bits (GPU_VARIANT_LAZY), and skipping off where the
+ * kernel has the skip bit (the default renders skip; only comparisons switch it off). */
+static bool variant_is_lazy(unsigned v, unsigned mask)
+{
+    return (v & GPU_VARIANT_LAZY) != 0 || ((mask & GPU_VARIANT_SKIP) && !(v & GPU_VARIANT_SKIP));
 }
 
 static char *info_log(GLuint object, bool is_program)
@@ -119,14 +126,15 @@ static const char *integrator_define(unsigned v)
 static GLuint build_variant(enum gpu_kernel k, unsigned v, const char *shader_dir, struct err *e)
 {
     unsigned mask = variant_mask(k);
-    char preamble[320], label[96];
+    char preamble[512], label[96];
     snprintf(preamble, sizeof preamble,
              "#define MARCH_INTEGRATOR %s\n#define MARCH_ATTENUATION %d\n"
              "#define MARCH_EMISSION %d\n#define MARCH_OPAQUE %d\n"
-             "#define MARCH_SCATTERING %d\n#define MARCH_LIGHTS %d",
+             "#define MARCH_SCATTERING %d\n#define MARCH_LIGHTS %d\n#define MARCH_SKIP %d",
              integrator_define(v), (v & GPU_VARIANT_ATTENUATION) ? 1 : 0,
              (v & GPU_VARIANT_EMISSION) ? 1 : 0, (v & GPU_VARIANT_OPAQUE) ? 1 : 0,
-             (v & GPU_VARIANT_SCATTERING) ? 1 : 0, (v & GPU_VARIANT_LIGHTS) ? 1 : 0);
+             (v & GPU_VARIANT_SCATTERING) ? 1 : 0, (v & GPU_VARIANT_LIGHTS) ? 1 : 0,
+             (v & GPU_VARIANT_SKIP) ? 1 : 0);
     snprintf(label, sizeof label, "%s variant %u", kernel_files[k], v);
     struct gpu_program_desc desc = {
         .label = label, .main = kernel_files[k], .preamble = mask ? preamble : NULL};
@@ -150,7 +158,7 @@ enum refract_code gpu_programs_build(struct gpu_programs *p, const char *shader_
                 continue;
             /* Lazy variants wait for their first use, except the one with every bit,
              * which proves the shaders compile. */
-            if ((v & GPU_VARIANT_LAZY) != 0 && v != mask)
+            if (variant_is_lazy(v, mask) && v != mask)
                 continue;
             p->program[k][v] = build_variant((enum gpu_kernel)k, v, shader_dir, e);
             if (p->program[k][v] == 0) {
@@ -162,7 +170,8 @@ enum refract_code gpu_programs_build(struct gpu_programs *p, const char *shader_
     }
     log_info("gpu",
              "compiled %d compute programs (kernels x variants) from %s; variants with "
-             "scattering, lights, rk2 or adaptive compile on first use",
+             "scattering, lights, rk2 or adaptive, or without empty-space skipping, compile on "
+             "first use",
              built, shader_dir ? shader_dir : "embedded shaders");
     return REFRACT_E_OK;
 }

@@ -41,11 +41,14 @@ enum gpu_kernel {
 #define GPU_VARIANT_LIGHTS                                                                         \
     32u /* lights or a receiver: reflected light L_r at Fresnel                                    \
            events (eq. 5.6/5.8) and the receiver (render_view) */
-#define GPU_VARIANT_COUNT 128
-/* Variants with any of these bits are compiled on first use (gpu_program_get), not at
- * start-up: doubling the variant count three times would make the start-up eight times
- * longer. One variant with every bit (the adaptive integrator) is compiled at start-up, so
- * a shader error still stops it. */
+#define GPU_VARIANT_SKIP                                                                           \
+    128u /* empty-space skipping: render.empty_space_skipping and the                              \
+            scene has empty macro cells (docs/tracing.md "Empty space") */
+#define GPU_VARIANT_COUNT 256
+/* Variants with any of these bits, or without GPU_VARIANT_SKIP (skipping off is for
+ * comparisons), are compiled on first use (gpu_program_get), not at start-up: doubling the variant
+ * count three times would make the start-up eight times longer. One variant with every bit (the
+ * adaptive integrator) is compiled at start-up, so a shader error still stops it. */
 #define GPU_VARIANT_LAZY (GPU_VARIANT_SCATTERING | GPU_VARIANT_LIGHTS | GPU_VARIANT_INTEGRATOR_HI)
 
 struct gpu_program_desc {

@@ -29,10 +29,13 @@ struct render {
     size_t cache_bytes;
     struct gpu_buffer params_ubo;
     struct gpu_buffer lights_ubo; /* march_lights */
+    bool all_variant_bits;        /* render_desc's benchmark knobs */
+    int skip_cell_voxels;
 };
 
 _Static_assert(sizeof(struct object_params) == 2 * 64 + 6 * 16, "object_params layout");
-_Static_assert(sizeof(struct march_params) == 9 * 16 + MAX_OBJECTS * sizeof(struct object_params),
+_Static_assert(sizeof(struct march_params) ==
+                   10 * 16 + MAX_OBJECTS * (sizeof(struct object_params) + 16),
                "march_params layout");
 _Static_assert(sizeof(struct volume_params) == 3 * 16 + 8 * 16, "volume_params layout");
 _Static_assert(SCENE_INTEGRATOR_EULER == INTEGRATOR_EULER &&
@@ -63,6 +66,8 @@ struct render *render_create(struct gpu *gpu, const struct render_desc *desc, st
         return NULL;
     }
     r->gpu = gpu;
+    r->all_variant_bits = desc->all_variant_bits;
+    r->skip_cell_voxels = desc->skip_cell_voxels;
     r->budget_bytes = desc->scene_budget_bytes ? desc->scene_budget_bytes : (size_t)2 << 30;
     if (gpu_buffer_create("march params", sizeof(struct march_params), NULL, &r->params_ubo, e) !=
         REFRACT_E_OK) {
@@ -149,7 +154,7 @@ static struct scene_gpu *cache_get(struct render *r, const struct render_scene_s
     }
     bool built = false;
     if (found == NULL) {
-        found = scene_gpu_build(r->gpu, src, r->budget_bytes, e);
+        found = scene_gpu_build_cells(r->gpu, src, r->budget_bytes, r->skip_cell_voxels, e);
         if (found == NULL)
             return NULL;
         cache_make_room(r, found->bytes, NULL);
@@ -194,7 +199,10 @@ static void fill_objects(struct march_params *mp, const struct scene *s, const s
                    1.0f / (float)sg->atlas_size[2], 0.0f};
         op->resolution = (ivec4){o->resolution[0], o->resolution[1], o->resolution[2],
                                  (int)sg->objects[i].flags};
+        const struct scene_gpu_object *so = &sg->objects[i];
+        mp->skip_cells[i] = (ivec4){so->cells[0], so->cells[1], so->cells[2], so->first_cell};
     }
+    mp->settings_f3.y = (float)sg->skip_cell_voxels;
 }
 
 static void fill_settings(struct march_params *mp, const struct scene *s,
@@ -207,6 +215,7 @@ static void fill_settings(struct march_params *mp, const struct scene *s,
                             (float)s->ambient_ior, (float)s->environment.intensity};
     mp->env = (vec4){(float)s->environment.rotation_deg, 0.0f, 0.0f, 0.0f};
     mp->settings_f2 = (vec4){(float)st->tolerance_voxels, 0.0f, 0.0f, 0.0f};
+    mp->settings_f3.x = (float)st->min_throughput;
 }
 
 static void fill_camera(struct march_params *mp, const struct scene_camera *c)
@@ -273,8 +282,11 @@ static void bind_lights(struct render *r, const struct scene_gpu *sg, const stru
     }
 }
 
-/* The kernel variant for a scene's channels and the chosen integrator. */
-static unsigned march_variant(const struct scene_gpu *sg, const struct scene_render_settings *st)
+/* The kernel variant for a scene's channels, the chosen integrator and empty-space
+ * skipping (only where the scene has empty cells); with the all_variant_bits knob every
+ * optional channel and the lights are compiled in. */
+static unsigned march_variant(const struct render *r, const struct scene_gpu *sg,
+                              const struct scene_render_settings *st)
 {
     static const unsigned integrator_bits[] = {
         [SCENE_INTEGRATOR_EULER] = 0u,
@@ -294,6 +306,11 @@ static unsigned march_variant(const struct scene_gpu *sg, const struct scene_ren
         if (f & OBJECT_HAS_SCATTERING)
             v |= GPU_VARIANT_SCATTERING;
     }
+    if (st->empty_space_skipping && sg->empty_cells > 0)
+        v |= GPU_VARIANT_SKIP;
+    if (r->all_variant_bits)
+        v |= GPU_VARIANT_ATTENUATION | GPU_VARIANT_EMISSION | GPU_VARIANT_OPAQUE |
+             GPU_VARIANT_SCATTERING | GPU_VARIANT_LIGHTS;
     return v;
 }
 
@@ -307,6 +324,7 @@ static void bind_scene(struct render *r, const struct scene_gpu *sg, const struc
     glBindTextureUnit(UNIT_OPAQUE, sg->opaque.tex);
     glBindTextureUnit(UNIT_SCATTERING, sg->scattering.tex);
     glBindTextureUnit(UNIT_ENVIRONMENT, sg->environment.tex);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_SKIP_CELLS, sg->skip_cells.buf);
 }
 
 enum refract_code render_view(struct render *r, const struct render_scene_source *src,
@@ -337,7 +355,7 @@ enum refract_code render_view(struct render *r, const struct render_scene_source
     }
     struct march_lights ml;
     fill_lights(&ml, src->scene, req);
-    unsigned variant = march_variant(sg, &req->settings);
+    unsigned variant = march_variant(r, sg, &req->settings);
     if (ml.count.x > 0 || ml.count.y != 0)
         variant |= GPU_VARIANT_LIGHTS;
     GLuint prog = gpu_program_get_e(gpu_programs_get(r->gpu), GPU_KERNEL_RENDER_VIEW, variant, e);
@@ -410,7 +428,7 @@ enum refract_code render_trace(struct render *r, const struct render_scene_sourc
     GLuint prog = 0;
     if (rc == REFRACT_E_OK) {
         prog = gpu_program_get_e(gpu_programs_get(r->gpu), GPU_KERNEL_TRACE_RAYS,
-                                 march_variant(sg, settings), e);
+                                 march_variant(r, sg, settings), e);
         rc = prog ? REFRACT_E_OK : e->code;
     }
     if (rc == REFRACT_E_OK) {

@@ -31,6 +31,10 @@ struct render;
 
 struct render_desc {
     size_t scene_budget_bytes; /* GPU memory for cached scenes; 0 = 2 GiB */
+    /* Benchmark knobs (bench/bench_features.c; not reachable from the HTTP API): */
+    bool all_variant_bits; /* compile every optional channel and the lights into the march
+                              whatever the scene uses (the "all-features path") */
+    int skip_cell_voxels;  /* macro cell edge of the empty-space maps; 0: the default */
 };
 
 /* Everything needed to build a scene's GPU data; borrowed for the call. */
@@ -45,7 +49,7 @@ struct render_scene_source {
 };
 
 struct render_scene_status {
-    size_t gpu_bytes; /* atlases + environment */
+    size_t gpu_bytes; /* atlases + environment + empty-space map */
     double build_ms;  /* time of the last build (field evaluation + GPU precomputation) */
     bool built_now;   /* this call built it */
 };

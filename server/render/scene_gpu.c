@@ -18,6 +18,7 @@
 
 #include "../core/half_float.h"
 #include "../core/log.h"
+#include "../core/macrocell.h"
 #include "bindings.h"
 #define REFRACT_HOST_C
 #include "shared_types.h"
@@ -29,6 +30,12 @@ struct build_ctx {
     struct gpu_buffer field_a, field_b, ubo;
     float *host;      /* scratch: the largest object's voxels * 4 floats */
     size_t max_bytes; /* refuse beyond this (the --gpu-scene-budget); 0 = no cap */
+    /* The empty-space map (docs/tracing.md "Empty space"), per object in turn: n and the
+     * busy flags of its voxels (macrocell.h), then its cells appended to `cells`. */
+    double *skip_n;
+    uint8_t *skip_busy;
+    uint32_t *cells;
+    size_t cell_count, cell_cap;
 };
 
 static enum refract_code make_standin(struct gpu_volume *v, const char *label, bool is_3d,
@@ -230,13 +237,92 @@ static enum refract_code upload_object(struct build_ctx *b, size_t i, struct gpu
                              obj->resolution[1], obj->resolution[2], 4, b->host, e);
 }
 
+/* Marks object i's voxels where b->host (4 floats per voxel of channel ch) is not zero as
+ * busy for the empty-space map: any rgb for extinction, emission and scattering, the
+ * coverage for opaque (macrocell_voxel_busy). */
+static void mark_busy(struct build_ctx *b, size_t i, enum scene_channel ch)
+{
+    const int *r = b->src->scene->objects[i].resolution;
+    size_t voxels = (size_t)r[0] * r[1] * r[2];
+    const double zero_grad[4] = {0, 0, 0, 0};
+    for (size_t v = 0; v < voxels; v++) {
+        double t[4] = {b->host[v * 4], b->host[v * 4 + 1], b->host[v * 4 + 2], b->host[v * 4 + 3]};
+        bool busy = macrocell_voxel_busy(zero_grad, 1.0, ch == SCENE_CH_ATTENUATION ? t : NULL,
+                                         ch == SCENE_CH_EMISSION ? t : NULL,
+                                         ch == SCENE_CH_OPAQUE ? t : NULL,
+                                         ch == SCENE_CH_SCATTERING ? t : NULL);
+        if (busy)
+            b->skip_busy[v] = 1;
+    }
+}
+
 static enum refract_code build_channel(struct build_ctx *b, size_t i, enum scene_channel ch,
                                        struct gpu_volume *atlas, struct err *e)
 {
     if (!scene_channel_used(&b->src->scene->objects[i], ch))
         return REFRACT_E_OK;
     enum refract_code rc = eval_channel(b, i, ch, b->host, e);
+    if (rc == REFRACT_E_OK)
+        mark_busy(b, i, ch);
     return rc != REFRACT_E_OK ? rc : upload_object(b, i, atlas, e);
+}
+
+/* Starts object i's empty-space map from its index+gradient atlas box, read back after the
+ * gradient kernel (and rounded to half floats for render.ior_texture float16, as the march
+ * will see it): n and the gradient test per voxel. The map is built on the CPU, from the
+ * same data the march samples, with the code the CPU twin uses (macrocell.c), so the GPU
+ * and the reference skip the same cells; one read-back per object at build time. */
+static enum refract_code skip_begin(struct build_ctx *b, size_t i, struct err *e)
+{
+    const struct scene_object *obj = &b->src->scene->objects[i];
+    const int *r = obj->resolution;
+    size_t voxels = (size_t)r[0] * r[1] * r[2];
+    glGetTextureSubImage(b->sg->ior_grad.tex, 0, 0, 0, b->sg->objects[i].atlas_z, r[0], r[1], r[2],
+                         GL_RGBA, GL_FLOAT, (GLsizei)(voxels * 4 * sizeof(float)), b->host);
+    enum refract_code rc = gpu_check("reading back the index gradient", e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    bool half = b->src->scene->render.ior_texture == SCENE_IOR_FLOAT16;
+    double h_min = scene_object_min_voxel(obj);
+    for (size_t v = 0; v < voxels; v++) {
+        double t[4];
+        for (int c = 0; c < 4; c++)
+            t[c] = half ? half_float_round(b->host[v * 4 + c]) : (double)b->host[v * 4 + c];
+        b->skip_n[v] = t[3];
+        b->skip_busy[v] = macrocell_voxel_busy(t, h_min, NULL, NULL, NULL, NULL) ? 1 : 0;
+    }
+    return REFRACT_E_OK;
+}
+
+/* Builds object i's cells from the voxels' flags and appends them to b->cells. */
+static enum refract_code skip_finish(struct build_ctx *b, size_t i, struct err *e)
+{
+    const struct scene_object *obj = &b->src->scene->objects[i];
+    struct macrocell_map m;
+    enum refract_code rc =
+        macrocell_build(b->skip_n, b->skip_busy, obj->resolution, b->sg->skip_cell_voxels, &m, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    size_t n = macrocell_count(&m);
+    if (b->cell_count + n > b->cell_cap) {
+        size_t cap = (b->cell_count + n) * 2;
+        uint32_t *grown = realloc(b->cells, cap * sizeof *grown);
+        if (grown == NULL) {
+            macrocell_free(&m);
+            return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for the empty-space map");
+        }
+        b->cells = grown;
+        b->cell_cap = cap;
+    }
+    struct scene_gpu_object *so = &b->sg->objects[i];
+    so->first_cell = (int)b->cell_count;
+    memcpy(so->cells, m.dims, sizeof so->cells);
+    for (size_t k = 0; k < n; k++)
+        b->cells[b->cell_count + k] = m.empty[k];
+    b->cell_count += n;
+    b->sg->empty_cells += m.empty_count;
+    macrocell_free(&m);
+    return REFRACT_E_OK;
 }
 
 /* The scattering atlas: sigma_s (rgb) from the scattering channel and the Henyey-Greenstein
@@ -271,6 +357,7 @@ static enum refract_code build_scattering(struct build_ctx *b, size_t i, struct 
         for (int c = 0; c < 3; c++)
             if (b->host[v * 4 + c] > 65504.0f)
                 b->host[v * 4 + c] = 65504.0f;
+    mark_busy(b, i, SCENE_CH_SCATTERING);
     return upload_object(b, i, &b->sg->scattering, e);
 }
 
@@ -306,7 +393,9 @@ static enum refract_code alloc_scratch(struct build_ctx *b, struct err *e)
             max_voxels = n;
     }
     b->host = malloc(max_voxels * 4 * sizeof(float));
-    if (b->host == NULL)
+    b->skip_n = malloc(max_voxels * sizeof *b->skip_n);
+    b->skip_busy = malloc(max_voxels);
+    if (b->host == NULL || b->skip_n == NULL || b->skip_busy == NULL)
         return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of host memory evaluating fields");
     enum refract_code rc =
         gpu_buffer_create("field scratch a", max_voxels * sizeof(float), NULL, &b->field_a, e);
@@ -384,6 +473,8 @@ static enum refract_code build_all(struct build_ctx *b, struct err *e)
     for (size_t i = 0; rc == REFRACT_E_OK && i < s->object_count; i++) {
         rc = build_ior(b, i, e);
         if (rc == REFRACT_E_OK)
+            rc = skip_begin(b, i, e);
+        if (rc == REFRACT_E_OK)
             rc = build_channel(b, i, SCENE_CH_ATTENUATION, &b->sg->attenuation, e);
         if (rc == REFRACT_E_OK)
             rc = build_channel(b, i, SCENE_CH_EMISSION, &b->sg->emission, e);
@@ -391,7 +482,14 @@ static enum refract_code build_all(struct build_ctx *b, struct err *e)
             rc = build_channel(b, i, SCENE_CH_OPAQUE, &b->sg->opaque, e);
         if (rc == REFRACT_E_OK)
             rc = build_scattering(b, i, e);
+        if (rc == REFRACT_E_OK)
+            rc = skip_finish(b, i, e);
     }
+    static const uint32_t none = 0; /* a scene without cells still binds a buffer */
+    if (rc == REFRACT_E_OK)
+        rc = gpu_buffer_create(
+            "skip cells", b->cell_count ? b->cell_count * sizeof(uint32_t) : sizeof none,
+            b->cell_count ? (const void *)b->cells : &none, &b->sg->skip_cells, e);
     if (rc == REFRACT_E_OK)
         rc = build_environment(b, e);
     if (rc == REFRACT_E_OK && s->render.ior_texture == SCENE_IOR_FLOAT16)
@@ -406,6 +504,12 @@ static enum refract_code build_all(struct build_ctx *b, struct err *e)
 struct scene_gpu *scene_gpu_build(struct gpu *gpu, const struct render_scene_source *src,
                                   size_t max_bytes, struct err *e)
 {
+    return scene_gpu_build_cells(gpu, src, max_bytes, 0, e);
+}
+
+struct scene_gpu *scene_gpu_build_cells(struct gpu *gpu, const struct render_scene_source *src,
+                                        size_t max_bytes, int skip_cell_voxels, struct err *e)
+{
     double t0 = gpu_time_ms();
     struct scene_gpu *sg = calloc(1, sizeof *sg);
     if (sg == NULL) {
@@ -414,24 +518,29 @@ struct scene_gpu *scene_gpu_build(struct gpu *gpu, const struct render_scene_sou
     }
     snprintf(sg->id, sizeof sg->id, "%s", src->id);
     sg->generation = src->generation;
+    sg->skip_cell_voxels = skip_cell_voxels > 0 ? skip_cell_voxels : MACROCELL_DEFAULT_CELL;
     struct build_ctx b = {.gpu = gpu, .src = src, .sg = sg, .max_bytes = max_bytes};
     enum refract_code rc = build_all(&b, e);
     gpu_buffer_destroy(&b.field_a);
     gpu_buffer_destroy(&b.field_b);
     gpu_buffer_destroy(&b.ubo);
     free(b.host);
+    free(b.skip_n);
+    free(b.skip_busy);
+    free(b.cells);
     if (rc != REFRACT_E_OK) {
         scene_gpu_destroy(sg);
         return NULL;
     }
     sg->bytes = sg->ior_grad.bytes + sg->attenuation.bytes + sg->emission.bytes + sg->opaque.bytes +
-                sg->scattering.bytes + sg->environment.bytes;
+                sg->scattering.bytes + sg->environment.bytes + sg->skip_cells.bytes;
     sg->build_ms = gpu_time_ms() - t0;
     log_info("render",
              "built scene %s (generation %llu): %zu objects, atlas %dx%dx%d, %.1f MiB, "
-             "%.0f ms",
+             "%zu of %zu macro cells empty, %.0f ms",
              sg->id, (unsigned long long)sg->generation, sg->object_count, sg->atlas_size[0],
-             sg->atlas_size[1], sg->atlas_size[2], (double)sg->bytes / 1048576.0, sg->build_ms);
+             sg->atlas_size[1], sg->atlas_size[2], (double)sg->bytes / 1048576.0, sg->empty_cells,
+             b.cell_count, sg->build_ms);
     return sg;
 }
 
@@ -445,5 +554,6 @@ void scene_gpu_destroy(struct scene_gpu *sg)
     gpu_volume_destroy(&sg->opaque);
     gpu_volume_destroy(&sg->scattering);
     gpu_volume_destroy(&sg->environment);
+    gpu_buffer_destroy(&sg->skip_cells);
     free(sg);
 }

@@ -22,6 +22,8 @@
 struct scene_gpu_object {
     int atlas_z;    /* first z slice of this object in the atlases */
     unsigned flags; /* OBJECT_HAS_* */
+    int cells[3];   /* macro cells per axis of its empty-space map */
+    int first_cell; /* its first cell in skip_cells */
 };
 
 struct scene_gpu {
@@ -35,6 +37,10 @@ struct scene_gpu {
     struct gpu_volume scattering;  /* RGBA16F: sigma_s rgb per world unit, g; or stand-in (only
                                       built when some object scatters: OBJECT_HAS_SCATTERING) */
     struct gpu_volume environment; /* RGBA32F 2D, or 1x1 stand-in */
+    struct gpu_buffer skip_cells;  /* uint per macro cell, 1 = empty (docs/tracing.md "Empty
+                                      space"); built on the CPU from the atlases' data */
+    int skip_cell_voxels;          /* macro cell edge, voxels */
+    size_t empty_cells;            /* over all objects: 0 means no skipping to do */
     int atlas_size[3];
     size_t object_count;
     struct scene_gpu_object objects[MAX_OBJECTS];
@@ -49,6 +55,9 @@ struct scene_gpu {
  * is allocated when the textures would need more than max_bytes; 0 = no cap). */
 struct scene_gpu *scene_gpu_build(struct gpu *gpu, const struct render_scene_source *src,
                                   size_t max_bytes, struct err *e);
+/* The same with a macro cell edge of skip_cell_voxels (0: MACROCELL_DEFAULT_CELL). */
+struct scene_gpu *scene_gpu_build_cells(struct gpu *gpu, const struct render_scene_source *src,
+                                        size_t max_bytes, int skip_cell_voxels, struct err *e);
 void scene_gpu_destroy(struct scene_gpu *sg);
 
 #endif

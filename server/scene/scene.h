@@ -159,6 +159,11 @@ struct scene_render_settings {
     double exposure_ev;                 /* PNG/JPEG: pixel = tonemap(2^exposure * L) */
     double boundary_threshold; /* |grad n| * voxel size above which Fresnel reflection applies */
     enum scene_tonemap tonemap;
+    /* Only what a scene needs (docs/tracing.md "Empty space", "The march"): */
+    bool empty_space_skipping; /* jump over macro cells with no gradient and no channels
+                                  (default true) */
+    double min_throughput;     /* T_f max(exp(-alpha)) below this ends a ray as absorbed
+                                  (0..0.5; default 1e-6; 0: never) */
 };
 
 /* ---- lights, receiver and light simulation (tevs2007 ch. 4.2, 6.2) ---- */

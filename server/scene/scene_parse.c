@@ -168,9 +168,10 @@ static enum refract_code parse_camera(const cJSON *root, const struct scene_limi
 static enum refract_code parse_render(const cJSON *root, const struct scene_limits *lim,
                                       struct scene_render_settings *r, struct err *e)
 {
-    static const char *const keys[] = {"integrator", "step",        "tolerance",
-                                       "max_steps",  "exposure",    "boundary_threshold",
-                                       "tonemap",    "ior_texture", NULL};
+    static const char *const keys[] = {"integrator",     "step",        "tolerance",
+                                       "max_steps",      "exposure",    "boundary_threshold",
+                                       "tonemap",        "ior_texture", "empty_space_skipping",
+                                       "min_throughput", NULL};
     /* Order as enum scene_integrator / scene_ior_texture. */
     static const char *const integrators[] = {"euler", "rk4", "rk2", "adaptive", NULL};
     static const char *const ior_textures[] = {"float32", "float16", NULL};
@@ -200,6 +201,10 @@ static enum refract_code parse_render(const cJSON *root, const struct scene_limi
                           &r->boundary_threshold, e);
     if (rc == REFRACT_E_OK)
         rc = jr_enum(o, "render", "tonemap", false, SCENE_TONEMAP_CLAMP, tonemaps, &tonemap, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_bool(o, "render", "empty_space_skipping", false, true, &r->empty_space_skipping, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_number(o, "render", "min_throughput", false, 1e-6, 0.0, 0.5, &r->min_throughput, e);
     r->integrator = (enum scene_integrator)integrator;
     r->tonemap = (enum scene_tonemap)tonemap;
     r->ior_texture = (enum scene_ior_texture)ior_texture;

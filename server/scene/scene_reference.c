@@ -4,10 +4,12 @@
  */
 #include "scene_reference.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "../core/half_float.h"
+#include "../core/reftrace_integrate.h"
 #include "../core/smooth.h"
 
 static double analytic_profile(void *ctx, vec3 p, vec3 *grad)
@@ -48,6 +50,52 @@ static void fill_settings(const struct scene *s, struct reftrace_settings *st)
     st->ambient_ior = s->ambient_ior;
     st->tolerance = 1e-9;
     st->env_intensity = s->environment.intensity;
+    st->empty_space_skipping = s->render.empty_space_skipping;
+    /* render.min_throughput 0 means never; the reference's 0 means its default. */
+    st->min_throughput = s->render.min_throughput > 0.0 ? s->render.min_throughput : -1.0;
+}
+
+static const double *texel(const double *channel, size_t v)
+{
+    return channel ? channel + v * 4 : NULL;
+}
+
+/* Object i's empty-space map from its voxel fields (macrocell.h), as scene_gpu.c builds
+ * the GPU's from the atlases. */
+static enum refract_code build_cells(struct scene_reference *r, int i, int cell, struct err *e)
+{
+    const struct reftrace_grid *g = &r->grids[i];
+    const struct reftrace_object *o = &r->objects[i];
+    size_t voxels = (size_t)o->res[0] * o->res[1] * o->res[2];
+    vec3 vs = reftrace_voxel_size(o);
+    double h_min = fmin(vs.x, fmin(vs.y, vs.z));
+    double *n = malloc(voxels * sizeof *n);
+    uint8_t *busy = malloc(voxels);
+    enum refract_code rc = REFRACT_E_OK;
+    macrocell_free(&r->cells[i]);
+    if (n == NULL || busy == NULL)
+        rc = err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for the empty-space map");
+    for (size_t v = 0; rc == REFRACT_E_OK && v < voxels; v++) {
+        n[v] = g->ior_grad[v * 4 + 3];
+        busy[v] = macrocell_voxel_busy(g->ior_grad + v * 4, h_min, texel(g->attenuation, v),
+                                       texel(g->emission, v), texel(g->opaque, v),
+                                       texel(g->scattering, v));
+    }
+    if (rc == REFRACT_E_OK)
+        rc = macrocell_build(n, busy, o->res, cell, &r->cells[i], e);
+    r->objects[i].cells = rc == REFRACT_E_OK ? &r->cells[i] : NULL;
+    free(n);
+    free(busy);
+    return rc;
+}
+
+enum refract_code scene_reference_set_cells(struct scene_reference *r, int cell, struct err *e)
+{
+    enum refract_code rc = REFRACT_E_OK;
+    for (int i = 0; rc == REFRACT_E_OK && i < r->count; i++)
+        if (r->objects[i].grid != NULL)
+            rc = build_cells(r, i, cell, e);
+    return rc;
 }
 
 static enum refract_code build_analytic(struct scene_reference *r, size_t i,
@@ -129,6 +177,8 @@ static enum refract_code build_voxels(struct scene_reference *r, const struct sc
     r->objects[i].grid = &r->grids[i];
     free(tmp);
     free(smooth);
+    if (rc == REFRACT_E_OK)
+        rc = build_cells(r, (int)i, MACROCELL_DEFAULT_CELL, e);
     return rc;
 }
 
@@ -172,5 +222,7 @@ void scene_reference_free(struct scene_reference *r)
             free(r->buffers[i][ch]);
             r->buffers[i][ch] = NULL;
         }
+        macrocell_free(&r->cells[i]);
+        r->objects[i].cells = NULL;
     }
 }

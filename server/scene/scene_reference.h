@@ -32,6 +32,8 @@ struct scene_reference {
     double *buffers[SCENE_REFERENCE_MAX_OBJECTS][SCENE_CH_COUNT]; /* owned */
     struct grin_profile profiles[SCENE_REFERENCE_MAX_OBJECTS];
     double constants[SCENE_REFERENCE_MAX_OBJECTS];
+    struct macrocell_map cells[SCENE_REFERENCE_MAX_OBJECTS]; /* voxel mode: the empty-space
+                                                                maps (owned) */
 };
 
 /* The reference tracer's twin of a render integrator (adaptive -> REFTRACE_BS23). */
@@ -43,5 +45,9 @@ enum refract_code scene_reference_build(const struct scene *s, enum scene_refere
                                         scene_volume_lookup_fn lookup, void *ctx,
                                         struct scene_reference *out, struct err *e);
 void scene_reference_free(struct scene_reference *r);
+
+/* Rebuilds the voxel objects' empty-space maps with `cell` voxels per cell edge (the build
+ * uses MACROCELL_DEFAULT_CELL, as the GPU does by default). */
+enum refract_code scene_reference_set_cells(struct scene_reference *r, int cell, struct err *e);
 
 #endif
