@@ -77,6 +77,12 @@ static const struct bad_case bad_cases[] = {
      "render.boundary_threshold", "> 0 and <= 10"},
     {TOP("\"render\": {\"tonemap\": \"aces\"}"), REFRACT_E_INVALID_FIELD, "render.tonemap", NULL},
     {TOP("\"render\": {\"exposure\": 21}"), REFRACT_E_INVALID_FIELD, "render.exposure", NULL},
+    {TOP("\"render\": {\"min_throughput\": 0.6}"), REFRACT_E_INVALID_FIELD,
+     "render.min_throughput: expected a finite number in 0..0.5", "got 0.6"},
+    {TOP("\"render\": {\"min_throughput\": -1e-6}"), REFRACT_E_INVALID_FIELD,
+     "render.min_throughput", NULL},
+    {TOP("\"render\": {\"empty_space_skipping\": 1}"), REFRACT_E_INVALID_FIELD,
+     "render.empty_space_skipping", NULL},
     {TOP("\"render\": {\"steps\": 1}"), REFRACT_E_UNKNOWN_FIELD, "render: unknown field", NULL},
     /* object */
     {"{\"objects\": [{\"ior\": 1.5}]}", REFRACT_E_MISSING_FIELD,
@@ -316,6 +322,8 @@ static void applies_defaults_to_a_minimal_document(void)
     CHECK_NEAR(s->render.exposure_ev, 0.0, 0);
     CHECK_NEAR(s->render.boundary_threshold, 0.02, 0);
     CHECK_INT(s->render.tonemap, SCENE_TONEMAP_CLAMP);
+    CHECK(s->render.empty_space_skipping);
+    CHECK_NEAR(s->render.min_throughput, 1e-6, 0);
     CHECK_INT(s->object_count, 1);
     const struct scene_object *o = &s->objects[0];
     CHECK_STR(o->name, "object0");
@@ -363,7 +371,8 @@ static void reads_every_field_of_a_full_document(void)
         " \"camera\": {\"eye\": [1, 2, 3], \"look_at\": [0, 1, 0], \"up\": [0, 2, 0],"
         "   \"fov_y_deg\": 30, \"width\": 320, \"height\": 200},"
         " \"render\": {\"integrator\": \"euler\", \"step\": 0.25, \"max_steps\": 500,"
-        "   \"exposure\": -1, \"boundary_threshold\": 0.1, \"tonemap\": \"filmic\"},"
+        "   \"exposure\": -1, \"boundary_threshold\": 0.1, \"tonemap\": \"filmic\","
+        "   \"empty_space_skipping\": false, \"min_throughput\": 0.01},"
         " \"objects\": [{\"name\": \"lens\", " BOUNDS ", \"resolution\": [16, 32, 8],"
         "   \"transform\": {\"translate\": [1, 0, 0], \"rotate\": {\"axis\": [0, 0, 2],"
         "   \"angle_deg\": 90}, \"scale\": 2}, \"smoothing_sigma\": 0, \"opaque_ior\": 2,"
@@ -382,6 +391,8 @@ static void reads_every_field_of_a_full_document(void)
     CHECK_INT(s->render.integrator, SCENE_INTEGRATOR_EULER);
     CHECK_INT(s->render.tonemap, SCENE_TONEMAP_FILMIC);
     CHECK_INT(s->render.max_steps, 500);
+    CHECK(!s->render.empty_space_skipping);
+    CHECK_NEAR(s->render.min_throughput, 0.01, 0);
     const struct scene_object *o = &s->objects[0];
     CHECK_STR(o->name, "lens");
     CHECK_INT(o->resolution[1], 32);
