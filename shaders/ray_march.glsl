@@ -308,12 +308,16 @@ float march_skip_distance(int obj, vec3 p, vec3 q, out bool to_bounds)
     vec3 bmax = params.objects[obj].bounds_max.xyz;
     vec3 inv_vs = params.objects[obj].inv_voxel_size.xyz;
     vec3 c0 = (p - bmin) * inv_vs / cell;
+    ivec3 ci = clamp(ivec3(floor(c0)), ivec3(0), sc.xyz - 1);
+    to_bounds = false;
+    // The common case first: p's own cell is not empty (one read, no DDA set-up).
+    if (skip_empty[sc.w + (ci.z * sc.y + ci.y) * sc.x + ci.x] == 0u)
+        return 0.0;
     vec3 dc = q * inv_vs / cell;
     float t_bounds = 1e30;
-    ivec3 ci, stp;
+    ivec3 stp;
     vec3 tmax, tdelta;
     for (int a = 0; a < 3; a++) {
-        ci[a] = clamp(int(floor(c0[a])), 0, sc[a] - 1);
         if (q[a] > 0.0)
             t_bounds = min(t_bounds, (bmax[a] - p[a]) / q[a]);
         else if (q[a] < 0.0)
@@ -333,7 +337,6 @@ float march_skip_distance(int obj, vec3 p, vec3 q, out bool to_bounds)
         }
     }
     t_bounds = max(t_bounds, 0.0);
-    to_bounds = false;
     float t = 0.0;
     int guard = sc.x + sc.y + sc.z + 3;
     for (int k = 0; k < guard; k++) {
