@@ -415,14 +415,17 @@ void march_through_object(inout march_state s, int obj, vec3 p, vec3 q)
                 vec3 qs = normalize(w);
                 bool to_bounds;
                 float t_skip = march_skip_distance(obj, p, qs, to_bounds);
-                // Whole steps (in empty space a step advances p by h_max q), so the steps
-                // after the jump sample where they would have; to the bounds: a little
-                // past them, and the cut lands it on the face as the last step would.
-                float whole = floor(t_skip / h_max);
-                if (to_bounds ? t_skip >= 2.0 * h_max : whole >= 2.0) {
+                // Whole steps: in empty space a step moves p by h_max w / n, whose length
+                // h_max |w| / n is h_max only as far as the integration kept |w| = n, so the
+                // jump is k such moves and the steps after it sample where they would have.
+                // To the bounds: a little past them, and the cut lands it on the face as the
+                // last step would.
+                vec3 move = (h_max / s0.a) * w;
+                float whole = floor(t_skip / length(move));
+                if (to_bounds ? t_skip >= 2.0 * length(move) : whole >= 2.0) {
                     skip = true;
-                    t_skip = to_bounds ? t_skip + MARCH_SKIP_EXIT_PAD * h_min : whole * h_max;
-                    p1 = p + t_skip * qs;
+                    p1 = to_bounds ? p + (t_skip + MARCH_SKIP_EXIT_PAD * h_min) * qs
+                                   : p + whole * move;
                 }
             }
             skipped = skip;

@@ -439,8 +439,8 @@ static void finish_step(struct march *m, const struct object_frame *fr, vec3 p, 
  * shaders/ray_march.glsl): where p's macro cell and the ones after it along the ray are
  * empty, the ray equation gives a straight line with constant n (tevs2007 eqs. 4.8/4.9
  * with grad n = 0), so one jump to the far side of the last empty cell replaces the
- * integration steps there; w is unchanged. The jump is a whole number of steps h (in empty
- * space a step advances p by exactly h q), so it lands where the steps would have; one
+ * integration steps there; w is unchanged. The jump is a whole number of steps (in empty
+ * space a step advances p by exactly h w / n), so it lands where the steps would have; one
  * that reaches the bounds goes a little past them (SKIP_EXIT_PAD voxels) so the usual cut
  * lands it on the face, as the last step would. Returns false, touching nothing, when the
  * jump would replace fewer than two steps. */
@@ -463,20 +463,22 @@ static bool skip_step(struct march *m, const struct object_frame *fr, vec3 p, ve
     t_bounds = fmax(t_bounds, 0.0);
     bool to_bounds;
     double t = macrocell_skip_distance(o->cells, v0, dv, t_bounds, &to_bounds);
-    double h = m->set->step_voxels * fr->h_min;
+    /* A step in empty space moves p by h w / n, of length h |w| / n: h only as far as the
+     * integration kept |w| = n. */
+    vec3 move = vec3_scale(w, m->set->step_voxels * fr->h_min / f0->n);
+    double step_len = vec3_length(move);
     if (to_bounds) {
-        if (t < 2.0 * h)
+        if (t < 2.0 * step_len)
             return false;
-        t += SKIP_EXIT_PAD * fr->h_min; /* the cut lands it on the face */
+        s->p = vec3_madd(p, q, t + SKIP_EXIT_PAD * fr->h_min); /* the cut lands it on the face */
     } else {
         /* Whole steps only: the jump ends where the steps it replaces would have, so the
          * integration after it samples the same points as without skipping. */
-        double k = floor(t / h);
+        double k = floor(t / step_len);
         if (k < 2.0)
             return false;
-        t = k * h;
+        s->p = vec3_madd(p, move, k);
     }
-    s->p = vec3_madd(p, q, t);
     s->w = w;
     s->rejected = false;
     finish_step(m, fr, p, w, f0, s);
