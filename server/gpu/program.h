@@ -2,9 +2,10 @@
  * program.h - compute programs built from the embedded GLSL, in variants.
  *
  * The marching kernels (render_view, trace_rays) are compiled once per variant: the
- * integrator and the optional channels a scene uses (attenuation, emission, opaque) are
- * preprocessor switches, so a scene that has no emission never pays for an emission fetch
- * (tevs2007 sect. 6.1: "some data is not required for proper rendering"). Every variant
+ * integrator, the optional channels a scene uses (attenuation, emission, opaque,
+ * scattering), the lights and empty-space skipping are preprocessor switches, so a scene
+ * that has no emission never pays for an emission fetch (tevs2007 sect. 6.1: "some data
+ * is not required for proper rendering"). Every variant
  * is compiled and linked at start-up (gpu_programs_build), so a bad shader fails there
  * with the driver's log mapped to our file names, never on the first request.
  *
