@@ -26,8 +26,8 @@
 struct gpu;
 
 /* Renders every scene of proto/examples/ (under $REFRACT_SOURCE_DIR, else .), two with
- * much empty space and two absorbing ones, and writes the section into f. quick: coarser grids, smaller images, fewer runs. Returns false when
- * something failed (message on stderr). */
+ * much empty space and two absorbing ones, and writes the section into f. quick: coarser grids,
+ * smaller images, fewer runs. Returns false when something failed (message on stderr). */
 bool accuracy_features_report(struct gpu *gpu, bool quick, FILE *f);
 
 #endif

@@ -4,8 +4,8 @@
  * faces (total internal reflection included), integration inside the field with the
  * straight-segment cut at the bounds, trapezoid accumulation of optical path,
  * absorption and emission, Fresnel events at sharp boundaries inside the field, opaque
- * embeddings, and the statuses. The integrators and field sampling are in
- * reftrace_integrate.c.
+ * embeddings, jumps over empty space (macrocell.c), and the statuses. The integrators and field
+ * sampling are in reftrace_integrate.c.
  *
  * It is the twin of shaders/ray_march.glsl and follows the page step for step; the
  * numbered comments below are the page's numbers. Where the page is silent this file
@@ -435,10 +435,10 @@ static void finish_step(struct march *m, const struct object_frame *fr, vec3 p, 
     }
 }
 
-/* Empty-space skipping (docs/tracing.md "Empty space"; the GLSL twin is march_skip in
- * shaders/ray_march.glsl): where p's macro cell and the ones after it along the ray are
- * empty, the ray equation gives a straight line with constant n (tevs2007 eqs. 4.8/4.9
- * with grad n = 0), so one jump to the far side of the last empty cell replaces the
+/* Empty-space skipping (docs/tracing.md "Empty space"; the GLSL twin is the MARCH_SKIP
+ * block of march_through_object in shaders/ray_march.glsl): where p's macro cell and the ones after
+ * it along the ray are empty, the ray equation gives a straight line with constant n (tevs2007
+ * eqs. 4.8/4.9 with grad n = 0), so one jump to the far side of the last empty cell replaces the
  * integration steps there; w is unchanged. The jump is a whole number of steps (in empty
  * space a step advances p by exactly h w / n), so it lands where the steps would have; one
  * that reaches the bounds goes a little past them (SKIP_EXIT_PAD voxels) so the usual cut
