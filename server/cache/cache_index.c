@@ -142,7 +142,8 @@ void irr_index_startup(struct irradiance_cache *c)
         }
     }
     free(keys);
-    log_info("irradiance", "%s: %d volumes from the index, %d rows without files dropped, %d "
+    log_info("irradiance",
+             "%s: %d volumes from the index, %d rows without files dropped, %d "
              "files without rows adopted",
              c->dir, indexed, dropped, adopted);
     irr_evict_disk(c);
@@ -168,8 +169,7 @@ void irr_index_recorded(struct irradiance_cache *c, struct irr_entry *en)
                                            .last_used_ms = now};
         struct err e = {0};
         if (c->index.put(c->index.ctx, &row, &e) != REFRACT_E_OK)
-            log_warn("irradiance", "volume %016" PRIx64 " on disk but not indexed: %s", key,
-                     e.msg);
+            log_warn("irradiance", "volume %016" PRIx64 " on disk but not indexed: %s", key, e.msg);
     }
     irr_evict_disk(c);
 }

@@ -22,11 +22,11 @@
 #include "../core/err.h"
 
 struct irradiance_index_row {
-    uint64_t key;          /* the cache key (irradiance_cache_key) */
-    uint64_t transport;    /* the scene half of the key (0 when adopted from files) */
-    uint64_t bytes;        /* <key>.exr + <key>.json */
-    int64_t created_unix;  /* seconds */
-    int64_t last_used_ms;  /* unix milliseconds of the last use (read back or rendered) */
+    uint64_t key;         /* the cache key (irradiance_cache_key) */
+    uint64_t transport;   /* the scene half of the key (0 when adopted from files) */
+    uint64_t bytes;       /* <key>.exr + <key>.json */
+    int64_t created_unix; /* seconds */
+    int64_t last_used_ms; /* unix milliseconds of the last use (read back or rendered) */
 };
 
 struct irradiance_index {

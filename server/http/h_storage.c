@@ -28,7 +28,8 @@ enum MHD_Result http_handle_storage(struct http_request *req)
     cJSON *irr = cJSON_AddObjectToObject(root, "irradiance");
     cJSON_AddNumberToObject(irr, "volumes", (double)volumes);
     cJSON_AddNumberToObject(irr, "bytes", (double)bytes);
-    cJSON_AddNumberToObject(irr, "disk_budget_bytes",
-                            (double)irradiance_cache_settings(req->app->irradiance)->disk_budget_bytes);
+    cJSON_AddNumberToObject(
+        irr, "disk_budget_bytes",
+        (double)irradiance_cache_settings(req->app->irradiance)->disk_budget_bytes);
     return http_respond_json(req, MHD_HTTP_OK, root);
 }

@@ -236,7 +236,8 @@ int main(void)
     CHECK_INT(a.status, 202);
     free(a.body);
     st = irr_wait_ready(&d, id, 30);
-    CHECK(!cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(irr_light(st, "sun"), "loaded_from_disk")));
+    CHECK(
+        !cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(irr_light(st, "sun"), "loaded_from_disk")));
     CHECK_NEAR(irr_counter(st, "computed"), 2, 0);
     cJSON_Delete(st);
     printf("one volume: %lld bytes on disk; adopted, dropped a stale row, evicted under a "
