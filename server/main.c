@@ -8,7 +8,7 @@
  * waits for SIGINT or SIGTERM.
  *
  * Shutdown order:
- *   1. stop accepting connections (quiesce); stop the view registry (view_registry_stop:
+ *   1. answer new requests 503 shutting_down (quiesce); stop the view registry (view_registry_stop:
  *      it stops following events, ends every view session, so their frame streams end,
  *      waits for the frames in flight, which need the GPU thread still running, and joins
  *      its scheduler and encoder threads); end every open stream (frame streams, event
