@@ -300,10 +300,7 @@ static void cancel_locked(struct irradiance_cache *c, struct irr_entry *en)
     c->counters.superseded++;
 }
 
-/* Queues the computation of a new entry. */
-static struct irr_entry *start_locked(struct irradiance_cache *c,
-                                      const struct irradiance_source *src, uint64_t transport,
-                                      uint64_t key, const struct scene_light *l)
+struct irr_entry *irr_entry_add_locked(struct irradiance_cache *c)
 {
     if (c->entry_count == c->entry_cap) {
         size_t cap = c->entry_cap ? c->entry_cap * 2 : 64;
@@ -317,6 +314,18 @@ static struct irr_entry *start_locked(struct irradiance_cache *c,
     if (en == NULL)
         return NULL;
     en->cache = c;
+    c->entries[c->entry_count++] = en;
+    return en;
+}
+
+/* Queues the computation of a new entry. */
+static struct irr_entry *start_locked(struct irradiance_cache *c,
+                                      const struct irradiance_source *src, uint64_t transport,
+                                      uint64_t key, const struct scene_light *l)
+{
+    struct irr_entry *en = irr_entry_add_locked(c);
+    if (en == NULL)
+        return NULL;
     en->key = key;
     en->transport = transport;
     en->phase = IRR_QUEUED;
@@ -331,7 +340,6 @@ static struct irr_entry *start_locked(struct irradiance_cache *c,
     en->release = src->release;
     if (src->retain)
         src->retain(src->lookup_ctx);
-    c->entries[c->entry_count++] = en;
     irr_note_progress_locked(c, en); /* queued */
     irr_push_task_locked(c, IRR_TASK_BUILD, en);
     return en;

@@ -61,18 +61,9 @@ static void remove_pair(const struct irradiance_cache *c, uint64_t key)
 static struct irr_entry *add_disk_entry(struct irradiance_cache *c, uint64_t key,
                                         uint64_t transport, uint64_t bytes, int64_t used_ms)
 {
-    if (c->entry_count == c->entry_cap) {
-        size_t cap = c->entry_cap ? c->entry_cap * 2 : 64;
-        struct irr_entry **grown = realloc(c->entries, cap * sizeof *grown);
-        if (grown == NULL)
-            return NULL;
-        c->entries = grown;
-        c->entry_cap = cap;
-    }
-    struct irr_entry *en = calloc(1, sizeof *en);
+    struct irr_entry *en = irr_entry_add_locked(c);
     if (en == NULL)
         return NULL;
-    en->cache = c;
     en->key = key;
     en->transport = transport;
     en->phase = IRR_READY;
@@ -81,7 +72,6 @@ static struct irr_entry *add_disk_entry(struct irradiance_cache *c, uint64_t key
     en->used_ms = used_ms;
     en->touched_ms = used_ms;
     en->last_use = ++c->tick; /* rows come least recently used first */
-    c->entries[c->entry_count++] = en;
     return en;
 }
 

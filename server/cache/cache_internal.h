@@ -134,6 +134,8 @@ struct irradiance_cache {
 
 /* cache.c */
 struct irr_entry *irr_find_locked(struct irradiance_cache *c, uint64_t key);
+/* A new zeroed entry of c (cache set), appended to the table; NULL when out of memory. */
+struct irr_entry *irr_entry_add_locked(struct irradiance_cache *c);
 /* Frees cancelled entries nothing refers to any more. */
 void irr_sweep_locked(struct irradiance_cache *c);
 void irr_push_task_locked(struct irradiance_cache *c, enum irr_task_kind kind,
