@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "cli_progress.h"
+#include "cli.h"
 #include "cli_upload.h"
 
 /* Redraws of the bar at most this often (a fast upload reports thousands of times). */

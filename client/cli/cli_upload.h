@@ -14,7 +14,10 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "cli.h"
+#include "../refract.h"
+
+struct cli;
+struct cli_command;
 
 /* The kind of upload a file's extension (any case) implies: .nrrd, .nhdr and .raw a
  * volume; .obj and .ply a mesh; .hdr, .png, .jpg and .jpeg the environment. 0 for .exr

@@ -6,6 +6,7 @@
  */
 #include <string.h>
 
+#include "cli.h"
 #include "cli_upload.h"
 
 #define ENV_USAGE                                                                                  \

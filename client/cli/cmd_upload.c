@@ -7,6 +7,7 @@
  */
 #include <string.h>
 
+#include "cli.h"
 #include "cli_upload.h"
 
 #define UPLOAD_USAGE                                                                               \

@@ -10,6 +10,7 @@
  */
 #include <string.h>
 
+#include "cli.h"
 #include "cli_upload.h"
 
 #define VOLUME_USAGE                                                                               \
