@@ -57,7 +57,7 @@ static int run_upload(struct cli *cli, int argc, char **argv);
 
 const struct cli_command cli_cmd_upload = {
     .name = "upload",
-    .synopsis = "upload ID FILE [--volume N|...]",
+    .synopsis = "upload ID FILE",
     .summary = "upload a volume, mesh or environment image, with progress",
     .usage = UPLOAD_USAGE,
     .run = run_upload,

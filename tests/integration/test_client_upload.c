@@ -12,7 +12,10 @@
  *   - wrong arguments are REFRACT_E_USAGE (volume fields on a mesh, a name for the
  *     environment, bad dims), a missing file REFRACT_E_IO, a missing scene
  *     REFRACT_E_SCENE_NOT_FOUND with refractd's message;
- *   - a mesh goes by POST with ?name and ?format, a uint8 volume with ?type and ?scale.
+ *   - a mesh goes by POST with ?name and ?format, a uint8 volume with ?type and ?scale;
+ *   - a file over --max-upload-bytes (4 MiB here) gets refractd's 413 body_too_large
+ *     before its body goes: the size is sent first and libcurl waits for refractd's
+ *     "100 Continue", which never comes, so less than half of it was sent.
  */
 #include <pthread.h>
 #include <stdatomic.h>
@@ -261,9 +264,32 @@ static void each_route_gets_its_query(void)
     CHECK_CONTAINS(refract_errmsg(d.client), "no_such_scene");
 }
 
+static void an_oversized_file_is_refused_before_its_body_goes(void)
+{
+    size_t bytes = 8u << 20;
+    char path[400];
+    snprintf(path, sizeof path, "%s/huge.raw", d.dir);
+    FILE *f = fopen(path, "wb");
+    CHECK(f != NULL && fseek(f, (long)bytes - 1, SEEK_SET) == 0 && fputc(0, f) == 0);
+    fclose(f);
+    struct seen s = {.last = -1, .monotone = true, .total_constant = true};
+    struct refract_upload_desc up = {.kind = REFRACT_UPLOAD_VOLUME,
+                                     .name = "huge",
+                                     .format = "raw",
+                                     .dims = {128, 128, 128},
+                                     .progress = on_progress,
+                                     .user = &s};
+    char *json = NULL;
+    CHECK_INT(refract_upload_file(d.client, scene, path, &up, &json), REFRACT_E_BODY_TOO_LARGE);
+    CHECK_CONTAINS(refract_errmsg(d.client), "--max-upload-bytes");
+    CHECK_MSG(s.last < (long long)bytes / 2, "%lld of %zu bytes were sent before the 413", s.last,
+              bytes);
+    CHECK(json == NULL);
+}
+
 int main(void)
 {
-    if (!test_daemon_start(&d, NULL))
+    if (!test_daemon_start(&d, (const char *const[]){"--max-upload-bytes", "4M", NULL}))
         test_setup_failed("test_client_upload", d.why);
     if (!test_create_scene(&d,
                            "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, "
@@ -274,6 +300,7 @@ int main(void)
     the_body_is_streamed();
     arguments_are_checked();
     each_route_gets_its_query();
+    an_oversized_file_is_refused_before_its_body_goes();
     CHECK_INT(test_daemon_stop(&d), 0);
     test_daemon_cleanup(&d);
     return test_summary("test_client_upload");
