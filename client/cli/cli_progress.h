@@ -1,7 +1,8 @@
 /*
  * cli_progress.h - the one progress display of the refract CLI, on stderr: a bar redrawn
  * in place on a terminal, plain lines otherwise (a log, a pipe, a test), for anything
- * that takes a while: irradiance volumes (cli_irradiance.c), uploads (cmd_upload.c).
+ * that takes a while: irradiance volumes (cli_irradiance.c), uploads (cli_upload.c),
+ * batch jobs (cmd_job.c).
  * Also how sizes, times and transfers read.
  *
  * Formatting is pure (buffers and a FILE *), so tests/unit/test_cli_args.c compiles
