@@ -14,7 +14,11 @@ static cJSON *status_json(const struct job_status *st)
 {
     cJSON *o = cJSON_CreateObject();
     cJSON_AddStringToObject(o, "id", st->id);
-    cJSON_AddStringToObject(o, "scene", st->scene);
+    if (st->inline_scene)
+        cJSON_AddNullToObject(o, "scene"); /* the specification holds the document */
+    else
+        cJSON_AddStringToObject(o, "scene", st->scene);
+    cJSON_AddBoolToObject(o, "inline_scene", st->inline_scene);
     cJSON_AddStringToObject(o, "state", st->state);
     cJSON_AddNumberToObject(o, "frames_total", st->frames_total);
     cJSON_AddNumberToObject(o, "frames_done", st->frames_done);

@@ -206,8 +206,8 @@ bool store_name_valid(const char *name, bool allow_upper);
 /* One row of the jobs table. spec is the job's normalised specification (JSON). */
 struct store_job_row {
     char id[STORE_ID_MAX];
-    char scene[STORE_ID_MAX];
-    char state[16]; /* queued, running, done, failed, cancelled */
+    char scene[STORE_ID_MAX]; /* "" (NULL in the table): an inline scene */
+    char state[16];           /* queued, running, done, failed, cancelled */
     int frames_total, frames_done;
     int64_t created_unix, updated_unix;
     int64_t started_unix, finished_unix; /* 0 = not yet */
@@ -236,5 +236,13 @@ enum refract_code store_job_frame_read(struct store *s, const char *id, int fram
                                        size_t *len, struct err *e);
 /* Deletes the job's rows and frees the frames' blobs no other row names. */
 enum refract_code store_job_delete(struct store *s, const char *id, struct err *e);
+/* A private version for a job's inline scene: document json (len bytes) parsed and
+ * validated with the same limits as store_scene_create's, under id (e.g. "job:<job id>",
+ * which is not a scene id, so the render and irradiance caches keep it apart from every
+ * scene), with no uploads. Never installed or persisted: the job's specification, stored
+ * as sent, is what survives a restart. *out is a new reference. The parse errors,
+ * OUT_OF_MEMORY. */
+enum refract_code store_scene_private(struct store *s, const char *id, const char *json,
+                                      size_t len, struct store_scene **out, struct err *e);
 
 #endif

@@ -13,7 +13,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
-#include <sys/mman.h>
 #include <time.h>
 
 #include "store_internal.h"
@@ -47,7 +46,10 @@ enum refract_code store_job_insert(struct store *s, const struct store_job_row *
         rc = REFRACT_E_STORAGE;
     } else {
         sqlite3_bind_text(q, 1, row->id, -1, SQLITE_STATIC);
-        sqlite3_bind_text(q, 2, row->scene, -1, SQLITE_STATIC);
+        if (row->scene[0])
+            sqlite3_bind_text(q, 2, row->scene, -1, SQLITE_STATIC);
+        else
+            sqlite3_bind_null(q, 2); /* an inline scene (the spec holds it) */
         sqlite3_bind_text(q, 3, row->spec, -1, SQLITE_STATIC);
         sqlite3_bind_text(q, 4, row->state, -1, SQLITE_STATIC);
         sqlite3_bind_int(q, 5, row->frames_total);
@@ -281,4 +283,29 @@ enum refract_code store_job_delete(struct store *s, const char *id, struct err *
     free(blobs);
     pthread_mutex_unlock(&s->lock);
     return rc;
+}
+
+enum refract_code store_scene_private(struct store *s, const char *id, const char *json, size_t len,
+                                      struct store_scene **out, struct err *e)
+{
+    *out = NULL;
+    struct scene *parsed = NULL;
+    enum refract_code rc = scene_parse(json, len, &s->desc.limits, &parsed, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    struct store_scene *v = store_version_new(s, id, NULL);
+    char *copy = malloc(len + 1);
+    if (v == NULL || copy == NULL) {
+        free(copy);
+        store_scene_release(v);
+        scene_destroy(parsed);
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for an inline scene");
+    }
+    memcpy(copy, json, len);
+    copy[len] = '\0';
+    v->json = copy;
+    v->json_len = len;
+    v->scene = parsed;
+    *out = v;
+    return REFRACT_E_OK;
 }
