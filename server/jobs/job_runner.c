@@ -766,6 +766,9 @@ enum refract_code job_submit(struct job_runner *r, const char *body, size_t len,
         rc = err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for a job");
     if (rc == REFRACT_E_OK) {
         status_locked(j, out);
+        /* Published before the runner can see the job, so "queued" is always the job's
+         * first event (lock order: the jobs lock, then the event hub's). */
+        publish(r, out);
         pthread_cond_broadcast(&r->cond);
     }
     pthread_mutex_unlock(&r->lock);
@@ -774,7 +777,6 @@ enum refract_code job_submit(struct job_runner *r, const char *body, size_t len,
         job_free(j);
         return rc;
     }
-    publish(r, out);
     return REFRACT_E_OK;
 }
 
