@@ -4,7 +4,8 @@
  * code and message, the path prefixed with "scene."), a document that refers to uploads is
  * refused naming the field, the job's status reports "scene": null and "inline_scene": true,
  * no scene is installed, each frame equals the same frame of a job on a stored scene with
- * the same document (byte for byte: renders are deterministic), and a kill -9 while an
+ * the same document (byte for byte: renders are deterministic; also for a scene whose
+ * light needs the light simulation, which the inline job waits for), and a kill -9 while an
  * inline-scene job renders is survived like a scene-id job: it resumes after the restart
  * and finishes with every frame exactly once and in its place.
  */
@@ -181,6 +182,37 @@ static void inline_equals_stored(struct test_daemon *d, const char *doc, const c
     free(stored);
 }
 
+/* An inline scene whose spot light needs the light simulation: the job waits for the
+ * volume on its own cache slot, and its frames equal those of the stored scene's job. */
+static void inline_lit(struct test_daemon *d)
+{
+    /* smoke_spot.json on coarse grids, so that its light simulation takes little time. */
+    static const char doc[] =
+        "{\"name\": \"small smoke spot\", \"camera\": {\"eye\": [0, 0.8, 4.2], \"look_at\": "
+        "[0, 0, 0], \"fov_y_deg\": 40}, \"environment\": {\"intensity\": 0.12}, \"lights\": "
+        "[{\"name\": \"spot\", \"type\": \"spot\", \"position\": [0, 3, 0], \"direction\": "
+        "[0, -1, 0], \"angle_deg\": 12, \"intensity\": 40}], \"lightsim\": {\"resolution\": "
+        "16, \"initial_patches\": 16, \"max_level\": 2}, \"objects\": [" OBJ
+        "\"ior\": {\"shape\": \"sphere\", \"center\": [0, 0.4, 0], \"radius\": 0.4, "
+        "\"inside\": 1.5}, \"scattering\": [0.3, {\"shape\": \"sphere\", \"center\": [0, "
+        "0.4, 0], \"radius\": 0.4, \"inside\": 0}], \"anisotropy\": 0.3}]}";
+    char scene[REFRACT_ID_SIZE] = "", a[64] = "", b[64] = "";
+    CHECK(test_create_scene(d, doc, scene));
+    const char *rest = "\"width\": 24, \"height\": 18, \"turntable\": {\"frames\": 2}";
+    char *inl = job_spec(doc, false, rest), *stored = job_spec(scene, true, rest);
+    CHECK(job_submit_json(d, inl, a));
+    cJSON *st = job_wait(d, a, 120);
+    CHECK_STR(job_str(st, "state"), "done");
+    cJSON_Delete(st);
+    CHECK(job_submit_json(d, stored, b));
+    st = job_wait(d, b, 120);
+    CHECK_STR(job_str(st, "state"), "done");
+    cJSON_Delete(st);
+    same_frames(d, a, b, 2);
+    free(inl);
+    free(stored);
+}
+
 static void kill9(struct test_daemon *d)
 {
     refract_client_destroy(d->client);
@@ -235,7 +267,7 @@ static void survives_kill(struct test_daemon *d, const char *doc, const char *sc
     char path[128];
     snprintf(path, sizeof path, "/v1/jobs/%s/frames/%d", id, FRAMES);
     CHECK_INT(test_request(&d2, "GET", path, NULL, NULL), 404);
-    CHECK_INT(scene_count(&d2), 1);
+    CHECK_INT(scene_count(&d2), 2); /* the two stored scenes; no inline one */
     CHECK_INT(test_daemon_stop(&d2), 0);
     test_daemon_cleanup(&d2);
     free(inl);
@@ -254,6 +286,7 @@ int main(void)
         test_setup_failed("test_jobs_inline", "could not create the scene");
     bad_inline(&d);
     inline_equals_stored(&d, doc, scene);
+    inline_lit(&d);
     survives_kill(&d, doc, scene);
     free(doc);
     test_daemon_cleanup(&d);
