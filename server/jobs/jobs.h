@@ -13,7 +13,10 @@
  * frames_done, the first unfinished frame; no frame is lost or stored twice.
  *
  * The specification (job_spec.c) is stored as received and expanded again at start-up
- * against the scene's current camera.
+ * against the scene's current camera. Its "scene" is a scene id or a whole document (an
+ * inline scene): then the job holds a private version of it (store_scene_private, named
+ * "job:<id>", never installed), made again from the stored specification at start-up, and
+ * its GPU copy and irradiance slot, under that name, are forgotten when the job ends.
  *
  * Thread: every function may be called from any thread; the registry locks internally.
  */
