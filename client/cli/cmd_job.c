@@ -13,9 +13,13 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "cli_progress.h"
 
 #define JOB_USAGE                                                                                  \
-    "usage: refract job submit FILE|-          submit a job (JSON; - = stdin); prints its id\n"    \
+    "usage: refract job submit FILE|- [--scene-file SCENE.json]\n"                                 \
+    "                                          submit a job (JSON; - = stdin); prints its id;\n"   \
+    "                                          --scene-file sends SCENE.json as its inline\n"      \
+    "                                          \"scene\" (no POST /v1/scenes needed)\n"            \
     "       refract job status ID              print the job's status as JSON\n"                   \
     "       refract job wait ID                wait until it ends, drawing progress and ETA\n"     \
     "       refract job get ID --out DIR       save its finished frames as DIR/frame_NNNNN.EXT\n"  \
@@ -29,7 +33,9 @@
     "  echo '{\"scene\": \"glass\", \"width\": 320, \"height\": 240,\n"                            \
     "         \"turntable\": {\"frames\": 36}}' > turntable.json\n"                                \
     "  J=$(refract job submit turntable.json) && refract job wait \"$J\" &&\n"                     \
-    "    refract job get \"$J\" --out frames/\n"
+    "    refract job get \"$J\" --out frames/\n"                                                   \
+    "  echo '{\"turntable\": {\"frames\": 36}}' |\n"                                               \
+    "    refract job submit - --scene-file glass.json\n"
 
 static int run_group(struct cli *cli, int argc, char **argv);
 
@@ -57,19 +63,77 @@ static int parse_sub(struct cli *cli, int argc, char **argv, size_t n_args,
 
 static const char *const id_name[] = {"the job ID"};
 
+/* Parses the JSON text (len bytes) of file `path` (what = "job" or "scene"): a new tree, or
+ * NULL after printing why. */
+static cJSON *parse_json_file(const char *path, const char *what, const char *text, size_t len)
+{
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithLengthOpts(text, len, &end, false);
+    if (root == NULL)
+        cli_fail(REFRACT_E_INVALID_JSON,
+                 "job submit: the %s file %s is not valid JSON (at byte %ld)", what, path,
+                 (long)(end ? end - text : 0));
+    else if (!cJSON_IsObject(root))
+        cli_fail(REFRACT_E_INVALID_JSON, "job submit: the %s file %s is not a JSON object", what,
+                 path);
+    if (root != NULL && !cJSON_IsObject(root)) {
+        cJSON_Delete(root);
+        root = NULL;
+    }
+    return root;
+}
+
+/* Replaces the "scene" of the job spec *doc (*len bytes) by the document in scene_path:
+ * *doc becomes a new string (the old one is freed). */
+static int inline_scene(const char *spec_path, const char *scene_path, char **doc, size_t *len)
+{
+    char *scene_text = NULL;
+    size_t scene_len = 0;
+    int code = cli_read_file(scene_path, &scene_text, &scene_len);
+    if (code != REFRACT_E_OK)
+        return code;
+    cJSON *spec = parse_json_file(spec_path, "job", *doc, *len);
+    cJSON *scene = spec ? parse_json_file(scene_path, "scene", scene_text, scene_len) : NULL;
+    free(scene_text);
+    if (scene == NULL) {
+        cJSON_Delete(spec);
+        return REFRACT_E_INVALID_JSON;
+    }
+    cJSON_DeleteItemFromObjectCaseSensitive(spec, "scene");
+    cJSON_AddItemToObject(spec, "scene", scene); /* spec owns it now */
+    char *printed = cJSON_PrintUnformatted(spec);
+    cJSON_Delete(spec);
+    char *text = printed ? strdup(printed) : NULL; /* *doc is freed with free() */
+    cJSON_free(printed);
+    if (text == NULL)
+        return cli_fail(REFRACT_E_OUT_OF_MEMORY, "job submit: out of memory");
+    free(*doc);
+    *doc = text;
+    *len = strlen(text);
+    return REFRACT_E_OK;
+}
+
 static int run_submit(struct cli *cli, int argc, char **argv)
 {
     static const char *const names[] = {"the job FILE (or - for stdin)"};
+    struct cli_opt opts[] = {{.name = "--scene-file", .takes_value = true}};
     struct cli_parsed p;
     char *doc = NULL, *reply = NULL;
     size_t len = 0;
-    int code = parse_sub(cli, argc, argv, 1, names, NULL, 0, &p);
+    int code = parse_sub(cli, argc, argv, 1, names, opts, 1, &p);
 
     if (code != REFRACT_E_OK || p.help)
         return code;
     code = cli_read_file(p.pos[0], &doc, &len);
     if (code != REFRACT_E_OK)
         return code;
+    if (opts[0].given) {
+        code = inline_scene(p.pos[0], opts[0].value, &doc, &len);
+        if (code != REFRACT_E_OK) {
+            free(doc);
+            return code;
+        }
+    }
     code = refract_job_submit(cli->client, doc, len, &reply);
     free(doc);
     if (code != REFRACT_E_OK)
@@ -104,21 +168,21 @@ static double now_s(void)
     return (double)ts.tv_sec + ts.tv_nsec / 1e9;
 }
 
-/* One progress report: a redrawn bar on a terminal, a line per change otherwise. */
-static void draw(const char *id, int done, int total, const cJSON *eta, bool tty)
+/* One progress report on p (cli_progress.h): a redrawn bar on a terminal, a line
+ * otherwise (the caller draws a line only when a frame was done). */
+static void draw(struct cli_progress *p, const char *id, int done, int total, const cJSON *eta)
 {
     char eta_text[32] = "ETA unknown";
+    char text[200];
+
     if (cJSON_IsNumber(eta))
         snprintf(eta_text, sizeof(eta_text), "ETA %.0f s", eta->valuedouble);
-    if (tty) {
-        int width = 30, fill = total > 0 ? done * width / total : 0;
-        char bar[32];
-        for (int i = 0; i < width; i++)
-            bar[i] = i < fill ? '#' : '.';
-        bar[width] = '\0';
-        fprintf(stderr, "\rjob %s [%s] %d/%d frames, %s   ", id, bar, done, total, eta_text);
+    if (p->tty) {
+        snprintf(text, sizeof(text), "job %s %d/%d frames, %s", id, done, total, eta_text);
+        cli_progress_show(p, total > 0 ? (double)done / (double)total : 0.0, text);
     } else {
-        fprintf(stderr, "job %s: %d/%d frames, %s\n", id, done, total, eta_text);
+        snprintf(text, sizeof(text), "job %s: %d/%d frames, %s", id, done, total, eta_text);
+        cli_progress_show(p, -1.0, text);
     }
 }
 
@@ -130,13 +194,17 @@ static int run_wait(struct cli *cli, int argc, char **argv)
     if (code != REFRACT_E_OK || p.help)
         return code;
     bool tty = isatty(2);
+    struct cli_progress bar;
     double start = now_s();
+    cli_progress_init(&bar, stderr, tty, cli_terminal_columns(2));
     int last_done = -1;
     for (;;) {
         char *json = NULL;
         code = refract_job_get(cli->client, p.pos[0], &json);
-        if (code != REFRACT_E_OK)
+        if (code != REFRACT_E_OK) {
+            cli_progress_finish(&bar);
             return cli_call_failed(cli, code);
+        }
         cJSON *root = cJSON_Parse(json);
         const cJSON *state = cJSON_GetObjectItemCaseSensitive(root, "state");
         const cJSON *done = cJSON_GetObjectItemCaseSensitive(root, "frames_done");
@@ -146,12 +214,11 @@ static int run_wait(struct cli *cli, int argc, char **argv)
         int d = cJSON_IsNumber(done) ? done->valueint : 0;
         int t = cJSON_IsNumber(total) ? total->valueint : 0;
         if (d != last_done || tty)
-            draw(p.pos[0], d, t, cJSON_GetObjectItemCaseSensitive(root, "eta_s"), tty);
+            draw(&bar, p.pos[0], d, t, cJSON_GetObjectItemCaseSensitive(root, "eta_s"));
         last_done = d;
         bool finished = !strcmp(st, "done") || !strcmp(st, "failed") || !strcmp(st, "cancelled");
         if (finished) {
-            if (tty)
-                fputc('\n', stderr);
+            cli_progress_finish(&bar);
             code = !strcmp(st, "done")
                        ? REFRACT_E_OK
                        : cli_fail(!strcmp(st, "failed") ? REFRACT_E_INTERNAL : REFRACT_E_CONFLICT,
@@ -162,9 +229,11 @@ static int run_wait(struct cli *cli, int argc, char **argv)
         refract_free(json);
         if (finished)
             return code;
-        if (cli->timeout_ms > 0 && (now_s() - start) * 1000 > cli->timeout_ms)
+        if (cli->timeout_ms > 0 && (now_s() - start) * 1000 > cli->timeout_ms) {
+            cli_progress_finish(&bar);
             return cli_fail(REFRACT_E_TIMEOUT, "job %s: still %s after --timeout; it goes on",
                             p.pos[0], st);
+        }
         struct timespec ts = {0, 250000000L};
         nanosleep(&ts, NULL);
     }
