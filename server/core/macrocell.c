@@ -38,14 +38,15 @@ static int clampi(int v, int lo, int hi)
 /* The texels a point in the closed cell c can read: voxel coordinates of the cell are
  * [c C, (c + 1) C]; trilinear filtering at coordinate v reads texels floor(v - 0.5) and
  * floor(v - 0.5) + 1 (volume_sample_coord clamps v to [0.5, res - 0.5]), so the cell reads
- * texels c C - 1 .. (c + 1) C. */
-static bool cell_empty(const double *n, const uint8_t *busy, const int res[3], int cell,
+ * texels c C - 1 .. (c + 1) C; a filter reading b texels on each side reads
+ * c C - b .. (c + 1) C + b - 1. */
+static bool cell_empty(const double *n, const uint8_t *busy, const int res[3], int cell, int border,
                        const int c[3])
 {
     int lo[3], hi[3];
     for (int a = 0; a < 3; a++) {
-        lo[a] = clampi(c[a] * cell - 1, 0, res[a] - 1);
-        hi[a] = clampi((c[a] + 1) * cell, 0, res[a] - 1);
+        lo[a] = clampi(c[a] * cell - border, 0, res[a] - 1);
+        hi[a] = clampi((c[a] + 1) * cell + border - 1, 0, res[a] - 1);
     }
     double n_min = INFINITY, n_max = -INFINITY;
     for (int z = lo[2]; z <= hi[2]; z++) {
@@ -64,7 +65,7 @@ static bool cell_empty(const double *n, const uint8_t *busy, const int res[3], i
 }
 
 enum refract_code macrocell_build(const double *n, const uint8_t *busy, const int res[3], int cell,
-                                  struct macrocell_map *out, struct err *e)
+                                  int border, struct macrocell_map *out, struct err *e)
 {
     out->cell = cell;
     out->empty = NULL;
@@ -81,7 +82,7 @@ enum refract_code macrocell_build(const double *n, const uint8_t *busy, const in
                 size_t k =
                     ((size_t)c[2] * (size_t)out->dims[1] + (size_t)c[1]) * (size_t)out->dims[0] +
                     (size_t)c[0];
-                out->empty[k] = cell_empty(n, busy, res, cell, c) ? 1 : 0;
+                out->empty[k] = cell_empty(n, busy, res, cell, border, c) ? 1 : 0;
                 out->empty_count += out->empty[k];
             }
         }

@@ -2,9 +2,9 @@
  * macrocell.h - the empty-space map of one voxel object (docs/tracing.md "Empty space").
  *
  * The grid is cut into cubic macro cells of `cell` voxels per edge. A cell is empty when
- * every texel that trilinear sampling can read for a point in the closed cell (the cell
- * plus one texel of border on each side, clamped to the grid) has grad n = 0 (|grad n|
- * h_min at most MACROCELL_GRAD_EPS), n within MACROCELL_N_EPS of the others, and no
+ * every texel that sampling can read for a point in the closed cell (the cell plus a
+ * border of one texel on each side for trilinear filtering, clamped to the grid) has grad n = 0
+ * (|grad n| h_min at most MACROCELL_GRAD_EPS), n within MACROCELL_N_EPS of the others, and no
  * extinction, emission or opaque coverage. In an empty cell the ray equation (tevs2007
  * eqs. 4.8/4.9) has dw/ds = 0: the ray is a straight line with constant n, so the march
  * may cross the cell in one jump and add n ds to the optical path exactly.
@@ -40,11 +40,18 @@ struct macrocell_map {
     size_t empty_count;
 };
 
+/* Texels a sample reads beyond the cell it lies in, per side: trilinear filtering reads
+ * the two texels around it (1); a tricubic (Catmull-Rom) reconstruction of n reads four
+ * (2), so its maps need the wider border. */
+#define MACROCELL_BORDER_TRILINEAR 1
+#define MACROCELL_BORDER_TRICUBIC 2
+
 /* Per-voxel inputs: n (the smoothed index) and busy[v] != 0 where voxel v has a
  * gradient above MACROCELL_GRAD_EPS / h_min or any extinction, emission or opaque
- * coverage (the caller knows its channels' layout). res: voxels per axis. */
+ * coverage (the caller knows its channels' layout). res: voxels per axis; border: the
+ * sampling footprint beyond the cell (MACROCELL_BORDER_*). */
 enum refract_code macrocell_build(const double *n, const uint8_t *busy, const int res[3], int cell,
-                                  struct macrocell_map *out, struct err *e);
+                                  int border, struct macrocell_map *out, struct err *e);
 void macrocell_free(struct macrocell_map *m);
 
 /* The per-voxel test of macrocell_build's busy input, shared by the GPU build and the CPU

@@ -299,8 +299,11 @@ static enum refract_code skip_finish(struct build_ctx *b, size_t i, struct err *
 {
     const struct scene_object *obj = &b->src->scene->objects[i];
     struct macrocell_map m;
+    /* trilinear sampling; a tricubic index needs MACROCELL_BORDER_TRICUBIC (and
+     * scene_reference.c the same) */
     enum refract_code rc =
-        macrocell_build(b->skip_n, b->skip_busy, obj->resolution, b->sg->skip_cell_voxels, &m, e);
+        macrocell_build(b->skip_n, b->skip_busy, obj->resolution, b->sg->skip_cell_voxels,
+                        MACROCELL_BORDER_TRILINEAR, &m, e);
     if (rc != REFRACT_E_OK)
         return rc;
     size_t n = macrocell_count(&m);

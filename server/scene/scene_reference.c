@@ -82,7 +82,8 @@ static enum refract_code build_cells(struct scene_reference *r, int i, int cell,
                                        texel(g->scattering, v));
     }
     if (rc == REFRACT_E_OK)
-        rc = macrocell_build(n, busy, o->res, cell, &r->cells[i], e);
+        /* trilinear sampling; a tricubic index needs MACROCELL_BORDER_TRICUBIC */
+        rc = macrocell_build(n, busy, o->res, cell, MACROCELL_BORDER_TRILINEAR, &r->cells[i], e);
     r->objects[i].cells = rc == REFRACT_E_OK ? &r->cells[i] : NULL;
     free(n);
     free(busy);

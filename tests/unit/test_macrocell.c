@@ -23,11 +23,17 @@ static size_t cell_index(const struct macrocell_map *m, int x, int y, int z)
     return ((size_t)z * m->dims[1] + (size_t)y) * m->dims[0] + (size_t)x;
 }
 
-static void build(const double *n, const uint8_t *busy, int cell, struct macrocell_map *m)
+static void build_border(const double *n, const uint8_t *busy, int cell, int border,
+                         struct macrocell_map *m)
 {
     struct err e = {0};
     const int res[3] = {R, R, R};
-    CHECK_INT(macrocell_build(n, busy, res, cell, m, &e), REFRACT_E_OK);
+    CHECK_INT(macrocell_build(n, busy, res, cell, border, m, &e), REFRACT_E_OK);
+}
+
+static void build(const double *n, const uint8_t *busy, int cell, struct macrocell_map *m)
+{
+    build_border(n, busy, cell, MACROCELL_BORDER_TRILINEAR, m);
 }
 
 static void busy_voxel_marks_its_cell_and_the_neighbours_whose_border_reads_it(void)
@@ -50,6 +56,15 @@ static void busy_voxel_marks_its_cell_and_the_neighbours_whose_border_reads_it(v
     CHECK(m.empty[cell_index(&m, 2, 1, 2)]);
     CHECK(m.empty[cell_index(&m, 2, 3, 2)]);
     CHECK_INT((int)m.empty_count, 125 - 2);
+    macrocell_free(&m);
+    /* A tricubic footprint (2 texels beyond the cell: cell c reads 4c - 2 .. 4c + 5) reaches
+     * (8, 9, 10) from cells 1-2 along x and y and 2-3 along z: 8 cells. */
+    build_border(n, busy, 4, MACROCELL_BORDER_TRICUBIC, &m);
+    CHECK(!m.empty[cell_index(&m, 2, 1, 2)]);
+    CHECK(!m.empty[cell_index(&m, 1, 1, 3)]);
+    CHECK(m.empty[cell_index(&m, 3, 2, 2)]);
+    CHECK(m.empty[cell_index(&m, 2, 2, 1)]);
+    CHECK_INT((int)m.empty_count, 125 - 8);
     macrocell_free(&m);
 }
 
