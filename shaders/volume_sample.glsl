@@ -5,19 +5,72 @@
 // [0.5, res - 0.5] texels so trilinear filtering never reads a neighbour object
 // (clamp-to-edge, docs/tracing.md "Conventions"). Needs `params` and the samplers
 // ior_grad_atlas, attenuation_atlas, emission_atlas, opaque_atlas, scattering_atlas.
+// The index and its gradient are trilinear or tricubic (MARCH_IOR_FILTER); the other
+// channels are always trilinear.
 
-vec3 volume_sample_coord(int obj, vec3 p)
+// Continuous texel coordinates of p in object obj (voxel centres at i + 0.5), clamped to
+// [0.5, res - 0.5].
+vec3 volume_sample_texel(int obj, vec3 p)
 {
     vec3 v = (p - params.objects[obj].bounds_min.xyz) * params.objects[obj].inv_voxel_size.xyz;
-    v = clamp(v, vec3(0.5), vec3(params.objects[obj].resolution.xyz) - vec3(0.5));
+    return clamp(v, vec3(0.5), vec3(params.objects[obj].resolution.xyz) - vec3(0.5));
+}
+
+// The atlas coordinates of p in object obj (the clamped texel coordinates).
+vec3 volume_sample_coord(int obj, vec3 p)
+{
+    vec3 v = volume_sample_texel(obj, p);
     return (v + params.objects[obj].atlas_offset.xyz) * params.objects[obj].atlas_inv_size.xyz;
 }
 
-// rgb: grad n in object units (n per object-space unit); a: n.
+#if MARCH_IOR_FILTER == IOR_FILTER_TRICUBIC
+// Tricubic B-spline of the stored (grad n, n) with 8 trilinear fetches (Sigg & Hadwiger
+// 2005, GPU Gems 2 ch. 20): per axis the four B-spline weights w0..w3 of the taps
+// i-1..i+2 are merged pairwise into two linear fetches at i-1 + w1/(w0+w1) and
+// i+1 + w3/(w2+w3) (all weights are positive, so each pair is a convex blend). Each fetch
+// position is clamped to the object's texels, so the atlas neighbour is never read and a
+// tap beyond the grid takes the edge voxel, as the CPU twin's clamp-to-edge taps do
+// (server/core/voxel_bspline.c). The gradient is the same B-spline of the stored
+// central-difference gradient: C2 like n, and 8 fetches in all instead of 32 for the
+// spline's analytic derivative (docs/tracing.md "Index filter").
+vec4 volume_sample_ior_grad(int obj, vec3 p)
+{
+    vec3 hi = vec3(params.objects[obj].resolution.xyz) - vec3(0.5);
+    vec3 c = volume_sample_texel(obj, p) - vec3(0.5); // voxel-centre coordinates
+    vec3 i = floor(c);
+    vec3 t = c - i;
+    vec3 s = 1.0 - t;
+    vec3 t2 = t * t;
+    vec3 w0 = s * s * s * (1.0 / 6.0);
+    vec3 w1 = (3.0 * t2 * t - 6.0 * t2 + 4.0) * (1.0 / 6.0);
+    vec3 w3 = t2 * t * (1.0 / 6.0);
+    vec3 g0 = w0 + w1;
+    vec3 g1 = 1.0 - g0;
+    vec3 h0 = clamp(i - 0.5 + w1 / g0, vec3(0.5), hi); // texel coordinates
+    vec3 h1 = clamp(i + 1.5 + w3 / g1, vec3(0.5), hi);
+    vec3 off = params.objects[obj].atlas_offset.xyz;
+    vec3 inv = params.objects[obj].atlas_inv_size.xyz;
+    h0 = (h0 + off) * inv;
+    h1 = (h1 + off) * inv;
+    vec4 t000 = textureLod(ior_grad_atlas, vec3(h0.x, h0.y, h0.z), 0.0);
+    vec4 t100 = textureLod(ior_grad_atlas, vec3(h1.x, h0.y, h0.z), 0.0);
+    vec4 t010 = textureLod(ior_grad_atlas, vec3(h0.x, h1.y, h0.z), 0.0);
+    vec4 t110 = textureLod(ior_grad_atlas, vec3(h1.x, h1.y, h0.z), 0.0);
+    vec4 t001 = textureLod(ior_grad_atlas, vec3(h0.x, h0.y, h1.z), 0.0);
+    vec4 t101 = textureLod(ior_grad_atlas, vec3(h1.x, h0.y, h1.z), 0.0);
+    vec4 t011 = textureLod(ior_grad_atlas, vec3(h0.x, h1.y, h1.z), 0.0);
+    vec4 t111 = textureLod(ior_grad_atlas, vec3(h1.x, h1.y, h1.z), 0.0);
+    vec4 y0 = g0.y * (g0.x * t000 + g1.x * t100) + g1.y * (g0.x * t010 + g1.x * t110);
+    vec4 y1 = g0.y * (g0.x * t001 + g1.x * t101) + g1.y * (g0.x * t011 + g1.x * t111);
+    return g0.z * y0 + g1.z * y1;
+}
+#else
+// rgb: grad n in object units (n per object-space unit); a: n. Trilinear.
 vec4 volume_sample_ior_grad(int obj, vec3 p)
 {
     return textureLod(ior_grad_atlas, volume_sample_coord(obj, p), 0.0);
 }
+#endif
 
 // The atlas texel of object obj at p, or zero when the object lacks the channel `flag`
 // (it then reads the atlas' zero stand-in region or another object's data).

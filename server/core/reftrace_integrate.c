@@ -16,6 +16,7 @@
 #include <stddef.h>
 
 #include "smooth.h"
+#include "voxel_bspline.h"
 
 vec3 reftrace_voxel_size(const struct reftrace_object *o)
 {
@@ -37,7 +38,10 @@ double reftrace_sample_ior(const struct reftrace_object *o, vec3 p, vec3 *grad)
     if (o->grid == NULL)
         return o->ior(o->ior_ctx, p, grad);
     double s[4];
-    voxel_sample_trilinear(o->grid->ior_grad, 4, o->res, voxel_coord(o, p), s);
+    if (o->ior_filter == REFTRACE_FILTER_TRICUBIC)
+        voxel_sample_bspline(o->grid->ior_grad, 4, o->res, voxel_coord(o, p), s);
+    else
+        voxel_sample_trilinear(o->grid->ior_grad, 4, o->res, voxel_coord(o, p), s);
     *grad = (vec3){s[0], s[1], s[2]};
     return s[3];
 }

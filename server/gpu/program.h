@@ -41,12 +41,16 @@ enum gpu_kernel {
 #define GPU_VARIANT_LIGHTS                                                                         \
     32u /* lights or a receiver: reflected light L_r at Fresnel                                    \
            events (eq. 5.6/5.8) and the receiver (render_view) */
-#define GPU_VARIANT_COUNT 128
+#define GPU_VARIANT_IOR_TRICUBIC                                                                   \
+    128u /* index and gradient filtered by a tricubic B-spline (render.ior_filter) */
+#define GPU_VARIANT_COUNT 256
 /* Variants with any of these bits are compiled on first use (gpu_program_get), not at
- * start-up: doubling the variant count three times would make the start-up eight times
+ * start-up: doubling the variant count four times would make the start-up sixteen times
  * longer. One variant with every bit (the adaptive integrator) is compiled at start-up, so
  * a shader error still stops it. */
-#define GPU_VARIANT_LAZY (GPU_VARIANT_SCATTERING | GPU_VARIANT_LIGHTS | GPU_VARIANT_INTEGRATOR_HI)
+#define GPU_VARIANT_LAZY                                                                           \
+    (GPU_VARIANT_SCATTERING | GPU_VARIANT_LIGHTS | GPU_VARIANT_INTEGRATOR_HI |                     \
+     GPU_VARIANT_IOR_TRICUBIC)
 
 struct gpu_program_desc {
     const char *label;    /* for glObjectLabel and messages */

@@ -273,7 +273,7 @@ static void bind_lights(struct render *r, const struct scene_gpu *sg, const stru
     }
 }
 
-/* The kernel variant for a scene's channels and the chosen integrator. */
+/* The kernel variant for a scene's channels, the chosen integrator and index filter. */
 static unsigned march_variant(const struct scene_gpu *sg, const struct scene_render_settings *st)
 {
     static const unsigned integrator_bits[] = {
@@ -283,6 +283,8 @@ static unsigned march_variant(const struct scene_gpu *sg, const struct scene_ren
         [SCENE_INTEGRATOR_ADAPTIVE] = GPU_VARIANT_ADAPTIVE,
     };
     unsigned v = integrator_bits[st->integrator];
+    if (st->ior_filter == SCENE_FILTER_TRICUBIC)
+        v |= GPU_VARIANT_IOR_TRICUBIC;
     for (size_t i = 0; i < sg->object_count; i++) {
         unsigned f = sg->objects[i].flags;
         if (f & OBJECT_HAS_ATTENUATION)

@@ -145,6 +145,8 @@ enum scene_integrator {
 };
 /* Storage of the index+gradient atlas (docs/tracing.md "Precision"). */
 enum scene_ior_texture { SCENE_IOR_FLOAT32 = 0, SCENE_IOR_FLOAT16 = 1 };
+/* Reconstruction of n and grad n between voxel centres (docs/tracing.md "Index filter"). */
+enum scene_ior_filter { SCENE_FILTER_TRILINEAR = 0, SCENE_FILTER_TRICUBIC = 1 };
 enum scene_tonemap { SCENE_TONEMAP_CLAMP = 0, SCENE_TONEMAP_FILMIC = 1 };
 
 /* Render defaults of a scene; a render request may override each. */
@@ -159,6 +161,7 @@ struct scene_render_settings {
     double exposure_ev;                 /* PNG/JPEG: pixel = tonemap(2^exposure * L) */
     double boundary_threshold; /* |grad n| * voxel size above which Fresnel reflection applies */
     enum scene_tonemap tonemap;
+    enum scene_ior_filter ior_filter; /* trilinear (default) or tricubic B-spline */
 };
 
 /* ---- lights, receiver and light simulation (tevs2007 ch. 4.2, 6.2) ---- */

@@ -127,6 +127,9 @@ static enum refract_code build_voxels(struct scene_reference *r, const struct sc
     r->grids[i].scattering = r->buffers[i][SCENE_CH_SCATTERING];
     r->grids[i].anisotropy = r->buffers[i][SCENE_CH_ANISOTROPY];
     r->objects[i].grid = &r->grids[i];
+    r->objects[i].ior_filter = s->render.ior_filter == SCENE_FILTER_TRICUBIC
+                                   ? REFTRACE_FILTER_TRICUBIC
+                                   : REFTRACE_FILTER_TRILINEAR;
     free(tmp);
     free(smooth);
     return rc;
