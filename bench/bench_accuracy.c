@@ -35,9 +35,16 @@
 
 #define MAX_CONFIGS 48
 
-enum sweep { SWEEP_INTEGRATOR, SWEEP_RESOLUTION, SWEEP_SIGMA, SWEEP_TEXTURE, SWEEP_COUNT };
-static const char *const sweep_names[SWEEP_COUNT] = {"integrator x step", "resolution",
-                                                     "smoothing sigma", "float16 texture"};
+enum sweep {
+    SWEEP_INTEGRATOR,
+    SWEEP_RESOLUTION,
+    SWEEP_SIGMA,
+    SWEEP_TEXTURE,
+    SWEEP_FILTER,
+    SWEEP_COUNT
+};
+static const char *const sweep_names[SWEEP_COUNT] = {
+    "integrator x step", "resolution", "smoothing sigma", "float16 texture", "tricubic filter"};
 static const char *const integrator_names[4] = {"euler", "rk4", "rk2", "adaptive"};
 
 struct config {
@@ -48,6 +55,7 @@ struct config {
     int res;          /* voxels per axis */
     double sigma;     /* smoothing in voxels; < 0: the case's default */
     bool float16;
+    bool tricubic; /* render.ior_filter "tricubic" (else trilinear) */
 };
 
 struct result {
@@ -91,21 +99,35 @@ static void build_configs(struct bench *b)
                                             SCENE_INTEGRATOR_RK4};
     for (int i = 0; i < 3; i++)
         for (int s = 0; s < nsteps; s++)
-            add(b, (struct config){SWEEP_INTEGRATOR, fixed[i], steps[s], 1e-3, base, -1.0, false});
+            add(b, (struct config){SWEEP_INTEGRATOR, fixed[i], steps[s], 1e-3, base, -1.0, false,
+                                   false});
     const double tols_full[] = {3e-2, 1e-2, 3e-3, 1e-3, 1e-4}, tols_quick[] = {1e-2, 1e-3};
     for (int t = 0; t < (q ? 2 : 5); t++)
         add(b, (struct config){SWEEP_INTEGRATOR, SCENE_INTEGRATOR_ADAPTIVE, 4.0,
-                               q ? tols_quick[t] : tols_full[t], base, -1.0, false});
+                               q ? tols_quick[t] : tols_full[t], base, -1.0, false, false});
     const int res_full[] = {32, 64, 256}, res_quick[] = {32, 128};
     for (int r = 0; r < (q ? 2 : 3); r++)
         add(b, (struct config){SWEEP_RESOLUTION, SCENE_INTEGRATOR_RK4, 0.5, 1e-3,
-                               q ? res_quick[r] : res_full[r], -1.0, false});
+                               q ? res_quick[r] : res_full[r], -1.0, false, false});
     const double sig_full[] = {0.0, 0.5, 1.0, 2.0}, sig_quick[] = {0.0, 2.0};
     for (int s = 0; s < (q ? 2 : 4); s++)
         add(b, (struct config){SWEEP_SIGMA, SCENE_INTEGRATOR_RK4, 0.5, 1e-3, base,
-                               q ? sig_quick[s] : sig_full[s], false});
-    add(b, (struct config){SWEEP_TEXTURE, SCENE_INTEGRATOR_RK4, 0.5, 1e-3, base, -1.0, true});
-    add(b, (struct config){SWEEP_TEXTURE, SCENE_INTEGRATOR_ADAPTIVE, 4.0, 1e-3, base, -1.0, true});
+                               q ? sig_quick[s] : sig_full[s], false, false});
+    add(b,
+        (struct config){SWEEP_TEXTURE, SCENE_INTEGRATOR_RK4, 0.5, 1e-3, base, -1.0, true, false});
+    add(b, (struct config){SWEEP_TEXTURE, SCENE_INTEGRATOR_ADAPTIVE, 4.0, 1e-3, base, -1.0, true,
+                           false});
+    /* Tricubic against trilinear: the default integrator at every resolution (the
+     * trilinear twins are the resolution sweep and the default), and the cheap settings of
+     * the front at the base grid. */
+    const int fres_full[] = {32, 64, 128, 256}, fres_quick[] = {32, 64, 128};
+    for (int r = 0; r < (q ? 3 : 4); r++)
+        add(b, (struct config){SWEEP_FILTER, SCENE_INTEGRATOR_RK4, 0.5, 1e-3,
+                               q ? fres_quick[r] : fres_full[r], -1.0, false, true});
+    add(b, (struct config){SWEEP_FILTER, SCENE_INTEGRATOR_RK4, q ? 1.0 : 2.0, 1e-3, base, -1.0,
+                           false, true});
+    add(b, (struct config){SWEEP_FILTER, SCENE_INTEGRATOR_ADAPTIVE, 4.0, 1e-2, base, -1.0, false,
+                           true});
 }
 
 static int cmp_double(const void *a, const void *b)
@@ -136,6 +158,7 @@ static bool run_config(struct render *r, const struct accuracy_case *c, const st
     st.integrator = cfg->integrator;
     st.step_voxels = cfg->step;
     st.tolerance_voxels = cfg->tolerance;
+    st.ior_filter = cfg->tricubic ? SCENE_FILTER_TRICUBIC : SCENE_FILTER_TRILINEAR;
     double best = INFINITY;
     for (int rep = 0; rep < 3; rep++) {
         double ms = 0.0;
@@ -225,10 +248,11 @@ static void gpu_run(struct gpu_work *w, struct gpu *gpu)
             b->ok = run_config(r, c, &b->configs[k], rays, ref, hits, count, &b->results[ci][k]);
             const struct result *res = &b->results[ci][k];
             fprintf(stderr,
-                    "%-10s %-8s step %-4g tol %-6g res %-3d: dir mean %.2e  pos mean "
+                    "%-10s %-8s step %-4g tol %-6g res %-3d %-9s: dir mean %.2e  pos mean "
                     "%.2e  %.2f us/ray  lost %d\n",
                     c->name, integrator_names[b->configs[k].integrator], b->configs[k].step,
-                    b->configs[k].tolerance, b->configs[k].res, res->dir_mean, res->pos_mean,
+                    b->configs[k].tolerance, b->configs[k].res,
+                    b->configs[k].tricubic ? "tricubic" : "trilinear", res->dir_mean, res->pos_mean,
                     res->us_per_ray, res->lost);
         }
     }
@@ -248,8 +272,8 @@ static void config_label(const struct bench *b, const struct config *c, char *bu
     char sig[32] = "";
     if (c->sigma >= 0.0)
         snprintf(sig, sizeof sig, ", sigma %g", c->sigma);
-    snprintf(buf, n, "%s, step %g%s%s%s%s", integrator_names[c->integrator], c->step, extra,
-             c->res != b->opt.base_res ? "" : "", sig, c->float16 ? ", float16" : "");
+    snprintf(buf, n, "%s, step %g%s%s%s%s", integrator_names[c->integrator], c->step, extra, sig,
+             c->float16 ? ", float16" : "", c->tricubic ? ", tricubic" : "");
     if (c->res != b->opt.base_res) {
         size_t len = strlen(buf);
         snprintf(buf + len, n - len, ", %d^3", c->res);
@@ -283,6 +307,14 @@ static void compute_overall(struct bench *b, struct overall *o)
     mark_front(o->flags, b->config_count, o->mean_us, o->worst_dir);
 }
 
+/* The configurations that differ only in integrator settings and filter on the base grid:
+ * the candidates of the preview and final choices. */
+static bool base_grid_setting(const struct bench *b, int k)
+{
+    const struct config *c = &b->configs[k];
+    return c->sweep == SWEEP_INTEGRATOR || (c->sweep == SWEEP_FILTER && c->res == b->opt.base_res);
+}
+
 /* How far configuration k is from the voxel floor: the largest over the cases of its mean
  * direction error divided by the case's best over the integrator x step sweep (at a fixed
  * voxel grid the voxels set an error floor that no integrator goes below). */
@@ -305,8 +337,7 @@ static int cheapest_within(const struct bench *b, const struct overall *o, doubl
 {
     int best = -1;
     for (int k = 0; k < b->config_count; k++) {
-        if (b->configs[k].sweep != SWEEP_INTEGRATOR || o->lost[k] != 0 ||
-            floor_ratio(b, k) > factor)
+        if (!base_grid_setting(b, k) || o->lost[k] != 0 || floor_ratio(b, k) > factor)
             continue;
         if (best < 0 || o->mean_us[k] < o->mean_us[best])
             best = k;
@@ -338,8 +369,8 @@ static void write_plot(const struct bench *b, const char *name, const char *titl
         .x_label = "GPU time per ray (microseconds, llvmpipe)",
         .y_label = "mean exit-direction error (rad)",
         .series_names = {"euler", "rk4", "rk2", "adaptive", "resolution (rk4 0.5)",
-                         "sigma (rk4 0.5)", "float16"},
-        .series_count = 7,
+                         "sigma (rk4 0.5)", "float16", "tricubic"},
+        .series_count = 8,
         .points = pts,
         .count = b->config_count,
         .front_across_series = true,
@@ -384,7 +415,7 @@ static void choice_line(FILE *f, const struct bench *b, const struct overall *o,
     }
     config_label(b, &b->configs[k], label, sizeof label);
     char ratio[48] = "";
-    if (b->configs[k].sweep == SWEEP_INTEGRATOR)
+    if (base_grid_setting(b, k))
         snprintf(ratio, sizeof ratio, ", %.2fx the floor", floor_ratio(b, k));
     fprintf(f,
             "- %s: **%s**: worst-case mean direction error %.2e rad, position %.2e, %.2f us "
@@ -416,6 +447,127 @@ static void write_choice(FILE *f, const struct bench *b, const struct overall *o
             fine = k;
     choice_line(f, b, o, fine, "Finest grid measured (rk4, step 0.5)");
     fprintf(f, "\n");
+}
+
+/* The trilinear configuration that tricubic configuration k is compared with: the same
+ * integrator, step, tolerance, grid, smoothing and texture; -1 when the sweeps lack it. */
+static int trilinear_twin(const struct bench *b, int k)
+{
+    const struct config *c = &b->configs[k];
+    for (int j = 0; j < b->config_count; j++) {
+        const struct config *t = &b->configs[j];
+        if (!t->tricubic && t->integrator == c->integrator && t->step == c->step &&
+            (c->integrator != SCENE_INTEGRATOR_ADAPTIVE || t->tolerance == c->tolerance) &&
+            t->res == c->res && t->sigma == c->sigma && t->float16 == c->float16)
+            return j;
+    }
+    return -1;
+}
+
+/* Trilinear against tricubic over the overall worst case: each tricubic configuration and
+ * its trilinear twin, one series per filter, each series' front joined. */
+static void write_filter_plot(const struct bench *b, const struct overall *o)
+{
+    struct plot_point pts[2 * MAX_CONFIGS];
+    double x[2 * MAX_CONFIGS], y[2 * MAX_CONFIGS];
+    struct result flags[2 * MAX_CONFIGS];
+    int n = 0, series[2 * MAX_CONFIGS];
+    for (int k = 0; k < b->config_count; k++) {
+        int j = b->configs[k].tricubic ? trilinear_twin(b, k) : -1;
+        if (j < 0)
+            continue;
+        const int ks[2] = {j, k};
+        for (int s = 0; s < 2; s++) {
+            x[n] = o->mean_us[ks[s]];
+            y[n] = o->worst_dir[ks[s]];
+            flags[n] = o->flags[ks[s]];
+            series[n++] = s;
+        }
+    }
+    for (int s = 0; s < 2; s++) { /* one front per filter */
+        double xs[2 * MAX_CONFIGS], ys[2 * MAX_CONFIGS];
+        struct result fs[2 * MAX_CONFIGS];
+        int idx[2 * MAX_CONFIGS], m = 0;
+        for (int i = 0; i < n; i++)
+            if (series[i] == s) {
+                xs[m] = x[i];
+                ys[m] = y[i];
+                fs[m] = flags[i];
+                idx[m++] = i;
+            }
+        mark_front(fs, m, xs, ys);
+        for (int i = 0; i < m; i++)
+            pts[idx[i]] = (struct plot_point){x[idx[i]], y[idx[i]], s, fs[i].front};
+    }
+    struct plot_desc d = {
+        .title = "Index filter: worst mean error vs time (rk4 0.5 at 32-256^3, cheap settings)",
+        .x_label = "GPU time per ray (microseconds, llvmpipe)",
+        .y_label = "worst mean exit-direction error (rad)",
+        .series_names = {"trilinear", "tricubic B-spline"},
+        .series_count = 2,
+        .points = pts,
+        .count = n,
+    };
+    char path[512];
+    snprintf(path, sizeof path, "%s/accuracy_filter.png", b->opt.images);
+    struct err e = {0};
+    if (plot_write_png(&d, path, &e) != REFRACT_E_OK)
+        fprintf(stderr, "refract-accuracy: %s\n", e.msg);
+}
+
+static void filter_row(FILE *f, const char *what, const char *label, const struct result *lin,
+                       const struct result *cub)
+{
+    fprintf(f, "| %s | %s | %.2e | %.2e | %.2f | %.2e | %.2e | %.2f | %.2f | %.2f |\n", what, label,
+            lin->dir_mean, cub->dir_mean, cub->dir_mean / lin->dir_mean, lin->pos_mean,
+            cub->pos_mean, lin->us_per_ray, cub->us_per_ray, cub->us_per_ray / lin->us_per_ray);
+}
+
+static void write_filter_section(FILE *f, const struct bench *b, const struct overall *o)
+{
+    fprintf(f, "\n## Index filter: trilinear against tricubic\n\n"
+               "`render.ior_filter` chooses how n and grad n are reconstructed between voxel "
+               "centres (docs/tracing.md \"Index filter\"): **trilinear** (one hardware-filtered "
+               "fetch, C0: grad n jumps in slope at every voxel face) or **tricubic**, a uniform "
+               "cubic B-spline whose coefficients are the voxels (C2; 8 trilinear fetches, Sigg & "
+               "Hadwiger, GPU Gems 2 ch. 20). The B-spline approximates rather than interpolates: "
+               "it smooths the stored field by a further 1/3 voxel^2 of variance per axis (like "
+               "smoothing_sigma 0.58), which shows as a bias where n curves strongly. Its grad n "
+               "is the same B-spline of the stored central-difference gradient, not the spline's "
+               "analytic derivative (that costs 32 fetches; both are continuous and agree to "
+               "O(h^2)). Each row compares a tricubic configuration with its trilinear twin on "
+               "the same voxels; ratios below 1 favour tricubic.\n\n"
+               "![filter](images/accuracy_filter.png)\n\n"
+               "| case | settings | trilinear direction | tricubic direction | ratio | trilinear "
+               "position | tricubic position | trilinear us/ray | tricubic us/ray | time ratio "
+               "|\n|---|---|---|---|---|---|---|---|---|---|\n");
+    double log_time = 0.0;
+    int timed = 0;
+    for (int k = 0; k < b->config_count; k++) {
+        int j = b->configs[k].tricubic ? trilinear_twin(b, k) : -1;
+        if (j < 0)
+            continue;
+        char label[160];
+        config_label(b, &b->configs[j], label, sizeof label);
+        if (b->configs[k].res == b->opt.base_res) {
+            size_t len = strlen(label);
+            snprintf(label + len, sizeof label - len, ", %d^3", b->opt.base_res);
+        }
+        for (int ci = 0; ci < ACCURACY_CASE_COUNT; ci++) {
+            filter_row(f, accuracy_cases[ci].title, label, &b->results[ci][j], &b->results[ci][k]);
+            log_time += log(b->results[ci][k].us_per_ray / b->results[ci][j].us_per_ray);
+            timed++;
+        }
+        struct result lin = {
+            .dir_mean = o->worst_dir[j], .pos_mean = o->worst_pos[j], .us_per_ray = o->mean_us[j]};
+        struct result cub = {
+            .dir_mean = o->worst_dir[k], .pos_mean = o->worst_pos[k], .us_per_ray = o->mean_us[k]};
+        filter_row(f, "**worst case**", label, &lin, &cub);
+    }
+    fprintf(f,
+            "\nTricubic costs %.2fx the trilinear time per ray (geometric mean over the rows "
+            "above).\n\n",
+            timed > 0 ? exp(log_time / timed) : 0.0);
 }
 
 static bool write_report(const struct bench *b, struct gpu *gpu, int argc, char **argv)
@@ -454,19 +606,21 @@ static bool write_report(const struct bench *b, struct gpu *gpu, int argc, char 
         char label[160];
         config_label(b, &b->configs[k], label, sizeof label);
         char ratio[32] = "-"; /* the floor is that of the base grid: integrator sweep only */
-        if (b->configs[k].sweep == SWEEP_INTEGRATOR)
+        if (base_grid_setting(b, k))
             snprintf(ratio, sizeof ratio, "%.2f", floor_ratio(b, k));
         fprintf(f, "| %s | %s | %.2e | %.2e | %s | %.2f | %d | %s |\n",
                 sweep_names[b->configs[k].sweep], label, o.worst_dir[k], o.worst_pos[k], ratio,
                 o.mean_us[k], o.lost[k], o.flags[k].front ? "yes" : "");
     }
-    fprintf(f, "\n## Per case\n\n");
+    write_filter_section(f, b, &o);
+    fprintf(f, "## Per case\n\n");
     for (int ci = 0; ci < ACCURACY_CASE_COUNT; ci++)
         write_case_table(f, b, ci);
     bool images_ok = b->opt.no_images || accuracy_image_report(gpu, b->opt.quick, b->opt.images, f);
     fclose(f);
     write_plot(b, "overall", "All cases: worst mean error vs time", o.mean_us, o.worst_dir,
                o.flags);
+    write_filter_plot(b, &o);
     for (int ci = 0; ci < ACCURACY_CASE_COUNT; ci++) {
         double x[MAX_CONFIGS], y[MAX_CONFIGS];
         for (int k = 0; k < b->config_count; k++) {
