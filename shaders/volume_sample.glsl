@@ -24,45 +24,56 @@ vec3 volume_sample_coord(int obj, vec3 p)
 }
 
 #if MARCH_IOR_FILTER == IOR_FILTER_TRICUBIC
-// Tricubic B-spline of the stored (grad n, n) with 8 trilinear fetches (Sigg & Hadwiger
-// 2005, GPU Gems 2 ch. 20): per axis the four B-spline weights w0..w3 of the taps
-// i-1..i+2 are merged pairwise into two linear fetches at i-1 + w1/(w0+w1) and
-// i+1 + w3/(w2+w3) (all weights are positive, so each pair is a convex blend). Each fetch
-// position is clamped to the object's texels, so the atlas neighbour is never read and a
-// tap beyond the grid takes the edge voxel, as the CPU twin's clamp-to-edge taps do
-// (server/core/voxel_bspline.c). The gradient is the same B-spline of the stored
-// central-difference gradient: C2 like n, and 8 fetches in all instead of 32 for the
-// spline's analytic derivative (docs/tracing.md "Index filter").
+// Three taps along x at atlas coordinates qx (x of each), y, z with weights wx.
+vec4 volume_fetch_x3(vec3 qx, float y, float z, vec3 wx)
+{
+    return wx.x * textureLod(ior_grad_atlas, vec3(qx.x, y, z), 0.0) +
+           wx.y * textureLod(ior_grad_atlas, vec3(qx.y, y, z), 0.0) +
+           wx.z * textureLod(ior_grad_atlas, vec3(qx.z, y, z), 0.0);
+}
+
+// A 3 x 3 plane of taps at z.
+vec4 volume_fetch_xy9(mat3 q, mat3 w, float z)
+{
+    return w[1].x * volume_fetch_x3(q[0], q[1].x, z, w[0]) +
+           w[1].y * volume_fetch_x3(q[0], q[1].y, z, w[0]) +
+           w[1].z * volume_fetch_x3(q[0], q[1].z, z, w[0]);
+}
+
+// Tricubic Catmull-Rom of the stored (grad n, n) with 27 trilinear fetches: per axis the
+// four weights w0..w3 of the taps i-1..i+2 (Catmull & Rom 1974; Keys 1981 with a = -1/2)
+// have positive middle weights, so the middle pair merges into one linear fetch at
+// i + w2 / (w1 + w2) (Sigg & Hadwiger 2005, GPU Gems 2 ch. 20, applied to the pair that
+// allows it); the outer taps, whose weights are negative, are fetched at texel centres.
+// The kernel interpolates (it returns the voxel at voxel centres), reproduces quadratics,
+// and is C1, so grad n is continuous across voxel faces. Each fetch position is clamped to
+// the object's texels, so the atlas neighbour is never read and a tap beyond the grid
+// takes the edge voxel, as the CPU twin's clamp-to-edge taps do
+// (server/core/voxel_tricubic.c). grad n is the same filter of the stored
+// central-difference gradient (docs/tracing.md "Index filter").
 vec4 volume_sample_ior_grad(int obj, vec3 p)
 {
     vec3 hi = vec3(params.objects[obj].resolution.xyz) - vec3(0.5);
     vec3 c = volume_sample_texel(obj, p) - vec3(0.5); // voxel-centre coordinates
     vec3 i = floor(c);
     vec3 t = c - i;
-    vec3 s = 1.0 - t;
     vec3 t2 = t * t;
-    vec3 w0 = s * s * s * (1.0 / 6.0);
-    vec3 w1 = (3.0 * t2 * t - 6.0 * t2 + 4.0) * (1.0 / 6.0);
-    vec3 w3 = t2 * t * (1.0 / 6.0);
-    vec3 g0 = w0 + w1;
-    vec3 g1 = 1.0 - g0;
-    vec3 h0 = clamp(i - 0.5 + w1 / g0, vec3(0.5), hi); // texel coordinates
-    vec3 h1 = clamp(i + 1.5 + w3 / g1, vec3(0.5), hi);
+    vec3 t3 = t2 * t;
+    vec3 w0 = 0.5 * (-t3 + 2.0 * t2 - t);
+    vec3 w1 = 0.5 * (3.0 * t3 - 5.0 * t2 + 2.0);
+    vec3 w2 = 0.5 * (-3.0 * t3 + 4.0 * t2 + t);
+    vec3 w3 = 0.5 * (t3 - t2);
+    vec3 wm = w1 + w2; // >= 1 on [0, 1]
     vec3 off = params.objects[obj].atlas_offset.xyz;
     vec3 inv = params.objects[obj].atlas_inv_size.xyz;
-    h0 = (h0 + off) * inv;
-    h1 = (h1 + off) * inv;
-    vec4 t000 = textureLod(ior_grad_atlas, vec3(h0.x, h0.y, h0.z), 0.0);
-    vec4 t100 = textureLod(ior_grad_atlas, vec3(h1.x, h0.y, h0.z), 0.0);
-    vec4 t010 = textureLod(ior_grad_atlas, vec3(h0.x, h1.y, h0.z), 0.0);
-    vec4 t110 = textureLod(ior_grad_atlas, vec3(h1.x, h1.y, h0.z), 0.0);
-    vec4 t001 = textureLod(ior_grad_atlas, vec3(h0.x, h0.y, h1.z), 0.0);
-    vec4 t101 = textureLod(ior_grad_atlas, vec3(h1.x, h0.y, h1.z), 0.0);
-    vec4 t011 = textureLod(ior_grad_atlas, vec3(h0.x, h1.y, h1.z), 0.0);
-    vec4 t111 = textureLod(ior_grad_atlas, vec3(h1.x, h1.y, h1.z), 0.0);
-    vec4 y0 = g0.y * (g0.x * t000 + g1.x * t100) + g1.y * (g0.x * t010 + g1.x * t110);
-    vec4 y1 = g0.y * (g0.x * t001 + g1.x * t101) + g1.y * (g0.x * t011 + g1.x * t111);
-    return g0.z * y0 + g1.z * y1;
+    vec3 q0 = (clamp(i - 0.5, vec3(0.5), hi) + off) * inv; // texel i-1's centre
+    vec3 q1 = (clamp(i + 0.5 + w2 / wm, vec3(0.5), hi) + off) * inv;
+    vec3 q2 = (clamp(i + 2.5, vec3(0.5), hi) + off) * inv; // texel i+2's centre
+    // Columns: per axis (x, y, z) the three positions and their weights.
+    mat3 q = transpose(mat3(q0, q1, q2));
+    mat3 w = transpose(mat3(w0, wm, w3));
+    return w[2].x * volume_fetch_xy9(q, w, q[2].x) + w[2].y * volume_fetch_xy9(q, w, q[2].y) +
+           w[2].z * volume_fetch_xy9(q, w, q[2].z);
 }
 #else
 // rgb: grad n in object units (n per object-space unit); a: n. Trilinear.

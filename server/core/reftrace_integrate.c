@@ -16,7 +16,7 @@
 #include <stddef.h>
 
 #include "smooth.h"
-#include "voxel_bspline.h"
+#include "voxel_tricubic.h"
 
 vec3 reftrace_voxel_size(const struct reftrace_object *o)
 {
@@ -39,7 +39,7 @@ double reftrace_sample_ior(const struct reftrace_object *o, vec3 p, vec3 *grad)
         return o->ior(o->ior_ctx, p, grad);
     double s[4];
     if (o->ior_filter == REFTRACE_FILTER_TRICUBIC)
-        voxel_sample_bspline(o->grid->ior_grad, 4, o->res, voxel_coord(o, p), s);
+        voxel_sample_tricubic(o->grid->ior_grad, 4, o->res, voxel_coord(o, p), s);
     else
         voxel_sample_trilinear(o->grid->ior_grad, 4, o->res, voxel_coord(o, p), s);
     *grad = (vec3){s[0], s[1], s[2]};

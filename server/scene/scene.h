@@ -161,7 +161,7 @@ struct scene_render_settings {
     double exposure_ev;                 /* PNG/JPEG: pixel = tonemap(2^exposure * L) */
     double boundary_threshold; /* |grad n| * voxel size above which Fresnel reflection applies */
     enum scene_tonemap tonemap;
-    enum scene_ior_filter ior_filter; /* trilinear (default) or tricubic B-spline */
+    enum scene_ior_filter ior_filter; /* trilinear (default) or tricubic Catmull-Rom */
 };
 
 /* ---- lights, receiver and light simulation (tevs2007 ch. 4.2, 6.2) ---- */

@@ -1,18 +1,18 @@
 /*
- * voxel_bspline.c - tricubic B-spline reconstruction; see voxel_bspline.h.
+ * voxel_tricubic.c - tricubic Catmull-Rom reconstruction; see voxel_tricubic.h.
  */
-#include "voxel_bspline.h"
+#include "voxel_tricubic.h"
 
 #include <math.h>
 #include <stddef.h>
 
-void voxel_bspline_weights(double t, double w[4])
+void voxel_catmull_rom_weights(double t, double w[4])
 {
-    double s = 1.0 - t, t2 = t * t, t3 = t2 * t;
-    w[0] = s * s * s / 6.0;
-    w[1] = (3.0 * t3 - 6.0 * t2 + 4.0) / 6.0;
-    w[2] = (-3.0 * t3 + 3.0 * t2 + 3.0 * t + 1.0) / 6.0;
-    w[3] = t3 / 6.0;
+    double t2 = t * t, t3 = t2 * t;
+    w[0] = 0.5 * (-t3 + 2.0 * t2 - t);
+    w[1] = 0.5 * (3.0 * t3 - 5.0 * t2 + 2.0);
+    w[2] = 0.5 * (-3.0 * t3 + 4.0 * t2 + t);
+    w[3] = 0.5 * (t3 - t2);
 }
 
 /* The four tap indices (clamped to the grid) and their weights along one axis. */
@@ -20,14 +20,14 @@ static void axis_taps(double v, int len, int idx[4], double w[4])
 {
     v = fmax(0.0, fmin(v, (double)(len - 1)));
     double i = floor(v);
-    voxel_bspline_weights(v - i, w);
+    voxel_catmull_rom_weights(v - i, w);
     for (int k = 0; k < 4; k++) {
         int j = (int)i - 1 + k;
         idx[k] = j < 0 ? 0 : (j > len - 1 ? len - 1 : j);
     }
 }
 
-void voxel_sample_bspline(const double *grid, int comps, const int res[3], vec3 v, double *out)
+void voxel_sample_tricubic(const double *grid, int comps, const int res[3], vec3 v, double *out)
 {
     int ix[4], iy[4], iz[4];
     double wx[4], wy[4], wz[4];
