@@ -76,6 +76,9 @@ static const struct bad_case bad_cases[] = {
     {TOP("\"render\": {\"boundary_threshold\": 0}"), REFRACT_E_INVALID_FIELD,
      "render.boundary_threshold", "> 0 and <= 10"},
     {TOP("\"render\": {\"tonemap\": \"aces\"}"), REFRACT_E_INVALID_FIELD, "render.tonemap", NULL},
+    {TOP("\"render\": {\"ior_filter\": \"bicubic\"}"), REFRACT_E_INVALID_FIELD,
+     "render.ior_filter: expected one of", "\"trilinear\", \"tricubic\""},
+    {TOP("\"render\": {\"ior_filter\": 3}"), REFRACT_E_INVALID_FIELD, "render.ior_filter", NULL},
     {TOP("\"render\": {\"exposure\": 21}"), REFRACT_E_INVALID_FIELD, "render.exposure", NULL},
     {TOP("\"render\": {\"steps\": 1}"), REFRACT_E_UNKNOWN_FIELD, "render: unknown field", NULL},
     /* object */
@@ -316,6 +319,7 @@ static void applies_defaults_to_a_minimal_document(void)
     CHECK_NEAR(s->render.exposure_ev, 0.0, 0);
     CHECK_NEAR(s->render.boundary_threshold, 0.02, 0);
     CHECK_INT(s->render.tonemap, SCENE_TONEMAP_CLAMP);
+    CHECK_INT(s->render.ior_filter, SCENE_FILTER_TRILINEAR);
     CHECK_INT(s->object_count, 1);
     const struct scene_object *o = &s->objects[0];
     CHECK_STR(o->name, "object0");
@@ -363,7 +367,8 @@ static void reads_every_field_of_a_full_document(void)
         " \"camera\": {\"eye\": [1, 2, 3], \"look_at\": [0, 1, 0], \"up\": [0, 2, 0],"
         "   \"fov_y_deg\": 30, \"width\": 320, \"height\": 200},"
         " \"render\": {\"integrator\": \"euler\", \"step\": 0.25, \"max_steps\": 500,"
-        "   \"exposure\": -1, \"boundary_threshold\": 0.1, \"tonemap\": \"filmic\"},"
+        "   \"exposure\": -1, \"boundary_threshold\": 0.1, \"tonemap\": \"filmic\","
+        "   \"ior_filter\": \"tricubic\"},"
         " \"objects\": [{\"name\": \"lens\", " BOUNDS ", \"resolution\": [16, 32, 8],"
         "   \"transform\": {\"translate\": [1, 0, 0], \"rotate\": {\"axis\": [0, 0, 2],"
         "   \"angle_deg\": 90}, \"scale\": 2}, \"smoothing_sigma\": 0, \"opaque_ior\": 2,"
@@ -381,6 +386,7 @@ static void reads_every_field_of_a_full_document(void)
     CHECK_INT(s->camera.height, 200);
     CHECK_INT(s->render.integrator, SCENE_INTEGRATOR_EULER);
     CHECK_INT(s->render.tonemap, SCENE_TONEMAP_FILMIC);
+    CHECK_INT(s->render.ior_filter, SCENE_FILTER_TRICUBIC);
     CHECK_INT(s->render.max_steps, 500);
     const struct scene_object *o = &s->objects[0];
     CHECK_STR(o->name, "lens");
