@@ -288,23 +288,35 @@ struct overall {
     struct result flags[MAX_CONFIGS]; /* front and eligibility over all cases */
 };
 
-static void compute_overall(struct bench *b, struct overall *o)
+/* Worst and mean over the cases; grin_only: the smooth GRIN cases alone (those with a
+ * Dormand-Prince reference; the spheres' sharp boundaries set an error of their own). */
+static void compute_overall_of(const struct bench *b, bool grin_only, struct overall *o)
 {
+    int cases = 0;
+    for (int ci = 0; ci < ACCURACY_CASE_COUNT; ci++)
+        cases += !grin_only || accuracy_cases[ci].reference == ACCURACY_REF_DOPRI;
     for (int k = 0; k < b->config_count; k++) {
         o->worst_dir[k] = o->worst_pos[k] = o->mean_us[k] = 0.0;
         o->lost[k] = 0;
         o->flags[k] = (struct result){.scored = 0};
         for (int ci = 0; ci < ACCURACY_CASE_COUNT; ci++) {
+            if (grin_only && accuracy_cases[ci].reference != ACCURACY_REF_DOPRI)
+                continue;
             const struct result *r = &b->results[ci][k];
             o->worst_dir[k] = fmax(o->worst_dir[k], r->dir_mean);
             o->worst_pos[k] = fmax(o->worst_pos[k], r->pos_mean);
-            o->mean_us[k] += r->us_per_ray / ACCURACY_CASE_COUNT;
+            o->mean_us[k] += r->us_per_ray / cases;
             o->lost[k] += r->lost;
             o->flags[k].scored += r->scored;
             o->flags[k].lost += r->lost;
         }
     }
     mark_front(o->flags, b->config_count, o->mean_us, o->worst_dir);
+}
+
+static void compute_overall(const struct bench *b, struct overall *o)
+{
+    compute_overall_of(b, false, o);
 }
 
 /* The configurations that differ only in integrator settings and filter on the base grid:
@@ -473,7 +485,8 @@ static int trilinear_twin(const struct bench *b, int k)
 
 /* Trilinear against tricubic over the overall worst case: each tricubic configuration and
  * its trilinear twin, one series per filter, each series' front joined. */
-static void write_filter_plot(const struct bench *b, const struct overall *o)
+static void write_filter_plot(const struct bench *b, const struct overall *o, const char *name,
+                              const char *title)
 {
     struct plot_point pts[2 * MAX_CONFIGS];
     double x[2 * MAX_CONFIGS], y[2 * MAX_CONFIGS];
@@ -492,7 +505,7 @@ static void write_filter_plot(const struct bench *b, const struct overall *o)
         }
     }
     for (int s = 0; s < 2; s++) { /* one front per filter */
-        double xs[2 * MAX_CONFIGS], ys[2 * MAX_CONFIGS];
+        double xs[2 * MAX_CONFIGS] = {0}, ys[2 * MAX_CONFIGS] = {0};
         struct result fs[2 * MAX_CONFIGS];
         int idx[2 * MAX_CONFIGS], m = 0;
         for (int i = 0; i < n; i++)
@@ -507,16 +520,16 @@ static void write_filter_plot(const struct bench *b, const struct overall *o)
             pts[idx[i]] = (struct plot_point){x[idx[i]], y[idx[i]], s, fs[i].front};
     }
     struct plot_desc d = {
-        .title = "Index filter: worst mean error vs time (rk4 0.5 at 32-256^3, cheap settings)",
+        .title = title,
         .x_label = "GPU time per ray (microseconds, llvmpipe)",
         .y_label = "worst mean exit-direction error (rad)",
-        .series_names = {"trilinear", "tricubic B-spline"},
+        .series_names = {"trilinear", "tricubic (Catmull-Rom)"},
         .series_count = 2,
         .points = pts,
         .count = n,
     };
     char path[512];
-    snprintf(path, sizeof path, "%s/accuracy_filter.png", b->opt.images);
+    snprintf(path, sizeof path, "%s/accuracy_%s.png", b->opt.images, name);
     struct err e = {0};
     if (plot_write_png(&d, path, &e) != REFRACT_E_OK)
         fprintf(stderr, "refract-accuracy: %s\n", e.msg);
@@ -528,6 +541,40 @@ static void filter_row(FILE *f, const char *what, const char *label, const struc
     fprintf(f, "| %s | %s | %.2e | %.2e | %.2f | %.2e | %.2e | %.2f | %.2f | %.2f |\n", what, label,
             lin->dir_mean, cub->dir_mean, cub->dir_mean / lin->dir_mean, lin->pos_mean,
             cub->pos_mean, lin->us_per_ray, cub->us_per_ray, cub->us_per_ray / lin->us_per_ray);
+}
+
+/* Error per time: for each tricubic configuration, what trilinear needs (a finer grid,
+ * other settings) to match it over the cases of o. */
+static void write_equal_error(FILE *f, const struct bench *b, const struct overall *o,
+                              const char *cases)
+{
+    fprintf(f,
+            "At equal error over %s: for each tricubic configuration, the cheapest trilinear "
+            "configuration of the whole report with no larger worst mean direction error "
+            "(mean time over those cases).\n\n| tricubic | worst direction | us/ray | "
+            "cheapest trilinear as good | worst direction | us/ray |\n"
+            "|---|---|---|---|---|---|\n",
+            cases);
+    for (int k = 0; k < b->config_count; k++) {
+        if (!b->configs[k].tricubic)
+            continue;
+        int best = -1;
+        for (int j = 0; j < b->config_count; j++)
+            if (!b->configs[j].tricubic && eligible(&o->flags[j]) &&
+                o->worst_dir[j] <= o->worst_dir[k] &&
+                (best < 0 || o->mean_us[j] < o->mean_us[best]))
+                best = j;
+        char label[160], other[160] = "none measured";
+        config_label(b, &b->configs[k], label, sizeof label);
+        if (best >= 0)
+            config_label(b, &b->configs[best], other, sizeof other);
+        fprintf(f, "| %s | %.2e | %.2f | %s | ", label, o->worst_dir[k], o->mean_us[k], other);
+        if (best >= 0)
+            fprintf(f, "%.2e | %.2f |\n", o->worst_dir[best], o->mean_us[best]);
+        else
+            fprintf(f, "- | - |\n");
+    }
+    fprintf(f, "\n");
 }
 
 static void write_filter_section(FILE *f, const struct bench *b, const struct overall *o)
@@ -542,7 +589,8 @@ static void write_filter_section(FILE *f, const struct bench *b, const struct ov
                "tricubic configuration with its trilinear twin on the same voxels; ratios below "
                "1 favour tricubic. An approximating cubic B-spline (8 fetches) was measured "
                "first and rejected (docs/tracing.md \"Index filter\").\n\n"
-               "![filter](images/accuracy_filter.png)\n\n"
+               "![filter, all cases](images/accuracy_filter.png) "
+               "![filter, smooth GRIN cases](images/accuracy_filter_grin.png)\n\n"
                "| case | settings | trilinear direction | tricubic direction | ratio | trilinear "
                "position | tricubic position | trilinear us/ray | tricubic us/ray | time ratio "
                "|\n|---|---|---|---|---|---|---|---|---|---|\n");
@@ -573,31 +621,10 @@ static void write_filter_section(FILE *f, const struct bench *b, const struct ov
             "\nTricubic costs %.2fx the trilinear time per ray (geometric mean over the rows "
             "above).\n\n",
             timed > 0 ? exp(log_time / timed) : 0.0);
-    /* Error per time: what trilinear needs (finer grid, other settings) to match. */
-    fprintf(f, "At equal error: for each tricubic configuration, the cheapest trilinear "
-               "configuration of the whole report with no larger worst-case mean direction "
-               "error.\n\n| tricubic | worst direction | us/ray | cheapest trilinear as good | "
-               "worst direction | us/ray |\n|---|---|---|---|---|---|\n");
-    for (int k = 0; k < b->config_count; k++) {
-        if (!b->configs[k].tricubic)
-            continue;
-        int best = -1;
-        for (int j = 0; j < b->config_count; j++)
-            if (!b->configs[j].tricubic && eligible(&o->flags[j]) &&
-                o->worst_dir[j] <= o->worst_dir[k] &&
-                (best < 0 || o->mean_us[j] < o->mean_us[best]))
-                best = j;
-        char label[160], other[160] = "none measured";
-        config_label(b, &b->configs[k], label, sizeof label);
-        if (best >= 0)
-            config_label(b, &b->configs[best], other, sizeof other);
-        fprintf(f, "| %s | %.2e | %.2f | %s | ", label, o->worst_dir[k], o->mean_us[k], other);
-        if (best >= 0)
-            fprintf(f, "%.2e | %.2f |\n", o->worst_dir[best], o->mean_us[best]);
-        else
-            fprintf(f, "- | - |\n");
-    }
-    fprintf(f, "\n");
+    struct overall grin;
+    compute_overall_of(b, true, &grin);
+    write_equal_error(f, b, o, "all six cases");
+    write_equal_error(f, b, &grin, "the smooth GRIN cases (Luneburg, fish-eye, mirage, Gaussian)");
 }
 
 static bool write_report(const struct bench *b, struct gpu *gpu, int argc, char **argv)
@@ -650,7 +677,10 @@ static bool write_report(const struct bench *b, struct gpu *gpu, int argc, char 
     fclose(f);
     write_plot(b, "overall", "All cases: worst mean error vs time", o.mean_us, o.worst_dir,
                o.flags);
-    write_filter_plot(b, &o);
+    write_filter_plot(b, &o, "filter", "Index filter, all six cases");
+    struct overall grin;
+    compute_overall_of(b, true, &grin);
+    write_filter_plot(b, &grin, "filter_grin", "Index filter, smooth GRIN cases");
     for (int ci = 0; ci < ACCURACY_CASE_COUNT; ci++) {
         double x[MAX_CONFIGS], y[MAX_CONFIGS];
         for (int k = 0; k < b->config_count; k++) {
