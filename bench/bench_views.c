@@ -15,6 +15,9 @@
  * 20 ms; the full frame is awaited before the next PATCH, and its latency is reported
  * too). The table gives the median and p95 (nearest rank), and the median render time of
  * those frames from X-Render-Time-Ms, so HTTP/encoding overhead shows as the difference.
+ * A third run PATCHes only the exposure (alternating 0 and 0.5 EV; progressive off): the
+ * session encodes its last full frame's image again instead of rendering (docs/views.md),
+ * so that row shows what an exposure slider costs.
  *
  * Frames per second per viewer: N threads, each with its own session (progressive off)
  * on the same scene and its own two clients, PATCH the camera after every frame for
@@ -102,7 +105,8 @@ struct latency_run {
     const char *view_id;
     int want; /* PATCHes */
     bool progressive;
-    int done; /* PATCHes answered by a full frame */
+    bool exposure; /* PATCH the exposure instead of the camera */
+    int done;      /* PATCHes answered by a full frame */
     int turn;
     long long last_seq;
     bool waiting_first; /* a PATCH went out; its first frame has not come */
@@ -116,7 +120,10 @@ static int send_patch(struct latency_run *r)
 {
     char body[160];
 
-    patch_body(body, sizeof(body), ++r->turn);
+    if (r->exposure)
+        snprintf(body, sizeof body, "{\"exposure\": %.1f}", (++r->turn % 2) * 0.5);
+    else
+        patch_body(body, sizeof(body), ++r->turn);
     r->waiting_first = true;
     r->patch_ms = now_ms();
     r->error = refract_view_patch(r->patcher, r->view_id, body, NULL);
@@ -148,10 +155,11 @@ static int on_latency_frame(const struct refract_frame *f, void *user)
 }
 
 static int measure_latency(const struct options *o, const char *scene, int w, int h,
-                           bool progressive)
+                           bool progressive, bool exposure)
 {
     refract_client *c = refract_client_create(o->url);
-    struct latency_run r = {.want = o->patches, .progressive = progressive, .last_seq = -1};
+    struct latency_run r = {
+        .want = o->patches, .progressive = progressive, .exposure = exposure, .last_seq = -1};
     struct refract_view_options vo = {.width = w,
                                       .height = h,
                                       .quality = o->quality,
@@ -187,8 +195,13 @@ static int measure_latency(const struct options *o, const char *scene, int w, in
         double p95 = percentile(r.full, r.n_full, 95);
         double render = percentile(r.render, r.n_full, 50);
 
-        printf("| %dx%d | %s | %d | full frame | %.1f | %.1f | %.1f |\n", w, h,
-               progressive ? "on" : "off", r.n_full, med, p95, render);
+        if (exposure)
+            printf("| %dx%d | %s | %d | full frame after an exposure PATCH (re-encoded, not "
+                   "rendered) | %.1f | %.1f | |\n",
+                   w, h, progressive ? "on" : "off", r.n_full, med, p95);
+        else
+            printf("| %dx%d | %s | %d | full frame | %.1f | %.1f | %.1f |\n", w, h,
+                   progressive ? "on" : "off", r.n_full, med, p95, render);
     }
     fflush(stdout);
     refract_client_destroy(c);
@@ -459,12 +472,14 @@ int main(int argc, char **argv)
     print_header(c, argc, argv);
     printf("Scene: %s (%s), quality %s.\n\n", own_scene ? "a glass sphere" : scene,
            own_scene ? "created by the benchmark" : "given", o.quality);
-    printf("Latency from a camera PATCH to the first byte of the next frame (ms):\n\n"
+    printf("Latency from a camera (or exposure) PATCH to the first byte of the next frame "
+           "(ms):\n\n"
            "| image | progressive | PATCHes | next frame | median ms | p95 ms | render ms "
            "(median) |\n|---|---|---|---|---|---|---|\n");
     for (int s = 0; s < o.n_sizes; s++) {
-        measure_latency(&o, scene, o.sizes[s][0], o.sizes[s][1], false);
-        measure_latency(&o, scene, o.sizes[s][0], o.sizes[s][1], true);
+        measure_latency(&o, scene, o.sizes[s][0], o.sizes[s][1], false, false);
+        measure_latency(&o, scene, o.sizes[s][0], o.sizes[s][1], true, false);
+        measure_latency(&o, scene, o.sizes[s][0], o.sizes[s][1], false, true);
     }
     printf("\nFrames per second per viewer, each viewer PATCHing its camera after every frame "
            "(progressive off, %.0f s):\n\n"

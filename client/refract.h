@@ -27,6 +27,7 @@
 #define REFRACT_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 #include "refract_errors.h"
 
@@ -111,6 +112,76 @@ int refract_volume_upload(refract_client *c, const char *scene_id, const char *n
  * json_out (optional, may be NULL) receives the server's description of what it stored. */
 int refract_environment_upload(refract_client *c, const char *scene_id, const void *bytes,
                                size_t len, char **json_out);
+
+/*
+ * Uploads streamed from a file (docs/api.md "Upload a volume", "Upload a mesh", "Upload
+ * an environment image"). libcurl reads the file piece by piece as it sends it, so an
+ * upload of any size costs a few kilobytes of memory here (refractd, too, streams the
+ * body to disk). The call returns when refractd has validated and stored the upload
+ * and answered with what it stored (json_out), or with its error (the code of its
+ * reply, and its message in refract_errmsg()).
+ *
+ *     static void on_progress(long long sent, long long total, void *user)
+ *     {
+ *         fprintf(stderr, "\r%lld of %lld bytes", sent, total);
+ *     }
+ *     struct refract_upload_desc up = {.kind = REFRACT_UPLOAD_VOLUME, .name = "ior",
+ *                                      .dims = {64, 64, 64}, .type = "uint8",
+ *                                      .has_scale = 1, .scale = 1.0 / 255,
+ *                                      .progress = on_progress};
+ *     char *stored = NULL;
+ *     if (refract_upload_file(c, scene, "ior_64.u8", &up, &stored) == REFRACT_E_OK)
+ *         puts(stored);   // {"name":"ior","dims":[64,64,64],...,"sha256":"..."}
+ *     refract_free(stored);
+ *
+ * Timeout: refract_set_timeout_ms() bounds how long nothing may move (no byte sent
+ * and none received), not the whole upload, which may take long for a large file; the
+ * wait for refractd's answer after the last byte counts as silence.
+ */
+enum refract_upload_kind {
+    REFRACT_UPLOAD_VOLUME = 1,     /* PUT /v1/scenes/{id}/volumes/{name}: raw, NRRD, OpenEXR */
+    REFRACT_UPLOAD_MESH = 2,       /* POST /v1/scenes/{id}/meshes?name={name}: OBJ, PLY */
+    REFRACT_UPLOAD_ENVIRONMENT = 3 /* PUT /v1/scenes/{id}/environment: EXR, HDR, PNG, JPEG */
+};
+
+/* Called as the body goes out, from the calling thread: once with sent_bytes 0 before
+ * the first byte, then whenever more went (sent_bytes never decreases), and, when the
+ * whole body went, last with sent_bytes equal to its size. total_bytes is the body's
+ * size, or -1 when it is not known (refract_upload_stream of a pipe). */
+typedef void (*refract_upload_progress_fn)(long long sent_bytes, long long total_bytes, void *user);
+
+/* What an upload is. Zero means "not sent": refractd's default, or what the file says. */
+struct refract_upload_desc {
+    enum refract_upload_kind kind;
+    const char *name;   /* the volume's or the mesh's name; NULL for the environment */
+    const char *format; /* ?format=: volumes "raw", "nrrd", "exr"; meshes "obj", "ply";
+                           NULL = refractd recognises the file by its first bytes */
+    /* volumes only (REFRACT_E_USAGE for another kind): */
+    int dims[3];      /* ?dims=X,Y,Z: required for raw and for an EXR slice atlas */
+    const char *type; /* ?type= for raw: "float32" (refractd's default), "float16",
+                         "uint8", "uint16" */
+    int components;   /* ?components=: 1 (scalar) or 3 (RGB) */
+    int has_scale, has_offset;
+    double scale, offset; /* ?scale= and ?offset=: stored value = offset + scale * sample */
+    refract_upload_progress_fn progress; /* optional */
+    void *user;                          /* passed to progress */
+};
+
+/* Uploads the file at path (opened and read here, never whole in memory) as desc
+ * says; json_out (optional, may be NULL) receives refractd's 201 answer: for a volume
+ * name, format, type, dims, components, bytes, min, max, component_min/max,
+ * checksum_fnv1a64 and sha256 (of the float32 data stored); for a mesh name, format,
+ * triangles, vertices, closed, bounds, checksum, bytes and sha256 (of the file); for
+ * the environment width, height, bytes and sha256 (of the file). A file that cannot be
+ * opened or read, or that changes size while it is sent, gives REFRACT_E_IO. */
+int refract_upload_file(refract_client *c, const char *scene_id, const char *path,
+                        const struct refract_upload_desc *desc, char **json_out);
+
+/* The same from an open stream (a pipe, stdin), read from its current position: size
+ * bytes when size >= 0 (fewer is REFRACT_E_IO), else up to its end, sent with chunked
+ * encoding. f stays open; the caller closes it. */
+int refract_upload_stream(refract_client *c, const char *scene_id, FILE *f, long long size,
+                          const struct refract_upload_desc *desc, char **json_out);
 
 /* A rendered image. */
 struct refract_image {

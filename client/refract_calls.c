@@ -87,22 +87,29 @@ int refract_call_json_status(refract_client *c, const char *method, const char *
         *http_status = code == REFRACT_E_OK ? r.status : 0;
     if (code != REFRACT_E_OK)
         return code;
-    code = refract_http_check(c, method, path, &r);
-    if (code == REFRACT_E_OK && r.body_len > 0) {
-        cJSON *root = cJSON_ParseWithLengthOpts(r.body, r.body_len, NULL, 0);
+    return refract_take_json(c, method, path, &r, json_out);
+}
+
+int refract_take_json(refract_client *c, const char *method, const char *path,
+                      struct refract_response *r, char **json_out)
+{
+    int code = refract_http_check(c, method, path, r);
+
+    if (code == REFRACT_E_OK && r->body_len > 0) {
+        cJSON *root = cJSON_ParseWithLengthOpts(r->body, r->body_len, NULL, 0);
 
         if (root == NULL)
             code = refract_fail(c, REFRACT_E_PROTOCOL,
                                 "%s %s: refractd answered HTTP %ld "
                                 "with a body that is not JSON (Content-Type \"%s\")",
-                                method, path, r.status, r.content_type);
+                                method, path, r->status, r->content_type);
         cJSON_Delete(root);
     }
     if (code == REFRACT_E_OK && json_out != NULL) {
-        *json_out = r.body; /* ownership moves to the caller */
-        r.body = NULL;
+        *json_out = r->body; /* ownership moves to the caller */
+        r->body = NULL;
     }
-    refract_response_free(&r);
+    refract_response_free(r);
     return code;
 }
 

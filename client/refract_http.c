@@ -14,6 +14,8 @@
  *   anything else that broke the exchange                   REFRACT_E_PROTOCOL
  *   a reply that is not 2xx                                 its JSON "error.code"
  *
+ * A body is a buffer, or (uploads, refract_upload.c) read by libcurl from a source as it
+ * is sent, so a file of any size never has to be in memory.
  * This file does not know the API's routes; refract_calls.c does.
  */
 #include <cjson/cJSON.h>
@@ -268,11 +270,13 @@ static int check_arguments(refract_client *c, const char *method, const char *pa
     return REFRACT_E_OK;
 }
 
-/* Returns the request's header list (NULL when none is needed) through *headers. */
-static int build_headers(const void *body, const char *content_type, struct curl_slist **headers)
+/* Returns the request's header list (NULL when none is needed) through *headers. A body
+ * of unknown size goes chunked, which libcurl does only when asked by this header. */
+static int build_headers(const void *body, const char *content_type, bool chunked,
+                         struct curl_slist **headers)
 {
     char line[256];
-    struct curl_slist *list;
+    struct curl_slist *list = NULL;
 
     *headers = NULL;
     if (content_type != NULL)
@@ -280,16 +284,53 @@ static int build_headers(const void *body, const char *content_type, struct curl
     else if (body != NULL)
         snprintf(line, sizeof(line), "Content-Type:"); /* drop libcurl's form default */
     else
-        return REFRACT_E_OK;
-    list = curl_slist_append(NULL, line);
-    if (list == NULL)
-        return REFRACT_E_OUT_OF_MEMORY;
+        line[0] = '\0';
+    if (line[0] != '\0') {
+        list = curl_slist_append(NULL, line);
+        if (list == NULL)
+            return REFRACT_E_OUT_OF_MEMORY;
+    }
+    if (chunked) {
+        struct curl_slist *grown = curl_slist_append(list, "Transfer-Encoding: chunked");
+
+        if (grown == NULL) {
+            curl_slist_free_all(list);
+            return REFRACT_E_OUT_OF_MEMORY;
+        }
+        list = grown;
+    }
     *headers = list;
     return REFRACT_E_OK;
 }
 
-int refract_http_exchange(refract_client *c, const char *method, const char *path, const void *body,
-                          size_t body_len, const char *content_type, struct refract_response *out)
+/* The options of a body that libcurl reads as it sends (CURLOPT_UPLOAD is a PUT; another
+ * method is named). The whole-request timeout is off: an upload of any size must not be
+ * cut short for taking long, so the source's xferinfo callback bounds its silences. */
+static void set_source(CURL *curl, const char *method, const struct refract_http_body_source *src)
+{
+    curl_easy_setopt(curl, CURLOPT_UPLOAD, 1L);
+    if (strcmp(method, "PUT") != 0)
+        curl_easy_setopt(curl, CURLOPT_CUSTOMREQUEST, method);
+    curl_easy_setopt(curl, CURLOPT_READFUNCTION, src->read);
+    curl_easy_setopt(curl, CURLOPT_READDATA, src->user);
+    if (src->seek != NULL) {
+        curl_easy_setopt(curl, CURLOPT_SEEKFUNCTION, src->seek);
+        curl_easy_setopt(curl, CURLOPT_SEEKDATA, src->user);
+    }
+    if (src->size >= 0)
+        curl_easy_setopt(curl, CURLOPT_INFILESIZE_LARGE, (curl_off_t)src->size);
+    curl_easy_setopt(curl, CURLOPT_TIMEOUT_MS, 0L);
+    if (src->xferinfo != NULL) {
+        curl_easy_setopt(curl, CURLOPT_XFERINFOFUNCTION, src->xferinfo);
+        curl_easy_setopt(curl, CURLOPT_XFERINFODATA, src->xferinfo_user);
+        curl_easy_setopt(curl, CURLOPT_NOPROGRESS, 0L);
+    }
+}
+
+/* One exchange whose body is a buffer (src NULL) or read from src as it is sent. */
+static int exchange(refract_client *c, const char *method, const char *path, const void *body,
+                    size_t body_len, const struct refract_http_body_source *src,
+                    const char *content_type, struct refract_response *out)
 {
     struct exchange x = {.out = out};
     struct curl_slist *headers = NULL;
@@ -303,7 +344,8 @@ int refract_http_exchange(refract_client *c, const char *method, const char *pat
     if (code != REFRACT_E_OK)
         return code;
     url = refract_url_join(c->base_url, path);
-    if (url == NULL || build_headers(body, content_type, &headers) != REFRACT_E_OK) {
+    if (url == NULL ||
+        build_headers(body, content_type, src != NULL && src->size < 0, &headers) != REFRACT_E_OK) {
         free(url);
         return refract_fail(c, REFRACT_E_OUT_OF_MEMORY, "out of memory preparing %s %s", method,
                             path);
@@ -311,7 +353,10 @@ int refract_http_exchange(refract_client *c, const char *method, const char *pat
 
     curl_easy_reset(c->curl);
     set_options(c, url, headers, &x);
-    set_method(c->curl, method, body, body_len);
+    if (src != NULL)
+        set_source(c->curl, method, src);
+    else
+        set_method(c->curl, method, body, body_len);
     c->curl_error[0] = '\0';
     rc = curl_easy_perform(c->curl);
     curl_easy_setopt(c->curl, CURLOPT_HTTPHEADER, NULL); /* the list is freed below */
@@ -332,6 +377,19 @@ int refract_http_exchange(refract_client *c, const char *method, const char *pat
     }
     curl_easy_getinfo(c->curl, CURLINFO_RESPONSE_CODE, &out->status);
     return REFRACT_E_OK;
+}
+
+int refract_http_exchange(refract_client *c, const char *method, const char *path, const void *body,
+                          size_t body_len, const char *content_type, struct refract_response *out)
+{
+    return exchange(c, method, path, body, body_len, NULL, content_type, out);
+}
+
+int refract_http_exchange_source(refract_client *c, const char *method, const char *path,
+                                 const struct refract_http_body_source *src,
+                                 const char *content_type, struct refract_response *out)
+{
+    return exchange(c, method, path, NULL, 0, src, content_type, out);
 }
 
 int refract_request(refract_client *c, const char *method, const char *path, const void *body,

@@ -12,6 +12,7 @@
  *   refract_stream.c  the curl transport of long-lived streaming GETs
  *   refract_view_stream.c  frame streams: multipart parts -> JPEG frames
  *   refract_events.c  Server-Sent Events
+ *   refract_upload.c  uploads of files, streamed from disk with progress (issue 5)
  * plus refract_url.c, refract_status.c and refract_view_json.c (pure string and JSON work,
  * no curl), which the CLI's unit test also compiles, and multipart_parse.c and sse_parse.c
  * (pure byte parsers, unit-tested on their own).
@@ -69,6 +70,22 @@ int refract_code_from_name(const char *json_code);
  * On failure out is zeroed and c's message says why. */
 int refract_http_exchange(refract_client *c, const char *method, const char *path, const void *body,
                           size_t body_len, const char *content_type, struct refract_response *out);
+/* A request body that libcurl reads as it sends it (refract_upload.c), instead of a
+ * buffer; every member is borrowed for the exchange. */
+struct refract_http_body_source {
+    curl_read_callback read; /* CURLOPT_READFUNCTION */
+    curl_seek_callback seek; /* CURLOPT_SEEKFUNCTION; NULL: the body cannot be rewound */
+    void *user;              /* READDATA and SEEKDATA */
+    long long size;          /* bytes; -1 = unknown, sent with chunked encoding */
+    /* CURLOPT_XFERINFOFUNCTION: progress, and the bound on silences, since the exchange
+     * sets no whole-request timeout for a source (an upload may take long); may be NULL */
+    curl_xferinfo_callback xferinfo;
+    void *xferinfo_user;
+};
+/* refract_http_exchange() with the body read from src. */
+int refract_http_exchange_source(refract_client *c, const char *method, const char *path,
+                                 const struct refract_http_body_source *src,
+                                 const char *content_type, struct refract_response *out);
 /* Turns a reply into a result: REFRACT_E_OK for a 2xx status; otherwise the code of the
  * JSON error body with the server's message as c's message, or REFRACT_E_PROTOCOL when
  * the body is not a refractd error. method and path only name the request in messages. */
@@ -141,6 +158,11 @@ int refract_call_json(refract_client *c, const char *method, const char *path, c
 int refract_scene_call_json(refract_client *c, const char *call, const char *method,
                             const char *scene_id, const char *suffix, const void *body,
                             size_t body_len, const char *content_type, char **json_out);
+/* The tail of refract_call_json_status() after its exchange: checks r's status and that a
+ * non-empty body is JSON, and moves the body to *json_out (when json_out is not NULL).
+ * Releases r in every case. */
+int refract_take_json(refract_client *c, const char *method, const char *path,
+                      struct refract_response *r, char **json_out);
 /* refract_call_json() that also gives the reply's HTTP status (200 or 202, say) through
  * *http_status (when not NULL; 0 when no reply came). */
 int refract_call_json_status(refract_client *c, const char *method, const char *path,

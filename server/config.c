@@ -69,6 +69,9 @@ static const struct option_def options[] = {
      "GPU memory for cached irradiance volumes before LRU eviction (default 1G)"},
     {"irradiance-host-budget", OPT_SIZE, 1, 1ll << 40, "BYTES",
      "host memory for cached irradiance volumes (they stay on disk; default 2G)"},
+    {"irradiance-disk-budget", OPT_SIZE, 1, 1ll << 50, "BYTES",
+     "disk for cached irradiance volumes under DATA/irradiance before LRU removal "
+     "(default 8G)"},
     {"light-position-tolerance", OPT_REAL, 0, 0, "UNITS",
      "light moves below this (world units) reuse the cached irradiance (default 0.001)"},
     {"light-direction-tolerance", OPT_REAL, 0, 0, "RAD",
@@ -110,6 +113,7 @@ void config_defaults(struct config *c)
     c->gpu_scene_budget_bytes = (size_t)2 << 30;
     c->irradiance.gpu_budget_bytes = (size_t)1 << 30;
     c->irradiance.host_budget_bytes = (size_t)2 << 30;
+    c->irradiance.disk_budget_bytes = (size_t)8 << 30;
     c->irradiance.position_tolerance = 1e-3;
     c->irradiance.direction_tolerance = 1e-3;
     c->irradiance.chunk_steps = 16;
@@ -222,6 +226,8 @@ static void store_int(struct config *c, const char *name, long long v)
         c->irradiance.gpu_budget_bytes = (size_t)v;
     else if (!strcmp(name, "irradiance-host-budget"))
         c->irradiance.host_budget_bytes = (size_t)v;
+    else if (!strcmp(name, "irradiance-disk-budget"))
+        c->irradiance.disk_budget_bytes = (size_t)v;
     else if (!strcmp(name, "lightsim-chunk-steps"))
         c->irradiance.chunk_steps = (int)v;
     else if (!strcmp(name, "max-job-frames"))

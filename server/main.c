@@ -8,7 +8,7 @@
  * waits for SIGINT or SIGTERM.
  *
  * Shutdown order:
- *   1. stop accepting connections (quiesce); stop the view registry (view_registry_stop:
+ *   1. answer new requests 503 shutting_down (quiesce); stop the view registry (view_registry_stop:
  *      it stops following events, ends every view session, so their frame streams end,
  *      waits for the frames in flight, which need the GPU thread still running, and joins
  *      its scheduler and encoder threads); end every open stream (frame streams, event
@@ -30,6 +30,7 @@
 #include <string.h>
 
 #include "cache/irradiance_cache.h"
+#include "cache/irradiance_index.h"
 #include "config.h"
 #include "core/log.h"
 #include "events/events.h"
@@ -185,6 +186,9 @@ static int run(const struct config *cfg)
     struct irradiance_cache_desc idesc = cfg->irradiance;
     idesc.data_dir = cfg->data_dir;
     idesc.events = events; /* irradiance.progress, .ready, .failed */
+    struct irradiance_index irradiance_rows;
+    store_irradiance_index(store, &irradiance_rows);
+    idesc.index = &irradiance_rows; /* which volumes are on disk: refract.db */
     fw.irradiance = irradiance_cache_create(&idesc, gpu, &e);
     if (fw.irradiance == NULL) {
         log_error("main", "irradiance cache: %s", e.msg);

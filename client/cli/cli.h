@@ -39,6 +39,7 @@ struct cli_command {
 
 extern const struct cli_command cli_cmd_health;
 extern const struct cli_command cli_cmd_scene;
+extern const struct cli_command cli_cmd_upload;
 extern const struct cli_command cli_cmd_volume;
 extern const struct cli_command cli_cmd_env;
 extern const struct cli_command cli_cmd_render;

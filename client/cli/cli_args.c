@@ -303,8 +303,15 @@ const char *cli_format_from_content_type(const char *content_type)
 
 bool cli_volume_bytes(const int dims[3], int components, uint64_t *bytes)
 {
-    uint64_t n = 4; /* bytes per float32 */
+    return cli_raw_volume_bytes(dims, components, 4, bytes); /* 4 bytes per float32 */
+}
 
+bool cli_raw_volume_bytes(const int dims[3], int components, int sample_bytes, uint64_t *bytes)
+{
+    uint64_t n = sample_bytes > 0 ? (uint64_t)sample_bytes : 0;
+
+    if (n == 0)
+        return false;
     for (int i = 0; i < 4; i++) {
         int f = i < 3 ? dims[i] : components;
 

@@ -70,5 +70,8 @@ const char *cli_format_from_content_type(const char *content_type);
 
 /* The byte size X*Y*Z*C*4 of a raw float32 volume; false when it overflows 64 bits. */
 bool cli_volume_bytes(const int dims[3], int components, uint64_t *bytes);
+/* The byte size X*Y*Z*C*sample_bytes of a raw volume; false when a factor is not
+ * positive or the product overflows 64 bits. */
+bool cli_raw_volume_bytes(const int dims[3], int components, int sample_bytes, uint64_t *bytes);
 
 #endif

@@ -13,6 +13,7 @@
 const struct cli_command *const cli_commands[] = {
     &cli_cmd_health,
     &cli_cmd_scene,
+    &cli_cmd_upload,
     &cli_cmd_volume,
     &cli_cmd_env,
     &cli_cmd_render,

@@ -22,42 +22,6 @@ static bool is_settled(const struct refract_light_status *l)
     return is_state(l, "ready") || is_state(l, "failed") || is_state(l, "not_needed");
 }
 
-void cli_format_bytes(char *buf, size_t size, long long bytes)
-{
-    static const char *const units[] = {"KiB", "MiB", "GiB", "TiB"};
-    double v = (double)bytes;
-    int u = -1;
-
-    if (bytes < 0) {
-        snprintf(buf, size, "-");
-        return;
-    }
-    if (bytes < 1024) {
-        snprintf(buf, size, "%lld B", bytes);
-        return;
-    }
-    while (v >= 1024.0 && u < 3) {
-        v /= 1024.0;
-        u++;
-    }
-    snprintf(buf, size, v < 10.0 && u >= 2 ? "%.2f %s" : "%.1f %s", v, units[u]);
-}
-
-void cli_format_ms(char *buf, size_t size, double ms)
-{
-    if (!(ms >= 0)) {
-        snprintf(buf, size, "-");
-    } else if (ms < 1000.0) {
-        snprintf(buf, size, "%.0f ms", ms);
-    } else if (ms < 60000.0) {
-        snprintf(buf, size, "%.1f s", ms / 1000.0);
-    } else {
-        long s = (long)(ms / 1000.0);
-
-        snprintf(buf, size, "%ld min %02ld s", s / 60, s % 60);
-    }
-}
-
 /* A light's own progress, 0..1. */
 static double light_fraction(const struct refract_light_status *l)
 {
@@ -80,31 +44,6 @@ double cli_irradiance_fraction(const struct refract_irradiance *s)
         n++;
     }
     return n > 0 ? sum / (double)n : 1.0;
-}
-
-void cli_progress_bar(char *buf, size_t size, double fraction, int bar_width)
-{
-    int filled;
-    size_t used = 0;
-
-    if (size == 0)
-        return;
-    if (!(fraction >= 0))
-        fraction = 0;
-    if (fraction > 1)
-        fraction = 1;
-    if (bar_width < 1)
-        bar_width = 1;
-    filled = (int)(fraction * bar_width);
-    buf[0] = '\0';
-    if ((size_t)bar_width + 8 > size) {
-        snprintf(buf, size, "%3d%%", (int)(fraction * 100.0));
-        return;
-    }
-    buf[used++] = '[';
-    for (int i = 0; i < bar_width; i++)
-        buf[used++] = i < filled ? '#' : '-';
-    snprintf(buf + used, size - used, "] %3d%%", (int)(fraction * 100.0));
 }
 
 /* Appends to buf (size bytes, used so far) like snprintf; never overruns. */
@@ -212,48 +151,17 @@ void cli_irradiance_table(FILE *f, const struct refract_irradiance *s)
     }
 }
 
-void cli_progress_init(struct cli_progress *p, FILE *f, bool tty, int width)
-{
-    memset(p, 0, sizeof(*p));
-    p->f = f;
-    p->tty = tty;
-    p->width = width >= 20 ? width : 80;
-}
-
 void cli_progress_update(struct cli_progress *p, const struct refract_irradiance *s)
 {
     char summary[400];
-    char bar[64];
     char line[512];
 
     if (!p->tty) {
         cli_irradiance_summary(summary, sizeof(summary), s, 10);
         snprintf(line, sizeof(line), "irradiance: %s", summary);
-        if (strcmp(line, p->last) == 0)
-            return;
-        snprintf(p->last, sizeof(p->last), "%s", line);
-        fprintf(p->f, "%s\n", line);
-        fflush(p->f);
+        cli_progress_show(p, -1.0, line);
         return;
     }
     cli_irradiance_summary(summary, sizeof(summary), s, 0);
-    cli_progress_bar(bar, sizeof(bar), cli_irradiance_fraction(s), 24);
-    /* Cut to the terminal's width: a wrapped line cannot be redrawn with \r. */
-    snprintf(line, sizeof(line), "%s  %s", bar, summary);
-    if ((int)strlen(line) > p->width - 1)
-        line[p->width - 1] = '\0';
-    if (p->drawn && strcmp(line, p->last) == 0)
-        return; /* unchanged: redrawing would only flicker */
-    snprintf(p->last, sizeof(p->last), "%s", line);
-    fprintf(p->f, "\r%s\033[K", line);
-    fflush(p->f);
-    p->drawn = true;
-}
-
-void cli_progress_finish(struct cli_progress *p)
-{
-    if (p->tty && p->drawn)
-        fputc('\n', p->f);
-    p->drawn = false;
-    fflush(p->f);
+    cli_progress_show(p, cli_irradiance_fraction(s), summary);
 }

@@ -3,23 +3,12 @@
  * by `refract light set` (after a pose change) and `refract irradiance wait`.
  */
 #include <stdlib.h>
-#include <sys/ioctl.h>
 #include <unistd.h>
 
 #include "cli.h"
 #include "cli_irradiance.h"
 
 #define WAIT_DEFAULT_MS 120000L
-
-static int terminal_columns(int fd)
-{
-    struct winsize ws;
-    const char *columns = getenv("COLUMNS");
-
-    if (ioctl(fd, TIOCGWINSZ, &ws) == 0 && ws.ws_col > 0)
-        return ws.ws_col;
-    return columns != NULL && atoi(columns) > 0 ? atoi(columns) : 80;
-}
 
 static void show_progress(const struct refract_irradiance *status, void *user)
 {
@@ -39,7 +28,7 @@ int cli_wait_irradiance(struct cli *cli, const char *scene, struct refract_irrad
 
     if (refract_irradiance_settled(status))
         return REFRACT_E_OK;
-    cli_progress_init(&progress, stderr, isatty(2), terminal_columns(2));
+    cli_progress_init(&progress, stderr, isatty(2), cli_terminal_columns(2));
     cli_progress_update(&progress, status);
     code = refract_irradiance_wait(cli->client, scene, &opts, &final);
     cli_progress_finish(&progress);

@@ -1,15 +1,16 @@
 /*
- * cmd_env.c - `refract env upload`: sends an image file as a scene's environment map.
- * The bytes go as they are; refractd decodes them (EXR, Radiance HDR, PNG or JPEG) and
- * answers invalid_image when it cannot, so this file does not sniff formats.
+ * cmd_env.c - `refract env upload`: sends an image file as a scene's environment map
+ * (the same as `refract upload ID FILE --environment`: cli_upload.c, streamed, with
+ * progress). The bytes go as they are; refractd decodes them (EXR, Radiance HDR, PNG or
+ * JPEG) and answers invalid_image when it cannot, so this file does not sniff formats.
  */
-#include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
+#include "cli_upload.h"
 
 #define ENV_USAGE                                                                                  \
-    "usage: refract env upload ID FILE|-\n"                                                        \
+    "usage: refract env upload ID FILE|- [--quiet]\n"                                              \
     "\n"                                                                                           \
     "Uploads FILE (an equirectangular EXR, Radiance HDR, PNG or JPEG image) as the\n"              \
     "environment map of scene ID. Prints refractd's description of what it stored.\n"              \
@@ -32,25 +33,20 @@ static const struct cli_command env_upload_cmd = {.name = "env upload", .usage =
 static int run_upload(struct cli *cli, int argc, char **argv)
 {
     static const char *const names[] = {"the scene ID", "the image FILE"};
+    struct cli_opt opts[] = {{.name = "--quiet", .alias = "-q"}};
     struct cli_parsed p;
-    char *bytes = NULL;
-    char *json = NULL;
-    size_t len = 0;
-    int code = cli_parse_command(&env_upload_cmd, argc, argv, NULL, 0, &p);
+    int code = cli_parse_command(&env_upload_cmd, argc, argv, opts, 1, &p);
 
     if (code != REFRACT_E_OK || p.help)
         return code;
     code = cli_expect_args(&env_upload_cmd, &p, 2, 2, names);
+    struct cli_upload up = {.cmd = &env_upload_cmd,
+                            .scene = p.pos[0],
+                            .file = p.pos[1],
+                            .desc = {.kind = REFRACT_UPLOAD_ENVIRONMENT},
+                            .quiet = opts[0].given};
     if (code == REFRACT_E_OK)
-        code = cli_read_file(p.pos[1], &bytes, &len);
-    if (code == REFRACT_E_OK)
-        code = cli_connect(cli);
-    if (code == REFRACT_E_OK) {
-        code = refract_environment_upload(cli->client, p.pos[0], bytes, len, &json);
-        code = code == REFRACT_E_OK ? cli_print_json(json) : cli_call_failed(cli, code);
-    }
-    refract_free(json);
-    free(bytes);
+        code = cli_upload_run(cli, &up);
     return code;
 }
 

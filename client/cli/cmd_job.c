@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "cli_progress.h"
 
 #define JOB_USAGE                                                                                  \
     "usage: refract job submit FILE|-          submit a job (JSON; - = stdin); prints its id\n"    \
@@ -104,21 +105,21 @@ static double now_s(void)
     return (double)ts.tv_sec + ts.tv_nsec / 1e9;
 }
 
-/* One progress report: a redrawn bar on a terminal, a line per change otherwise. */
-static void draw(const char *id, int done, int total, const cJSON *eta, bool tty)
+/* One progress report on p (cli_progress.h): a redrawn bar on a terminal, a line
+ * otherwise (the caller draws a line only when a frame was done). */
+static void draw(struct cli_progress *p, const char *id, int done, int total, const cJSON *eta)
 {
     char eta_text[32] = "ETA unknown";
+    char text[200];
+
     if (cJSON_IsNumber(eta))
         snprintf(eta_text, sizeof(eta_text), "ETA %.0f s", eta->valuedouble);
-    if (tty) {
-        int width = 30, fill = total > 0 ? done * width / total : 0;
-        char bar[32];
-        for (int i = 0; i < width; i++)
-            bar[i] = i < fill ? '#' : '.';
-        bar[width] = '\0';
-        fprintf(stderr, "\rjob %s [%s] %d/%d frames, %s   ", id, bar, done, total, eta_text);
+    if (p->tty) {
+        snprintf(text, sizeof(text), "job %s %d/%d frames, %s", id, done, total, eta_text);
+        cli_progress_show(p, total > 0 ? (double)done / (double)total : 0.0, text);
     } else {
-        fprintf(stderr, "job %s: %d/%d frames, %s\n", id, done, total, eta_text);
+        snprintf(text, sizeof(text), "job %s: %d/%d frames, %s", id, done, total, eta_text);
+        cli_progress_show(p, -1.0, text);
     }
 }
 
@@ -130,13 +131,17 @@ static int run_wait(struct cli *cli, int argc, char **argv)
     if (code != REFRACT_E_OK || p.help)
         return code;
     bool tty = isatty(2);
+    struct cli_progress bar;
     double start = now_s();
+    cli_progress_init(&bar, stderr, tty, cli_terminal_columns(2));
     int last_done = -1;
     for (;;) {
         char *json = NULL;
         code = refract_job_get(cli->client, p.pos[0], &json);
-        if (code != REFRACT_E_OK)
+        if (code != REFRACT_E_OK) {
+            cli_progress_finish(&bar);
             return cli_call_failed(cli, code);
+        }
         cJSON *root = cJSON_Parse(json);
         const cJSON *state = cJSON_GetObjectItemCaseSensitive(root, "state");
         const cJSON *done = cJSON_GetObjectItemCaseSensitive(root, "frames_done");
@@ -146,12 +151,11 @@ static int run_wait(struct cli *cli, int argc, char **argv)
         int d = cJSON_IsNumber(done) ? done->valueint : 0;
         int t = cJSON_IsNumber(total) ? total->valueint : 0;
         if (d != last_done || tty)
-            draw(p.pos[0], d, t, cJSON_GetObjectItemCaseSensitive(root, "eta_s"), tty);
+            draw(&bar, p.pos[0], d, t, cJSON_GetObjectItemCaseSensitive(root, "eta_s"));
         last_done = d;
         bool finished = !strcmp(st, "done") || !strcmp(st, "failed") || !strcmp(st, "cancelled");
         if (finished) {
-            if (tty)
-                fputc('\n', stderr);
+            cli_progress_finish(&bar);
             code = !strcmp(st, "done")
                        ? REFRACT_E_OK
                        : cli_fail(!strcmp(st, "failed") ? REFRACT_E_INTERNAL : REFRACT_E_CONFLICT,
@@ -162,9 +166,11 @@ static int run_wait(struct cli *cli, int argc, char **argv)
         refract_free(json);
         if (finished)
             return code;
-        if (cli->timeout_ms > 0 && (now_s() - start) * 1000 > cli->timeout_ms)
+        if (cli->timeout_ms > 0 && (now_s() - start) * 1000 > cli->timeout_ms) {
+            cli_progress_finish(&bar);
             return cli_fail(REFRACT_E_TIMEOUT, "job %s: still %s after --timeout; it goes on",
                             p.pos[0], st);
+        }
         struct timespec ts = {0, 250000000L};
         nanosleep(&ts, NULL);
     }

@@ -144,8 +144,7 @@ void irr_drop_source(struct irr_entry *en)
     en->scene = NULL;
 }
 
-/* Removes cancelled entries nothing refers to any more. */
-static void sweep_locked(struct irradiance_cache *c)
+void irr_sweep_locked(struct irradiance_cache *c)
 {
     size_t j = 0;
     for (size_t i = 0; i < c->entry_count; i++) {
@@ -301,10 +300,7 @@ static void cancel_locked(struct irradiance_cache *c, struct irr_entry *en)
     c->counters.superseded++;
 }
 
-/* Queues the computation of a new entry. */
-static struct irr_entry *start_locked(struct irradiance_cache *c,
-                                      const struct irradiance_source *src, uint64_t transport,
-                                      uint64_t key, const struct scene_light *l)
+struct irr_entry *irr_entry_add_locked(struct irradiance_cache *c)
 {
     if (c->entry_count == c->entry_cap) {
         size_t cap = c->entry_cap ? c->entry_cap * 2 : 64;
@@ -318,6 +314,18 @@ static struct irr_entry *start_locked(struct irradiance_cache *c,
     if (en == NULL)
         return NULL;
     en->cache = c;
+    c->entries[c->entry_count++] = en;
+    return en;
+}
+
+/* Queues the computation of a new entry. */
+static struct irr_entry *start_locked(struct irradiance_cache *c,
+                                      const struct irradiance_source *src, uint64_t transport,
+                                      uint64_t key, const struct scene_light *l)
+{
+    struct irr_entry *en = irr_entry_add_locked(c);
+    if (en == NULL)
+        return NULL;
     en->key = key;
     en->transport = transport;
     en->phase = IRR_QUEUED;
@@ -332,7 +340,6 @@ static struct irr_entry *start_locked(struct irradiance_cache *c,
     en->release = src->release;
     if (src->retain)
         src->retain(src->lookup_ctx);
-    c->entries[c->entry_count++] = en;
     irr_note_progress_locked(c, en); /* queued */
     irr_push_task_locked(c, IRR_TASK_BUILD, en);
     return en;
@@ -403,6 +410,7 @@ bool irradiance_cache_request(struct irradiance_cache *c, const struct irradianc
             continue;
         }
         en->last_use = c->tick;
+        irr_note_use_locked(c, en);
         bool ready = en->phase == IRR_READY && !en->cancelled;
         if (ready && !en->has_gpu && !en->has_host && en->on_disk) {
             to_load[loads] = en; /* read back below, without the lock */
@@ -437,7 +445,7 @@ bool irradiance_cache_request(struct irradiance_cache *c, const struct irradianc
         }
     }
     irr_evict_host_locked(c);
-    sweep_locked(c);
+    irr_sweep_locked(c);
     pthread_mutex_unlock(&c->lock);
     irr_events_flush(c);
     return all_hit;
@@ -520,6 +528,7 @@ void irradiance_cache_counters(struct irradiance_cache *c, struct irradiance_cac
     out->entries = (int)c->entry_count;
     out->gpu_bytes = gpu_bytes_locked(c);
     out->host_bytes = host_bytes_locked(c);
+    out->disk_bytes = irr_disk_bytes_locked(c);
     pthread_mutex_unlock(&c->lock);
 }
 
@@ -576,6 +585,7 @@ const char *irradiance_cache_gather(struct irradiance_cache *c, const struct irr
         }
         if (en && en->has_gpu) {
             en->last_use = tick;
+            irr_note_use_locked(c, en);
             rl->volume = &en->gpu;
             stale = stale || previous;
         } else {
@@ -644,6 +654,7 @@ enum refract_code irradiance_cache_copy(struct irradiance_cache *c,
             memcpy(out->direction, en->host.direction, n * sizeof(float));
             *key = en->key;
             en->last_use = ++c->tick;
+            irr_note_use_locked(c, en);
         }
     }
     irr_evict_host_locked(c);
@@ -666,7 +677,7 @@ void irradiance_cache_forget_scene(struct irradiance_cache *c, const char *scene
         c->slots[j++] = *sl;
     }
     c->slot_count = j;
-    sweep_locked(c);
+    irr_sweep_locked(c);
     pthread_mutex_unlock(&c->lock);
 }
 
@@ -692,6 +703,13 @@ struct irradiance_cache *irradiance_cache_create(const struct irradiance_cache_d
         c->desc.direction_tolerance = 1e-3;
     if (c->desc.chunk_steps <= 0)
         c->desc.chunk_steps = 16;
+    if (c->desc.disk_budget_bytes == 0)
+        c->desc.disk_budget_bytes = (size_t)8 << 30;
+    if (desc->index) {
+        c->index = *desc->index;
+        c->has_index = true;
+    }
+    c->desc.index = NULL;
     c->gpu = gpu;
     snprintf(c->dir, sizeof c->dir, "%s/irradiance", desc->data_dir);
     pthread_mutex_init(&c->lock, NULL);
@@ -701,7 +719,7 @@ struct irradiance_cache *irradiance_cache_create(const struct irradiance_cache_d
         irradiance_cache_destroy(c);
         return NULL;
     }
-    irr_disk_index(c);
+    irr_index_startup(c);
     if (pthread_create(&c->worker, NULL, irr_worker_main, c) != 0) {
         err_set(e, REFRACT_E_INTERNAL, "cannot start the irradiance cache's worker thread");
         irradiance_cache_destroy(c);

@@ -264,10 +264,19 @@ static void run_persist(struct irradiance_cache *c, struct irr_entry *en)
     struct err e = {0};
     enum refract_code rc = irr_disk_write(c, en, &e); /* host copy pinned by persisting */
     pthread_mutex_lock(&c->lock);
-    en->persisting = false;
     en->on_disk = rc == REFRACT_E_OK;
-    if (rc != REFRACT_E_OK)
+    if (rc != REFRACT_E_OK) {
         log_warn("irradiance", "volume %016" PRIx64 " not persisted: %s", en->key, e.msg);
+        en->persisting = false;
+        irr_evict_host_locked(c);
+        pthread_mutex_unlock(&c->lock);
+        return;
+    }
+    pthread_mutex_unlock(&c->lock);
+    /* Still pinned by persisting: its row is recorded before it may leave memory. */
+    irr_index_recorded(c, en);
+    pthread_mutex_lock(&c->lock);
+    en->persisting = false;
     irr_evict_host_locked(c);
     pthread_mutex_unlock(&c->lock);
 }
@@ -277,10 +286,16 @@ void *irr_worker_main(void *arg)
     struct irradiance_cache *c = arg;
     pthread_mutex_lock(&c->lock);
     for (;;) {
-        while (!c->stop && c->task_head == NULL)
+        while (!c->stop && c->task_head == NULL && c->touch_count == 0)
             pthread_cond_wait(&c->wake, &c->lock);
         if (c->stop)
             break;
+        if (c->task_head == NULL) { /* only uses to record */
+            pthread_mutex_unlock(&c->lock);
+            irr_index_flush_touches(c);
+            pthread_mutex_lock(&c->lock);
+            continue;
+        }
         struct irr_task *t = c->task_head;
         c->task_head = t->next;
         if (c->task_head == NULL)
@@ -311,5 +326,7 @@ void *irr_worker_main(void *arg)
     }
     c->task_tail = NULL;
     pthread_mutex_unlock(&c->lock);
+    if (c->has_index)
+        irr_index_flush_touches(c);
     return NULL;
 }

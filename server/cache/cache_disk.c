@@ -6,7 +6,7 @@
  *                                   "compute_ms", "stats": {...}}
  *
  * Both are written to a temporary name, fsynced and renamed, the EXR first, so a sidecar
- * always names a complete volume; the start-up index trusts only pairs.
+ * always names a complete volume; the start-up index (cache_index.c) trusts only pairs.
  */
 #include <cjson/cJSON.h>
 #include <dirent.h>
@@ -261,13 +261,14 @@ enum refract_code irr_disk_read(const struct irradiance_cache *c, uint64_t key,
     return rc;
 }
 
-void irr_disk_index(struct irradiance_cache *c)
+size_t irr_disk_list_pairs(const struct irradiance_cache *c, uint64_t **keys)
 {
+    *keys = NULL;
     DIR *d = opendir(c->dir);
     if (d == NULL)
-        return;
+        return 0;
+    size_t count = 0, cap = 0;
     struct dirent *ent;
-    int found = 0;
     while ((ent = readdir(d)) != NULL) {
         const char *n = ent->d_name;
         if (strlen(n) != 21 || strcmp(n + 16, ".json") != 0)
@@ -276,28 +277,18 @@ void irr_disk_index(struct irradiance_cache *c)
         uint64_t key = strtoull(n, &end, 16);
         char exr[700];
         irr_volume_path(c, key, "exr", exr, sizeof exr);
-        if (end != n + 16 || access(exr, R_OK) != 0 || irr_find_locked(c, key) != NULL)
+        if (end != n + 16 || access(exr, R_OK) != 0)
             continue;
-        struct irr_entry *en = calloc(1, sizeof *en);
-        if (en == NULL)
-            break;
-        en->cache = c;
-        en->key = key;
-        en->phase = IRR_READY;
-        en->on_disk = true;
-        if (c->entry_count == c->entry_cap) {
-            size_t cap = c->entry_cap ? c->entry_cap * 2 : 64;
-            struct irr_entry **grown = realloc(c->entries, cap * sizeof *grown);
-            if (grown == NULL) {
-                free(en);
+        if (count == cap) {
+            size_t grown_cap = cap ? 2 * cap : 64;
+            uint64_t *grown = realloc(*keys, grown_cap * sizeof *grown);
+            if (grown == NULL)
                 break;
-            }
-            c->entries = grown;
-            c->entry_cap = cap;
+            *keys = grown;
+            cap = grown_cap;
         }
-        c->entries[c->entry_count++] = en;
-        found++;
+        (*keys)[count++] = key;
     }
     closedir(d);
-    log_info("irradiance", "%s: %d volumes indexed", c->dir, found);
+    return count;
 }

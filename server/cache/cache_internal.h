@@ -20,6 +20,7 @@
 
 #include "../lightsim/gpu/lightsim_gpu.h"
 #include "irradiance_cache.h"
+#include "irradiance_index.h"
 
 #define IRR_FIELDS_KEPT 4 /* input fields kept for the next poses, per transport hash */
 
@@ -60,6 +61,9 @@ struct irr_entry {
     struct irradiance_gpu gpu;     /* (L, made and freed on the GPU thread) */
     bool has_gpu;                  /* (L) */
     int64_t last_use;              /* (L) cache tick of the last request or render */
+    int64_t used_ms;               /* (L) unix ms of the last use (disk LRU, the index) */
+    int64_t touched_ms;            /* (L) used_ms last sent to the index */
+    uint64_t disk_bytes;           /* (L) <key>.exr + <key>.json while on_disk */
     /* Until the fields are built (W): the scene version it was asked for. */
     const struct scene *scene;
     scene_volume_lookup_fn lookup;
@@ -101,6 +105,8 @@ struct irr_note {
     char message[ERR_MSG_MAX]; /* failed */
 };
 
+#define IRR_TOUCH_MAX 64
+
 struct irradiance_cache {
     pthread_mutex_t lock;
     pthread_mutex_t publish_lock;             /* taken before lock: notes leave in the order made */
@@ -119,10 +125,19 @@ struct irradiance_cache {
     struct irr_fields *fields[IRR_FIELDS_KEPT]; /* (W) most recent first */
     int64_t tick;
     struct irradiance_cache_counters counters;
+    struct irradiance_index index; /* the database's rows (irradiance_index.h) */
+    bool has_index;
+    uint64_t touch_keys[IRR_TOUCH_MAX]; /* (L) uses waiting for the worker to record */
+    int64_t touch_ms[IRR_TOUCH_MAX];    /* (L) */
+    size_t touch_count;                 /* (L) */
 };
 
 /* cache.c */
 struct irr_entry *irr_find_locked(struct irradiance_cache *c, uint64_t key);
+/* A new zeroed entry of c (cache set), appended to the table; NULL when out of memory. */
+struct irr_entry *irr_entry_add_locked(struct irradiance_cache *c);
+/* Frees cancelled entries nothing refers to any more. */
+void irr_sweep_locked(struct irradiance_cache *c);
 void irr_push_task_locked(struct irradiance_cache *c, enum irr_task_kind kind,
                           struct irr_entry *en);
 void irr_evict_host_locked(struct irradiance_cache *c);
@@ -152,7 +167,23 @@ enum refract_code irr_disk_write(const struct irradiance_cache *c, const struct 
 /* Reads <key>.exr and its sidecar into a new host volume (stats and compute_ms too). */
 enum refract_code irr_disk_read(const struct irradiance_cache *c, uint64_t key,
                                 struct irradiance_volume *out, double *compute_ms, struct err *e);
-/* Adds a ready, on-disk entry for every <key>.json + <key>.exr of the directory. */
-void irr_disk_index(struct irradiance_cache *c);
+/* The keys of every <key>.json with a <key>.exr in the directory; *keys malloc'd. */
+size_t irr_disk_list_pairs(const struct irradiance_cache *c, uint64_t **keys);
+
+/* cache_index.c */
+int64_t irr_unix_ms(void);
+/* At creation: entries for the volumes on disk, rows and files reconciled (no lock). */
+void irr_index_startup(struct irradiance_cache *c);
+/* Worker, lock not held: en's files were just written; records its row, then keeps the
+ * disk budget. */
+void irr_index_recorded(struct irradiance_cache *c, struct irr_entry *en);
+/* en was used now (a hit, a render, a copy): queues its last use for the index. */
+void irr_note_use_locked(struct irradiance_cache *c, struct irr_entry *en);
+/* Worker, lock not held: writes the queued uses in one transaction. */
+void irr_index_flush_touches(struct irradiance_cache *c);
+/* Lock not held: removes the least recently used volumes' files until the disk budget
+ * holds. */
+void irr_evict_disk(struct irradiance_cache *c);
+uint64_t irr_disk_bytes_locked(const struct irradiance_cache *c);
 
 #endif

@@ -50,6 +50,8 @@
 
 struct event_hub;
 
+struct irradiance_index;
+
 struct irradiance_cache_desc {
     const char *data_dir;       /* volumes persist under <data_dir>/irradiance */
     size_t gpu_budget_bytes;    /* GPU textures of ready volumes; 0 = 1 GiB */
@@ -57,6 +59,11 @@ struct irradiance_cache_desc {
     double position_tolerance;  /* world units; 0 = 1e-3 */
     double direction_tolerance; /* radians; 0 = 1e-3 */
     int chunk_steps;            /* wavefront steps per GPU work item; 0 = 16 */
+    size_t disk_budget_bytes;   /* files under <data_dir>/irradiance before LRU removal;
+                                   0 = 8 GiB */
+    /* Where the volumes on disk are recorded (borrowed, outliving the cache; the store's
+     * database in refractd); NULL = the directory alone. */
+    const struct irradiance_index *index;
     /* Where irradiance.progress / .ready / .failed are published (events.h; borrowed,
      * outliving the cache); NULL = nowhere. */
     struct event_hub *events;
@@ -103,9 +110,10 @@ struct irradiance_light_status {
 
 /* Counters over the cache's lifetime (and what it holds now). */
 struct irradiance_cache_counters {
-    long long computed, superseded, loaded, failed, evicted_gpu, evicted_host;
+    long long computed, superseded, loaded, failed, evicted_gpu, evicted_host, evicted_disk;
     int entries;
     size_t gpu_bytes, host_bytes;
+    uint64_t disk_bytes; /* the volumes' files under <data>/irradiance */
 };
 
 struct irradiance_cache;

@@ -60,6 +60,8 @@ cJSON *http_irradiance_status(const struct http_app *app, struct store_scene *v)
     cJSON_AddNumberToObject(cache, "failed", (double)k.failed);
     cJSON_AddNumberToObject(cache, "evicted_gpu", (double)k.evicted_gpu);
     cJSON_AddNumberToObject(cache, "evicted_host", (double)k.evicted_host);
+    cJSON_AddNumberToObject(cache, "evicted_disk", (double)k.evicted_disk);
+    cJSON_AddNumberToObject(cache, "disk_bytes", (double)k.disk_bytes);
     return root;
 }
 

@@ -61,7 +61,8 @@ struct http_server *http_server_start(const struct http_config *cfg, const struc
                                       struct err *e);
 /* The port actually bound (useful with port 0). */
 int http_server_port(const struct http_server *s);
-/* Stops accepting new connections; connections in progress continue. */
+/* From now on every new request is answered 503 shutting_down (the listening socket
+ * closes in http_server_stop); requests in progress continue. */
 void http_server_quiesce(struct http_server *s);
 /* Ends every open stream (frame streams, event streams), so that no connection stays
  * suspended by a stream; requests waiting for the GPU are not affected. For shutdown,

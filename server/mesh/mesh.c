@@ -107,6 +107,7 @@ void mesh_destroy(struct mesh *m)
     if (m == NULL)
         return;
     mesh_bvh_destroy(m->bvh);
+    mesh_memo_destroy(m->memo);
     free(m->vertices);
     free(m->triangles);
     free(m);
@@ -213,6 +214,7 @@ enum refract_code mesh_create(double (*vertices)[3], size_t vertex_count, uint32
     }
     m->vertices = vertices;
     m->vertex_count = vertex_count;
+    m->memo = mesh_memo_create();
     m->triangles = triangles;
     m->triangle_count = triangle_count;
     m->lo = vec3_make(INFINITY, INFINITY, INFINITY);

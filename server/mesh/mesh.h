@@ -34,7 +34,8 @@ struct mesh_limits {
     size_t max_triangles; /* after fan triangulation of polygons; 0 = 2,000,000 */
 };
 
-struct mesh_bvh; /* mesh_bvh.c */
+struct mesh_bvh;  /* mesh_bvh.c */
+struct mesh_memo; /* mesh_memo.c */
 
 struct mesh {
     double (*vertices)[3]; /* mesh space; owned */
@@ -42,10 +43,12 @@ struct mesh {
     uint32_t (*triangles)[3]; /* vertex indices, counter-clockwise seen from outside when
                                  the file is consistently wound (not relied on); owned */
     size_t triangle_count;
-    vec3 lo, hi;          /* bounds of the vertices that triangles use */
-    bool closed;          /* every edge a->b is matched by as many edges b->a: the mesh
-                             bounds a solid, and w is an integer off the surface */
-    struct mesh_bvh *bvh; /* owned */
+    vec3 lo, hi;            /* bounds of the vertices that triangles use */
+    bool closed;            /* every edge a->b is matched by as many edges b->a: the mesh
+                               bounds a solid, and w is an integer off the surface */
+    struct mesh_bvh *bvh;   /* owned */
+    struct mesh_memo *memo; /* owned: the last voxelization (mesh_voxelize_memo); NULL when
+                               it could not be allocated (then nothing is remembered) */
 };
 
 #define MESH_DEFAULT_MAX_TRIANGLES 2000000
@@ -117,5 +120,14 @@ struct mesh_voxelize_desc {
  * runs d->threads pthreads. Fails only on OUT_OF_MEMORY or INTERNAL (thread creation). */
 enum refract_code mesh_voxelize(const struct mesh *m, const struct mesh_voxelize_desc *d,
                                 float *coverage, struct err *e);
+
+/* mesh_voxelize, remembering the result: a second call with the same grid and transform
+ * (d->threads aside) copies it instead of computing it again (mesh_memo.c says why).
+ * Grids of more than MESH_MEMO_MAX_VOXELS are not kept. Any thread. */
+#define MESH_MEMO_MAX_VOXELS ((size_t)1 << 24) /* 256^3: 64 MiB of coverage */
+enum refract_code mesh_voxelize_memo(const struct mesh *m, const struct mesh_voxelize_desc *d,
+                                     float *coverage, struct err *e);
+/* How often the memo answered and how often it computed (tests, logs). */
+void mesh_memo_counts(const struct mesh *m, long long *hits, long long *computed);
 
 #endif

@@ -18,6 +18,10 @@ struct mesh_builder {
     size_t max_triangles;
 };
 
+/* mesh_memo.c: made by mesh_create, freed by mesh_destroy. */
+struct mesh_memo *mesh_memo_create(void);
+void mesh_memo_destroy(struct mesh_memo *mm);
+
 void mesh_builder_init(struct mesh_builder *b, const struct mesh_limits *limits);
 void mesh_builder_fini(struct mesh_builder *b);
 /* false: out of memory (the caller reports it with its position). */

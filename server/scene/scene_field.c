@@ -13,7 +13,9 @@
  *
  * Mesh shape layers are voxelized by the mesh module (mesh_voxelize: generalized
  * winding numbers for the side, the distance for the same one-voxel edge) into a
- * coverage grid, then blended like any shape; that is the one allocation here.
+ * coverage grid, then blended like any shape; that is the one allocation here. The mesh
+ * remembers its last grid (mesh_voxelize_memo), so the other channels of the object
+ * and the light simulator's fields copy it instead of voxelizing again.
  *
  * Not here: smoothing and gradients of the ior (the GPU module does those, tracing.md).
  */
@@ -268,7 +270,7 @@ static enum refract_code eval_mesh(const struct grid *g, const struct scene_obje
         .voxel_size = g->vs,
         .object_from_mesh = l->shape.object_from_mesh,
     };
-    enum refract_code rc = mesh_voxelize(m, &d, coverage, e);
+    enum refract_code rc = mesh_voxelize_memo(m, &d, coverage, e);
     if (rc == REFRACT_E_OK) {
         if (l->has_outside)
             fill(g, out, l->outside);

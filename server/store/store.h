@@ -17,7 +17,9 @@
  *                                         hash's first 2 digits
  *     <data>/tmp/                         uploads being received and blobs being written;
  *                                         emptied at start-up
- *     <data>/irradiance/                  the irradiance cache's own files (cache_disk.c)
+ *     <data>/irradiance/                  the irradiance cache's files (cache_disk.c),
+ *                                         indexed by the irradiance table
+ *                                         (store_irradiance.c)
  * A blob is written to <data>/tmp, fsynced, renamed into blobs/ and its directory
  * fsynced before the row naming it is committed; so every committed row names a
  * complete blob, and a crash leaves at most an orphan blob (collected at start-up) or a
@@ -189,6 +191,13 @@ int store_upload_tmp_create(struct store *s, char *path_out, size_t size, struct
 
 /* The data directory's use and limit. */
 void store_usage_get(struct store *s, struct store_usage *out);
+
+/* The irradiance cache's index in the database (store_irradiance.c, irradiance_index.h):
+ * fills out with functions bound to s (valid while s is open). */
+struct irradiance_index;
+void store_irradiance_index(struct store *s, struct irradiance_index *out);
+/* The rows of that index: how many volumes the cache keeps on disk and their bytes. */
+void store_irradiance_usage(struct store *s, long long *volumes, unsigned long long *bytes);
 
 /* The scene_volume_lookup_fn of a version: ctx is a struct store_scene *. Names with
  * SCENE_MESH_LOOKUP_PREFIX find its meshes (store_mesh.h). */

@@ -11,8 +11,10 @@
  *   jobs(id, scene, spec JSON, state, frames_total, frames_done, created, updated,
  *        message, started, finished) and job_frames(job, frame, blob, bytes): batch jobs
  *        (server/jobs/, store_jobs.c); job_frames' blobs count as references
+ *   irradiance(key, transport, bytes, created, last_used): the irradiance cache's index
+ *        of the volume files it keeps under <data>/irradiance (store_irradiance.c; added
+ *        after version 1 shipped: CREATE IF NOT EXISTS adds it to older databases)
  *   meta(key, value)
- * The irradiance cache keeps its own files (docs/ARCHITECTURE.md says why).
  */
 #include <cjson/cJSON.h>
 #include <inttypes.h>
@@ -48,6 +50,9 @@ static const char schema_sql[] =
     " job TEXT NOT NULL REFERENCES jobs(id) ON DELETE CASCADE, frame INTEGER NOT NULL,"
     " blob TEXT NOT NULL, bytes INTEGER NOT NULL, PRIMARY KEY (job, frame));"
     "CREATE INDEX IF NOT EXISTS job_frames_blob ON job_frames(blob);"
+    "CREATE TABLE IF NOT EXISTS irradiance("
+    " key TEXT PRIMARY KEY, transport TEXT NOT NULL, bytes INTEGER NOT NULL,"
+    " created INTEGER NOT NULL, last_used INTEGER NOT NULL);"
     "INSERT OR IGNORE INTO meta(key, value) VALUES ('schema_version', '1');";
 
 static enum refract_code db_fail(struct store *s, struct err *e, const char *what)

@@ -13,6 +13,7 @@
 #define REFRACT_VIEW_FRAME_H
 
 #include <stdatomic.h>
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -22,6 +23,8 @@ struct view_frame {
     atomic_int refs;
     uint64_t seq; /* 1, 2, ... per session */
     enum view_frame_kind kind;
+    bool reencoded; /* encoded again from the previous full frame's image (an exposure,
+                       tonemap or jpeg_quality change); render_ms is that frame's */
     int width, height;
     double render_ms, encode_ms;
     const char *irradiance; /* static: "ready", "stale", "missing", "not-needed" */

@@ -41,6 +41,16 @@ struct view_session {
     struct view_frame *frame; /* the newest; owned reference or NULL */
     uint64_t seq;
     struct err last_error; /* of the newest frame that failed; code OK = none */
+    /* The newest full frame's linear image (its render result, 16 bytes a pixel): while
+     * hdr_gen == change_gen it is what the settings show but for the encode-only ones
+     * (exposure, tonemap, jpeg_quality, max_fps, progressive), and the next frame is
+     * encoded from it instead of rendered (view_session_update, the scheduler). */
+    float *hdr;
+    int hdr_width, hdr_height;
+    double hdr_render_ms;
+    const char *hdr_irradiance;
+    uint64_t hdr_gen;
+    long long frames_rendered, frames_reencoded;
 
     pthread_mutex_t watch_mu; /* the watcher list */
     struct view_watcher *watchers;
@@ -57,6 +67,7 @@ struct view_job {
     struct render_view_result result;
     const char *irradiance;
     enum view_frame_kind kind;
+    bool reencode;                 /* from the session's hdr: no GPU work */
     uint64_t change_gen;           /* what the frame shows */
     struct view_settings settings; /* snapshot at the frame's start */
     struct view_job *next;         /* encoder queue */

@@ -39,8 +39,22 @@ static struct view_job *job_make_locked(struct view_session *s, int64_t now)
     job->session = s;
     job->settings = s->settings;
     job->change_gen = s->change_gen;
-    bool preview = s->settings.progressive && s->last_full_render_ms > PREVIEW_AFTER_MS &&
-                   s->preview_gen != s->change_gen;
+    if (s->hdr != NULL && s->hdr_gen == s->change_gen) {
+        /* Encode-only change: a copy of the newest full frame's image goes straight to an
+         * encoder (the session keeps its own for the next such change). */
+        size_t floats = (size_t)s->hdr_width * (size_t)s->hdr_height * 4;
+        job->result.rgba = malloc(floats * sizeof(float));
+        if (job->result.rgba != NULL) {
+            memcpy(job->result.rgba, s->hdr, floats * sizeof(float));
+            job->result.width = s->hdr_width;
+            job->result.height = s->hdr_height;
+            job->result.gpu_ms = s->hdr_render_ms;
+            job->irradiance = s->hdr_irradiance;
+            job->reencode = true;
+        }
+    }
+    bool preview = !job->reencode && s->settings.progressive &&
+                   s->last_full_render_ms > PREVIEW_AFTER_MS && s->preview_gen != s->change_gen;
     job->kind = preview ? VIEW_FRAME_PREVIEW : VIEW_FRAME_FULL;
     s->in_flight = true;
     s->next_start_ms = now + (int64_t)(1000.0 / s->settings.max_fps);
@@ -65,6 +79,23 @@ void view_job_finish(struct view_registry *r, struct view_job *job, struct view_
     if (frame) {
         frame->seq = ++s->seq;
         frame->made_ms = now;
+        frame->reencoded = job->reencode;
+        if (job->reencode) {
+            s->frames_reencoded++;
+        } else {
+            s->frames_rendered++;
+            if (job->kind == VIEW_FRAME_FULL && job->result.rgba != NULL) {
+                /* Kept for encode-only changes; the job no longer owns it. */
+                free(s->hdr);
+                s->hdr = job->result.rgba;
+                job->result.rgba = NULL;
+                s->hdr_width = job->result.width;
+                s->hdr_height = job->result.height;
+                s->hdr_render_ms = frame->render_ms;
+                s->hdr_irradiance = frame->irradiance;
+                s->hdr_gen = job->change_gen;
+            }
+        }
         view_frame_release(s->frame);
         s->frame = frame;
         if (job->kind == VIEW_FRAME_FULL) {
@@ -126,6 +157,10 @@ static void job_start(struct view_registry *r, struct view_job *job)
         err_set(&e, REFRACT_E_SCENE_NOT_FOUND, "scene %s no longer exists", s->scene);
         view_job_finish(r, job, NULL, &e); /* releases the job's reference to s */
         view_session_end(r, id);
+        return;
+    }
+    if (job->reencode) {
+        view_encoder_submit(r->encoder, job); /* nothing to render */
         return;
     }
     struct render_view_request *rq = &job->request;

@@ -77,6 +77,7 @@ void view_session_release(struct view_session *s)
     if (s == NULL || atomic_fetch_sub(&s->refs, 1) != 1)
         return;
     view_frame_release(s->frame);
+    free(s->hdr);
     pthread_mutex_destroy(&s->mu);
     pthread_mutex_destroy(&s->watch_mu);
     free(s);
@@ -109,24 +110,28 @@ static bool vec3_equal(vec3 a, vec3 b)
     return a.x == b.x && a.y == b.y && a.z == b.z;
 }
 
-/* Field by field: the structs have padding. */
-static bool settings_equal(const struct view_settings *a, const struct view_settings *b)
+/* Field by field (the structs have padding): the settings that shape the linear image. */
+static bool render_settings_equal(const struct view_settings *a, const struct view_settings *b)
 {
     const struct scene_camera *ca = &a->camera, *cb = &b->camera;
     const struct scene_render_settings *oa = &a->overrides, *ob = &b->overrides;
     return vec3_equal(ca->eye, cb->eye) && vec3_equal(ca->look_at, cb->look_at) &&
            vec3_equal(ca->up, cb->up) && ca->fov_y_deg == cb->fov_y_deg && ca->width == cb->width &&
-           ca->height == cb->height && a->exposure_ev == b->exposure_ev &&
-           a->tonemap == b->tonemap && a->quality == b->quality &&
+           ca->height == cb->height && a->quality == b->quality &&
            a->has_integrator == b->has_integrator &&
            (!a->has_integrator || oa->integrator == ob->integrator) && a->has_step == b->has_step &&
            (!a->has_step || oa->step_voxels == ob->step_voxels) &&
            a->has_max_steps == b->has_max_steps &&
            (!a->has_max_steps || oa->max_steps == ob->max_steps) &&
            a->has_boundary_threshold == b->has_boundary_threshold &&
-           (!a->has_boundary_threshold || oa->boundary_threshold == ob->boundary_threshold) &&
-           a->jpeg_quality == b->jpeg_quality && a->max_fps == b->max_fps &&
-           a->progressive == b->progressive;
+           (!a->has_boundary_threshold || oa->boundary_threshold == ob->boundary_threshold);
+}
+
+static bool settings_equal(const struct view_settings *a, const struct view_settings *b)
+{
+    return render_settings_equal(a, b) && a->exposure_ev == b->exposure_ev &&
+           a->tonemap == b->tonemap && a->jpeg_quality == b->jpeg_quality &&
+           a->max_fps == b->max_fps && a->progressive == b->progressive;
 }
 
 void view_session_update(struct view_session *s, const struct view_settings *st)
@@ -134,8 +139,14 @@ void view_session_update(struct view_session *s, const struct view_settings *st)
     pthread_mutex_lock(&s->mu);
     bool changed = !settings_equal(&s->settings, st);
     if (changed) {
+        /* Only tone mapping or encoding changed, and the newest full frame shows the rest:
+         * its image is encoded again (milliseconds) instead of rendered (docs/views.md). */
+        bool encode_only = s->hdr != NULL && s->hdr_gen == s->change_gen &&
+                           render_settings_equal(&s->settings, st);
         s->settings = *st;
         view_session_changed_locked(s);
+        if (encode_only)
+            s->hdr_gen = s->change_gen;
     }
     pthread_mutex_unlock(&s->mu);
     if (changed)
@@ -224,6 +235,7 @@ static cJSON *frame_json(const struct view_frame *f, int64_t now_ms)
     cJSON_AddNumberToObject(o, "width", f->width);
     cJSON_AddNumberToObject(o, "height", f->height);
     cJSON_AddNumberToObject(o, "render_ms", f->render_ms);
+    cJSON_AddBoolToObject(o, "reencoded", f->reencoded);
     cJSON_AddNumberToObject(o, "encode_ms", f->encode_ms);
     cJSON_AddNumberToObject(o, "bytes", (double)f->len);
     cJSON_AddNumberToObject(o, "age_ms", (double)(now_ms - f->made_ms));
@@ -285,6 +297,9 @@ cJSON *view_session_status_json(struct view_session *s, const struct scene *scen
         expires -= (double)(now - s->last_activity_ms) / 1000.0;
     cJSON_AddNumberToObject(o, "expires_in_s", expires > 0 ? expires : 0);
     cJSON_AddStringToObject(o, "renderer", gpu_info(d->gpu)->renderer);
+    cJSON *counts = cJSON_AddObjectToObject(o, "frames");
+    cJSON_AddNumberToObject(counts, "rendered", (double)s->frames_rendered);
+    cJSON_AddNumberToObject(counts, "reencoded", (double)s->frames_reencoded);
     if (s->frame)
         cJSON_AddItemToObject(o, "frame", frame_json(s->frame, now));
     else

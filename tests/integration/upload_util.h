@@ -1,6 +1,7 @@
 /*
  * upload_util.h - what the upload tests share (header-only): a raw PUT of bytes, the
- * FNV-1a 64 checksum computed independently of refractd, JSON field access, gzip.
+ * FNV-1a 64 checksum computed independently of refractd, the SHA-256 of a file by
+ * coreutils' sha256sum (code refractd does not share), JSON field access, gzip.
  */
 #ifndef REFRACT_TEST_UPLOAD_UTIL_H
 #define REFRACT_TEST_UPLOAD_UTIL_H
@@ -44,6 +45,21 @@ static inline uint64_t upload_fnv1a64(const void *data, size_t len)
 static inline void upload_fnv_hex(const float *values, size_t count, char out[17])
 {
     snprintf(out, 17, "%016llx", (unsigned long long)upload_fnv1a64(values, count * sizeof(float)));
+}
+
+/* The SHA-256 of the file at path as 64 hex digits, from `sha256sum` (coreutils), or
+ * "" when it cannot be run. */
+static inline void upload_sha256sum(const char *path, char out[65])
+{
+    char cmd[600];
+    out[0] = '\0';
+    snprintf(cmd, sizeof cmd, "sha256sum '%s'", path);
+    FILE *p = popen(cmd, "r");
+    if (p == NULL)
+        return;
+    if (fscanf(p, "%64[0-9a-f]", out) != 1)
+        out[0] = '\0';
+    pclose(p);
 }
 
 /* The string field `key` of a JSON body ("" when absent), copied into out. */

@@ -4,7 +4,9 @@
  * or a Content-Type, volume byte sizes, image sizes read from PNG/JPEG/EXR headers,
  * librefract's URL joining and path-segment escaping; and for lights (issue 3) the flags
  * of `refract light set` and the light object they make, the reading of an irradiance
- * status document, and how its table and progress are printed.
+ * status document, and how its table and progress are printed; for uploads (issue 5)
+ * the kind and name a file's name implies, raw sizes per sample type, detached NRRD
+ * headers, and the transfer line of the progress display.
  *
  * Unit tests link only the server libraries, so the files under test are compiled
  * into this one directly; none of them uses libcurl (cJSON comes with refract_scene).
@@ -17,6 +19,8 @@
 #include "../../client/cli/cli_image.c"
 #include "../../client/cli/cli_irradiance.c"
 #include "../../client/cli/cli_light.c"
+#include "../../client/cli/cli_progress.c"
+#include "../../client/cli/cli_upload_plan.c"
 #include "../../client/cli/cli_view.c"
 #include "../../client/refract_say.c"
 #include "../../client/refract_status.c"
@@ -896,6 +900,90 @@ static void view_status_reads_every_member_and_a_null_frame(void)
     CHECK_STR(why, "id: expected a view id string of 1 to 63 characters");
 }
 
+static void upload_kind_and_format_follow_the_extension(void)
+{
+    const char *format = "x";
+    CHECK_INT(cli_upload_kind_from_path("scans/ior.nrrd", &format), REFRACT_UPLOAD_VOLUME);
+    CHECK_STR(format, "nrrd");
+    CHECK_INT(cli_upload_kind_from_path("a.NHDR", &format), REFRACT_UPLOAD_VOLUME);
+    CHECK_STR(format, "nrrd");
+    CHECK_INT(cli_upload_kind_from_path("d.raw", &format), REFRACT_UPLOAD_VOLUME);
+    CHECK_STR(format, "raw");
+    CHECK_INT(cli_upload_kind_from_path("gem.ply", &format), REFRACT_UPLOAD_MESH);
+    CHECK_STR(format, "ply");
+    CHECK_INT(cli_upload_kind_from_path("gem.Obj", &format), REFRACT_UPLOAD_MESH);
+    CHECK_STR(format, "obj");
+    CHECK_INT(cli_upload_kind_from_path("sky.hdr", &format), REFRACT_UPLOAD_ENVIRONMENT);
+    CHECK(format == NULL);
+    CHECK_INT(cli_upload_kind_from_path("sky.jpeg", &format), REFRACT_UPLOAD_ENVIRONMENT);
+    /* .exr is a volume or an environment: no kind, but its format */
+    CHECK_INT(cli_upload_kind_from_path("x.exr", &format), 0);
+    CHECK_STR(format, "exr");
+    CHECK_INT(cli_upload_kind_from_path("x.nrrd/data", &format), 0);
+    CHECK(format == NULL);
+    CHECK_INT(cli_upload_kind_from_path(".obj", &format), 0);
+    CHECK_INT(cli_upload_kind_from_path("x.tif", &format), 0);
+}
+
+static void upload_names_come_from_the_base_name(void)
+{
+    char name[64];
+    CHECK(cli_upload_default_name("scans/ior_64.nrrd", name, sizeof(name)));
+    CHECK_STR(name, "ior_64");
+    CHECK(cli_upload_default_name("gem-2.ply", name, sizeof(name)));
+    CHECK_STR(name, "gem-2");
+    CHECK(!cli_upload_default_name("my scan.nrrd", name, sizeof(name))); /* a blank */
+    CHECK(!cli_upload_default_name("dir/.raw", name, sizeof(name)));     /* a hidden file */
+    CHECK(!cli_upload_default_name("a.b.raw", name, sizeof(name)));      /* "a.b" has a dot */
+    char long_name[80];
+    memset(long_name, 'a', 64);
+    strcpy(long_name + 64, ".raw");
+    CHECK(!cli_upload_default_name(long_name, name, sizeof(name)));
+}
+
+static void raw_sizes_count_the_bytes_of_each_sample_type(void)
+{
+    uint64_t bytes = 0;
+    CHECK_INT(cli_upload_sample_bytes("float32"), 4);
+    CHECK_INT(cli_upload_sample_bytes("float16"), 2);
+    CHECK_INT(cli_upload_sample_bytes("uint8"), 1);
+    CHECK_INT(cli_upload_sample_bytes("uint16"), 2);
+    CHECK_INT(cli_upload_sample_bytes("float64"), 0);
+    CHECK_INT(cli_upload_sample_bytes(NULL), 0);
+    CHECK(cli_raw_volume_bytes((const int[3]){256, 256, 256}, 3, 1, &bytes));
+    CHECK_INT((long long)bytes, 256LL * 256 * 256 * 3);
+    CHECK(!cli_raw_volume_bytes((const int[3]){4, 4, 4}, 1, 0, &bytes));
+    CHECK(!cli_raw_volume_bytes((const int[3]){1 << 30, 1 << 30, 1 << 30}, 1, 2, &bytes));
+}
+
+static void nrrd_headers_with_a_data_file_are_detached(void)
+{
+    static const char attached[] = "NRRD0004\ntype: float\nsizes: 2 2 2\n\ndata file: x\n";
+    static const char detached[] = "NRRD0004\r\ntype: float\r\ndata file: x.raw\r\n\r\n";
+    static const char old[] = "NRRD0001\ndatafile: x.raw\n\n";
+    CHECK(!cli_upload_nrrd_detached(attached, strlen(attached))); /* after the header: data */
+    CHECK(cli_upload_nrrd_detached(detached, strlen(detached)));
+    CHECK(cli_upload_nrrd_detached(old, strlen(old)));
+    CHECK(!cli_upload_nrrd_detached(detached, 12)); /* cut before the field */
+}
+
+static void transfer_lines_give_bytes_percent_speed_and_eta(void)
+{
+    char t[256];
+    cli_transfer_text(t, sizeof(t), 0, 4000000, 0.0, true);
+    CHECK_STR(t, "0%  0 B of 3.8 MiB");
+    cli_transfer_text(t, sizeof(t), 1000000, 4000000, 0.5, true);
+    CHECK_STR(t, "25%  976.6 KiB of 3.8 MiB  2.0 MB/s  ETA 1.5 s");
+    cli_transfer_text(t, sizeof(t), 1000000, 4000000, 0.5, false);
+    CHECK_STR(t, "976.6 KiB of 3.8 MiB  2.0 MB/s  ETA 1.5 s");
+    cli_transfer_text(t, sizeof(t), 4000000, 4000000, 2.0, true);
+    CHECK_STR(t, "100%  3.8 MiB of 3.8 MiB  2.0 MB/s  in 2.0 s");
+    cli_transfer_text(t, sizeof(t), 3000000, -1, 1.0, true); /* unknown total */
+    CHECK_STR(t, "2.9 MiB  3.0 MB/s");
+    cli_transfer_text(t, 10, 1000000, 4000000, 0.5, true); /* cut, never overrun */
+    CHECK_INT((long long)strlen(t), 9);
+}
+
 int main(void)
 {
     vec3_parses_three_comma_separated_numbers();
@@ -937,5 +1025,10 @@ int main(void)
     frame_files_are_numbered_from_one_with_four_digits();
     view_options_send_only_what_they_set();
     view_status_reads_every_member_and_a_null_frame();
+    upload_kind_and_format_follow_the_extension();
+    upload_names_come_from_the_base_name();
+    raw_sizes_count_the_bytes_of_each_sample_type();
+    nrrd_headers_with_a_data_file_are_detached();
+    transfer_lines_give_bytes_percent_speed_and_eta();
     return test_summary("test_cli_args");
 }

@@ -72,6 +72,43 @@ static void voxelized_mesh_sphere_matches_the_procedural_sphere(void)
     test_mesh_free(&tm);
 }
 
+/* mesh_voxelize_memo gives mesh_voxelize's bytes, computes once per grid and placement,
+ * ignores the thread count, and computes again for another grid or placement (and for
+ * the previous one after that: it keeps one). */
+static void memo_remembers_the_last_grid(void)
+{
+    struct test_mesh tm = test_icosphere(3, 0.6);
+    struct mesh *m = test_mesh_make(&tm);
+    size_t n = (size_t)N * N * N;
+    float *direct = malloc(sizeof(float) * n), *memo = malloc(sizeof(float) * n);
+    struct err e = {0};
+    struct mesh_voxelize_desc d = grid(xform_identity(), 1);
+    CHECK_INT(mesh_voxelize(m, &d, direct, &e), REFRACT_E_OK);
+    long long hits = -1, computed = -1;
+    for (int round = 0; round < 3; round++) {
+        memset(memo, 0xff, sizeof(float) * n); /* NaN: a copy that skipped voxels shows */
+        d.threads = 1 + round;
+        CHECK_INT(mesh_voxelize_memo(m, &d, memo, &e), REFRACT_E_OK);
+        CHECK(memcmp(direct, memo, sizeof(float) * n) == 0);
+    }
+    mesh_memo_counts(m, &hits, &computed);
+    CHECK_INT(computed, 1);
+    CHECK_INT(hits, 2);
+    struct mesh_voxelize_desc moved =
+        grid(xform_make(vec3_make(0.1, 0, 0), vec3_make(0, 0, 1), 0.0, 1.0), 1);
+    CHECK_INT(mesh_voxelize_memo(m, &moved, memo, &e), REFRACT_E_OK);
+    CHECK(memcmp(direct, memo, sizeof(float) * n) != 0);
+    CHECK_INT(mesh_voxelize_memo(m, &d, memo, &e), REFRACT_E_OK);
+    CHECK(memcmp(direct, memo, sizeof(float) * n) == 0);
+    mesh_memo_counts(m, &hits, &computed);
+    CHECK_INT(computed, 3);
+    CHECK_INT(hits, 2);
+    free(direct);
+    free(memo);
+    mesh_destroy(m);
+    test_mesh_free(&tm);
+}
+
 static void broken_mesh_sphere_still_voxelizes(void)
 {
     struct test_mesh tm = test_icosphere(4, 0.6);
@@ -100,5 +137,6 @@ int main(void)
 {
     voxelized_mesh_sphere_matches_the_procedural_sphere();
     broken_mesh_sphere_still_voxelizes();
+    memo_remembers_the_last_grid();
     return test_summary("mesh_voxelize");
 }

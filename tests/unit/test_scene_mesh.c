@@ -4,6 +4,7 @@
  * uploaded icosphere match the same scene with the procedural sphere to within 0.05 of
  * the channel's step at every voxel (the boundary within 1/20 voxel); a missing mesh is a
  * CONFLICT naming the path and the upload to make, and is listed by scene_missing_meshes;
+ * the second channel copies the mesh's remembered voxelization instead of computing it;
  * the transport hash sees the mesh's name and placement.
  */
 #include "mesh_test_util.h"
@@ -89,6 +90,11 @@ static void mesh_sphere_fields_match_the_procedural_sphere(void)
         CHECK_NEAR(worst, 0.0, 0.05);
         free(a);
         free(b);
+        /* Both channels use the same grid and placement: voxelized once, copied once. */
+        long long hits = 0, computed = 0;
+        mesh_memo_counts(u.sphere.mesh, &hits, &computed);
+        CHECK_INT(computed, 1);
+        CHECK_INT(hits, 1);
         char buf[64];
         CHECK_INT(scene_missing_meshes(sm, lookup, &u, buf, sizeof buf), 0);
         CHECK(scene_transport_hash(sm) != scene_transport_hash(ss));
