@@ -34,7 +34,7 @@
 
 /* ---- index filters (MARCH_IOR_FILTER; render.ior_filter) ---- */
 #define IOR_FILTER_TRILINEAR 0
-#define IOR_FILTER_TRICUBIC 1 /* Catmull-Rom, 27 trilinear fetches */
+#define IOR_FILTER_TRICUBIC 1 /* Catmull-Rom of n and its exact gradient, 64 texel fetches */
 
 /* ---- uniform blocks (std140) ---- */
 #define BIND_UBO_RENDER 0  /* render_params: camera, settings, objects[] */

@@ -24,56 +24,68 @@ vec3 volume_sample_coord(int obj, vec3 p)
 }
 
 #if MARCH_IOR_FILTER == IOR_FILTER_TRICUBIC
-// Three taps along x at atlas coordinates qx (x of each), y, z with weights wx.
-vec4 volume_fetch_x3(vec3 qx, float y, float z, vec3 wx)
+// Catmull-Rom weights w and their derivatives d (per voxel) of the taps i-1..i+2 at
+// fraction t. A tap beyond the grid (below: i-1 < 0, above: i+2 > res-1) stands for the
+// linear extrapolation of the two edge voxels, f[-1] = 2 f[0] - f[1]; its weight is folded
+// into theirs and the tap itself gets weight 0 (server/core/voxel_tricubic.c does the same).
+void volume_catmull_rom(float t, bool below, bool above, out vec4 w, out vec4 d)
 {
-    return wx.x * textureLod(ior_grad_atlas, vec3(qx.x, y, z), 0.0) +
-           wx.y * textureLod(ior_grad_atlas, vec3(qx.y, y, z), 0.0) +
-           wx.z * textureLod(ior_grad_atlas, vec3(qx.z, y, z), 0.0);
+    float t2 = t * t, t3 = t2 * t;
+    w = 0.5 * vec4(-t3 + 2.0 * t2 - t, 3.0 * t3 - 5.0 * t2 + 2.0, -3.0 * t3 + 4.0 * t2 + t,
+                   t3 - t2);
+    d = 0.5 * vec4(-3.0 * t2 + 4.0 * t - 1.0, 9.0 * t2 - 10.0 * t, -9.0 * t2 + 8.0 * t + 1.0,
+                   3.0 * t2 - 2.0 * t);
+    if (below) {
+        w += vec4(-w.x, 2.0 * w.x, -w.x, 0.0);
+        d += vec4(-d.x, 2.0 * d.x, -d.x, 0.0);
+    }
+    if (above) {
+        w += vec4(0.0, -w.w, 2.0 * w.w, -w.w);
+        d += vec4(0.0, -d.w, 2.0 * d.w, -d.w);
+    }
 }
 
-// A 3 x 3 plane of taps at z.
-vec4 volume_fetch_xy9(mat3 q, mat3 w, float z)
-{
-    return w[1].x * volume_fetch_x3(q[0], q[1].x, z, w[0]) +
-           w[1].y * volume_fetch_x3(q[0], q[1].y, z, w[0]) +
-           w[1].z * volume_fetch_x3(q[0], q[1].z, z, w[0]);
-}
-
-// Tricubic Catmull-Rom of the stored (grad n, n) with 27 trilinear fetches: per axis the
-// four weights w0..w3 of the taps i-1..i+2 (Catmull & Rom 1974; Keys 1981 with a = -1/2)
-// have positive middle weights, so the middle pair merges into one linear fetch at
-// i + w2 / (w1 + w2) (Sigg & Hadwiger 2005, GPU Gems 2 ch. 20, applied to the pair that
-// allows it); the outer taps, whose weights are negative, are fetched at texel centres.
-// The kernel interpolates (it returns the voxel at voxel centres), reproduces quadratics,
-// and is C1, so grad n is continuous across voxel faces. Each fetch position is clamped to
-// the object's texels, so the atlas neighbour is never read and a tap beyond the grid
-// takes the edge voxel, as the CPU twin's clamp-to-edge taps do
-// (server/core/voxel_tricubic.c). grad n is the same filter of the stored
-// central-difference gradient (docs/tracing.md "Index filter").
+// Tricubic Catmull-Rom of n (Keys 1981 with a = -1/2) and grad n as the exact gradient of
+// that interpolant, from the 4 x 4 x 4 voxels around p (64 texel fetches of the alpha
+// channel; the stored central-difference gradient is not used). The interpolant returns
+// the voxel at voxel centres, reproduces quadratics inside the grid and linear fields up to
+// its edge, and is C1, so grad n is continuous and consistent with n (the ray follows the
+// exact ray equation of one continuous field). Taps are clamped to the object's voxels, so
+// the atlas neighbour is never read (docs/tracing.md "Index filter"). CPU twin:
+// voxel_tricubic_n_grad.
 vec4 volume_sample_ior_grad(int obj, vec3 p)
 {
-    vec3 hi = vec3(params.objects[obj].resolution.xyz) - vec3(0.5);
+    ivec3 r = params.objects[obj].resolution.xyz;
     vec3 c = volume_sample_texel(obj, p) - vec3(0.5); // voxel-centre coordinates
-    vec3 i = floor(c);
-    vec3 t = c - i;
-    vec3 t2 = t * t;
-    vec3 t3 = t2 * t;
-    vec3 w0 = 0.5 * (-t3 + 2.0 * t2 - t);
-    vec3 w1 = 0.5 * (3.0 * t3 - 5.0 * t2 + 2.0);
-    vec3 w2 = 0.5 * (-3.0 * t3 + 4.0 * t2 + t);
-    vec3 w3 = 0.5 * (t3 - t2);
-    vec3 wm = w1 + w2; // >= 1 on [0, 1]
-    vec3 off = params.objects[obj].atlas_offset.xyz;
-    vec3 inv = params.objects[obj].atlas_inv_size.xyz;
-    vec3 q0 = (clamp(i - 0.5, vec3(0.5), hi) + off) * inv; // texel i-1's centre
-    vec3 q1 = (clamp(i + 0.5 + w2 / wm, vec3(0.5), hi) + off) * inv;
-    vec3 q2 = (clamp(i + 2.5, vec3(0.5), hi) + off) * inv; // texel i+2's centre
-    // Columns: per axis (x, y, z) the three positions and their weights.
-    mat3 q = transpose(mat3(q0, q1, q2));
-    mat3 w = transpose(mat3(w0, wm, w3));
-    return w[2].x * volume_fetch_xy9(q, w, q[2].x) + w[2].y * volume_fetch_xy9(q, w, q[2].y) +
-           w[2].z * volume_fetch_xy9(q, w, q[2].z);
+    // The cell [i, i+1] holding c; at c = res-1 the last cell with t = 1, so the gradient
+    // on the grid's last plane is the limit from inside.
+    vec3 fi = max(min(floor(c), vec3(r) - vec3(2.0)), vec3(0.0));
+    vec3 t = c - fi;
+    ivec3 i = ivec3(fi);
+    vec4 wx, wy, wz, dx, dy, dz;
+    volume_catmull_rom(t.x, i.x < 1, i.x + 2 > r.x - 1, wx, dx);
+    volume_catmull_rom(t.y, i.y < 1, i.y + 2 > r.y - 1, wy, dy);
+    volume_catmull_rom(t.z, i.z < 1, i.z + 2 > r.z - 1, wz, dz);
+    ivec3 off = ivec3(params.objects[obj].atlas_offset.xyz + vec3(0.5));
+    float n = 0.0;
+    vec3 g = vec3(0.0);
+    for (int z = 0; z < 4; z++) {
+        int iz = clamp(i.z - 1 + z, 0, r.z - 1);
+        for (int y = 0; y < 4; y++) {
+            int iy = clamp(i.y - 1 + y, 0, r.y - 1);
+            // The x row: value, d/dx, and the row sum for d/dy and d/dz.
+            float row = 0.0, row_dx = 0.0;
+            for (int x = 0; x < 4; x++) {
+                int ix = clamp(i.x - 1 + x, 0, r.x - 1);
+                float f = texelFetch(ior_grad_atlas, off + ivec3(ix, iy, iz), 0).a;
+                row += wx[x] * f;
+                row_dx += dx[x] * f;
+            }
+            n += wy[y] * wz[z] * row;
+            g += vec3(wy[y] * wz[z] * row_dx, dy[y] * wz[z] * row, wy[y] * dz[z] * row);
+        }
+    }
+    return vec4(g * params.objects[obj].inv_voxel_size.xyz, n);
 }
 #else
 // rgb: grad n in object units (n per object-space unit); a: n. Trilinear.

@@ -39,7 +39,7 @@ struct reftrace_grid {
  * docs/tracing.md "Index filter"); the GPU's twin is the MARCH_IOR_FILTER variant. */
 enum reftrace_ior_filter {
     REFTRACE_FILTER_TRILINEAR = 0, /* 8 taps, C0 */
-    REFTRACE_FILTER_TRICUBIC = 1,  /* Catmull-Rom, 64 taps, C1 (voxel_tricubic.h) */
+    REFTRACE_FILTER_TRICUBIC = 1,  /* Catmull-Rom of n, its exact gradient (voxel_tricubic.h) */
 };
 
 typedef double (*reftrace_ior_fn)(void *ctx, vec3 p_object, vec3 *grad_object);
