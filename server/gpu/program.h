@@ -42,7 +42,7 @@ enum gpu_kernel {
     32u /* lights or a receiver: reflected light L_r at Fresnel                                    \
            events (eq. 5.6/5.8) and the receiver (render_view) */
 #define GPU_VARIANT_IOR_TRICUBIC                                                                   \
-    256u /* index and gradient filtered by tricubic Catmull-Rom (render.ior_filter) */
+    256u /* tricubic Catmull-Rom index, its exact gradient (render.ior_filter) */
 #define GPU_VARIANT_COUNT 512
 /* Variants with any of these bits are compiled on first use (gpu_program_get), not at
  * start-up: doubling the variant count four times would make the start-up sixteen times

@@ -9,9 +9,10 @@
  * integrators' CPU exits, and closer to it than to the twin reconstructing the same voxels
  * with the other index filter (render.ior_filter trilinear / tricubic): a kernel variant
  * that silently ran another integrator or filter would fail there even when all of them
- * land close to each other. Every integrator runs with both filters; tricubic (Catmull-Rom,
- * 27 trilinear fetches on the GPU, 64 taps in double on the CPU) has the same bounds
- * (seen: 4e-6 in position, 2e-6 rad, fixed steps).
+ * land close to each other. Every integrator runs with both filters; tricubic (Catmull-Rom
+ * of n and its exact gradient, 64 texel fetches on the GPU, the same 64 taps in double on
+ * the CPU) has the same bounds (seen: 8e-6 in position, 3e-6 rad with fixed steps; 4e-4
+ * and 2e-4 adaptive).
  *
  * Scenes: a Luneburg lens and a strong Gaussian lens (n_peak 1.8) at 32^3, a parallel
  * bundle of 8 x 8 rays. Bounds, measured on llvmpipe (printed): the fixed-step
