@@ -372,7 +372,7 @@ static const char *const gaussian_tricubic_json =
 
 /* The Gaussian lens with Catmull-Rom reconstruction: the GPU agrees with its CPU twin on
  * the same voxels, the interpolating kernel comes closer to the exact field than trilinear
- * on the same grid (docs/accuracy.md: 0.04-0.08x on its strong Gaussian lens), and the
+ * on the same grid (docs/accuracy.md: 0.02-0.06x on its strong Gaussian lens), and the
  * per-request override of a trilinear scene gives the same rays as the scene setting. */
 static void tricubic_filter_matches_reference(struct test_daemon *d)
 {
@@ -390,9 +390,13 @@ static void tricubic_filter_matches_reference(struct test_daemon *d)
         CHECK_MSG(cub.same_voxels.pos < gpu_tol && cub.same_voxels.dir < gpu_tol,
                   "tricubic GPU vs CPU %g %g", cub.same_voxels.pos, cub.same_voxels.dir);
         CHECK_INT(cub.vs_exact.status_mismatch, 0);
-        CHECK_MSG(cub.vs_exact.dir < lin.vs_exact.dir,
-                  "tricubic direction error vs exact %g is not below trilinear's %g",
+        /* Measured 0.23x in direction and 0.18x in position; half leaves a margin. */
+        CHECK_MSG(cub.vs_exact.dir < 0.5 * lin.vs_exact.dir,
+                  "tricubic direction error vs exact %g is not below half trilinear's %g",
                   cub.vs_exact.dir, lin.vs_exact.dir);
+        CHECK_MSG(cub.vs_exact.pos < 0.5 * lin.vs_exact.pos,
+                  "tricubic position error vs exact %g is not below half trilinear's %g",
+                  cub.vs_exact.pos, lin.vs_exact.pos);
         char id[REFRACT_ID_SIZE];
         struct gpu_hit over[10];
         if (test_create_scene(d, gaussian_json, id) &&
