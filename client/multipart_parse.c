@@ -283,6 +283,11 @@ static enum refract_multipart_result line_done(struct refract_multipart *m)
         }
         return REFRACT_MULTIPART_OK;
     case REFRACT_MP_HEADERS:
+        /* A part is stamped when its first header line began, not its boundary line:
+         * refractd sends the delimiter with the frame before it (docs/views.md), so the
+         * boundary line says when the previous frame came. */
+        if (m->header_lines == 0)
+            m->part.start_ms = m->line_start_ms;
         return m->line_len == 0 ? begin_body(m) : header_line(m, m->line);
     case REFRACT_MP_AFTER_BODY:
         if (m->line_len == 0)

@@ -53,7 +53,9 @@ struct refract_multipart_part {
     double render_ms;         /* X-Render-Time-Ms; -1 when absent */
     char irradiance[32];      /* X-Refract-Irradiance; "" when absent */
     bool repeat;              /* X-Frame-Repeat: 1 (the part repeats the one before) */
-    double start_ms;          /* the caller's now_ms when the part's boundary line began */
+    double start_ms;          /* the caller's now_ms when the part's first header line (or,
+                                 without headers, the blank line) began: not the boundary
+                                 line, which refractd sends with the part before */
 };
 
 /* Gets each complete part; returns false to stop the stream (the parser is then STOPPED). */

@@ -426,7 +426,9 @@ struct refract_frame {
     char irradiance[32];   /* X-Refract-Irradiance; "" when absent */
     char content_type[64]; /* "image/jpeg" */
     double arrival_ms;     /* CLOCK_MONOTONIC in ms when the frame's first byte (its
-                              boundary line) arrived, for latency measurements */
+                              first header line; the boundary line before it comes
+                              with the previous frame) arrived, for latency
+                              measurements */
 };
 
 /* Called with each frame; return 0 to go on, non-zero to stop the stream. */

@@ -16,7 +16,10 @@
 #include "cli_progress.h"
 
 #define JOB_USAGE                                                                                  \
-    "usage: refract job submit FILE|-          submit a job (JSON; - = stdin); prints its id\n"    \
+    "usage: refract job submit FILE|- [--scene-file SCENE.json]\n"                                 \
+    "                                          submit a job (JSON; - = stdin); prints its id;\n"   \
+    "                                          --scene-file sends SCENE.json as its inline\n"      \
+    "                                          \"scene\" (no POST /v1/scenes needed)\n"            \
     "       refract job status ID              print the job's status as JSON\n"                   \
     "       refract job wait ID                wait until it ends, drawing progress and ETA\n"     \
     "       refract job get ID --out DIR       save its finished frames as DIR/frame_NNNNN.EXT\n"  \
@@ -30,7 +33,9 @@
     "  echo '{\"scene\": \"glass\", \"width\": 320, \"height\": 240,\n"                            \
     "         \"turntable\": {\"frames\": 36}}' > turntable.json\n"                                \
     "  J=$(refract job submit turntable.json) && refract job wait \"$J\" &&\n"                     \
-    "    refract job get \"$J\" --out frames/\n"
+    "    refract job get \"$J\" --out frames/\n"                                                   \
+    "  echo '{\"turntable\": {\"frames\": 36}}' |\n"                                               \
+    "    refract job submit - --scene-file glass.json\n"
 
 static int run_group(struct cli *cli, int argc, char **argv);
 
@@ -58,19 +63,77 @@ static int parse_sub(struct cli *cli, int argc, char **argv, size_t n_args,
 
 static const char *const id_name[] = {"the job ID"};
 
+/* Parses the JSON text (len bytes) of file `path` (what = "job" or "scene"): a new tree, or
+ * NULL after printing why. */
+static cJSON *parse_json_file(const char *path, const char *what, const char *text, size_t len)
+{
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithLengthOpts(text, len, &end, false);
+    if (root == NULL)
+        cli_fail(REFRACT_E_INVALID_JSON,
+                 "job submit: the %s file %s is not valid JSON (at byte %ld)", what, path,
+                 (long)(end ? end - text : 0));
+    else if (!cJSON_IsObject(root))
+        cli_fail(REFRACT_E_INVALID_JSON, "job submit: the %s file %s is not a JSON object", what,
+                 path);
+    if (root != NULL && !cJSON_IsObject(root)) {
+        cJSON_Delete(root);
+        root = NULL;
+    }
+    return root;
+}
+
+/* Replaces the "scene" of the job spec *doc (*len bytes) by the document in scene_path:
+ * *doc becomes a new string (the old one is freed). */
+static int inline_scene(const char *spec_path, const char *scene_path, char **doc, size_t *len)
+{
+    char *scene_text = NULL;
+    size_t scene_len = 0;
+    int code = cli_read_file(scene_path, &scene_text, &scene_len);
+    if (code != REFRACT_E_OK)
+        return code;
+    cJSON *spec = parse_json_file(spec_path, "job", *doc, *len);
+    cJSON *scene = spec ? parse_json_file(scene_path, "scene", scene_text, scene_len) : NULL;
+    free(scene_text);
+    if (scene == NULL) {
+        cJSON_Delete(spec);
+        return REFRACT_E_INVALID_JSON;
+    }
+    cJSON_DeleteItemFromObjectCaseSensitive(spec, "scene");
+    cJSON_AddItemToObject(spec, "scene", scene); /* spec owns it now */
+    char *printed = cJSON_PrintUnformatted(spec);
+    cJSON_Delete(spec);
+    char *text = printed ? strdup(printed) : NULL; /* *doc is freed with free() */
+    cJSON_free(printed);
+    if (text == NULL)
+        return cli_fail(REFRACT_E_OUT_OF_MEMORY, "job submit: out of memory");
+    free(*doc);
+    *doc = text;
+    *len = strlen(text);
+    return REFRACT_E_OK;
+}
+
 static int run_submit(struct cli *cli, int argc, char **argv)
 {
     static const char *const names[] = {"the job FILE (or - for stdin)"};
+    struct cli_opt opts[] = {{.name = "--scene-file", .takes_value = true}};
     struct cli_parsed p;
     char *doc = NULL, *reply = NULL;
     size_t len = 0;
-    int code = parse_sub(cli, argc, argv, 1, names, NULL, 0, &p);
+    int code = parse_sub(cli, argc, argv, 1, names, opts, 1, &p);
 
     if (code != REFRACT_E_OK || p.help)
         return code;
     code = cli_read_file(p.pos[0], &doc, &len);
     if (code != REFRACT_E_OK)
         return code;
+    if (opts[0].given) {
+        code = inline_scene(p.pos[0], opts[0].value, &doc, &len);
+        if (code != REFRACT_E_OK) {
+            free(doc);
+            return code;
+        }
+    }
     code = refract_job_submit(cli->client, doc, len, &reply);
     free(doc);
     if (code != REFRACT_E_OK)

@@ -149,7 +149,8 @@ void irr_sweep_locked(struct irradiance_cache *c)
     size_t j = 0;
     for (size_t i = 0; i < c->entry_count; i++) {
         struct irr_entry *en = c->entries[i];
-        if (en->cancelled && !en->busy && !en->persisting && !en->has_gpu && en->loading == 0) {
+        if (en->cancelled && !en->busy && !en->persisting && !en->has_gpu && en->loading == 0 &&
+            !en->uploading) {
             irradiance_volume_free(&en->host);
             irr_drop_source(en);
             free(en);
@@ -187,7 +188,7 @@ void irr_evict_host_locked(struct irradiance_cache *c)
         for (size_t i = 0; i < c->entry_count; i++) {
             struct irr_entry *en = c->entries[i];
             /* Only what is safe on disk may leave memory. */
-            if (en->has_host && en->on_disk && !en->persisting &&
+            if (en->has_host && en->on_disk && !en->persisting && !en->uploading &&
                 (lru == NULL || en->last_use < lru->last_use))
                 lru = en;
         }
@@ -577,11 +578,22 @@ const char *irradiance_cache_gather(struct irradiance_cache *c, const struct irr
         struct irr_entry *en = best_locked(c, src->scene_id, l->name,
                                            irradiance_cache_key(c, transport, l), &previous);
         if (en && !en->has_gpu && en->has_host) {
+            /* The upload (milliseconds for a large volume) runs with the lock released, so
+             * HTTP threads asking for status or hits do not wait for it; the pin keeps the
+             * entry and its host copy, and only this thread makes GPU copies. */
             struct err e = {0};
-            if (irradiance_gpu_upload(&en->host, &en->gpu, &e) == REFRACT_E_OK)
+            struct irradiance_gpu tex = {0};
+            en->uploading = true;
+            pthread_mutex_unlock(&c->lock);
+            enum refract_code rc = irradiance_gpu_upload(&en->host, &tex, &e);
+            pthread_mutex_lock(&c->lock);
+            en->uploading = false;
+            if (rc == REFRACT_E_OK) {
+                en->gpu = tex;
                 en->has_gpu = true;
-            else
+            } else {
                 log_warn("irradiance", "upload of volume %016" PRIx64 ": %s", en->key, e.msg);
+            }
         }
         if (en && en->has_gpu) {
             en->last_use = tick;

@@ -215,7 +215,7 @@ static struct irr_entry *disk_victim_locked(struct irradiance_cache *c)
     for (size_t i = 0; i < c->entry_count; i++) {
         struct irr_entry *en = c->entries[i];
         if (!en->on_disk || en == newest || en->persisting || en->busy || en->loading > 0 ||
-            en->has_gpu)
+            en->uploading || en->has_gpu)
             continue;
         if (lru == NULL || en->used_ms < lru->used_ms)
             lru = en;

@@ -44,6 +44,8 @@ struct irr_entry {
     bool on_disk;             /* (L) <key>.exr and <key>.json exist */
     bool loaded_from_disk;    /* (L) */
     int loading;              /* (L) threads reading its volume back from disk */
+    bool uploading;           /* (L) the GPU thread is making textures from the host copy,
+                                 lock released: pins the entry and its host copy */
     struct scene_light light; /* the pose computed (unit colour; colour ignored) */
     struct scene_lightsim set;
     double progress;               /* (L) */

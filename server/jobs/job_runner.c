@@ -34,8 +34,11 @@
 struct job {
     struct job_status st;
     struct job_frame *frames; /* NULL once finished or for jobs loaded finished */
-    double run_start_ms;      /* when this process started rendering it */
-    int run_start_done;       /* frames_done then (for the ETA) */
+    /* An inline scene's private version (store_scene_private, id "job:<id>"): an owned
+     * reference while the job is unfinished, else NULL. */
+    struct store_scene *inline_scene;
+    double run_start_ms; /* when this process started rendering it */
+    int run_start_done;  /* frames_done then (for the ETA) */
 };
 
 struct job_runner {
@@ -91,6 +94,7 @@ static void job_free(struct job *j)
 {
     if (j) {
         free(j->frames);
+        store_scene_release(j->inline_scene);
         free(j);
     }
 }
@@ -114,7 +118,10 @@ static void publish(struct job_runner *r, const struct job_status *st)
 {
     cJSON *o = cJSON_CreateObject();
     cJSON_AddStringToObject(o, "job", st->id);
-    cJSON_AddStringToObject(o, "scene", st->scene);
+    if (st->inline_scene)
+        cJSON_AddNullToObject(o, "scene");
+    else
+        cJSON_AddStringToObject(o, "scene", st->scene);
     cJSON_AddNumberToObject(o, "done", st->frames_done);
     cJSON_AddNumberToObject(o, "total", st->frames_total);
     if (st->eta_s >= 0)
@@ -123,6 +130,43 @@ static void publish(struct job_runner *r, const struct job_status *st)
         cJSON_AddNullToObject(o, "eta_s");
     cJSON_AddStringToObject(o, "state", st->state);
     event_publish_json(r->d.events, st->scene, EVENT_JOB_PROGRESS, o);
+}
+
+struct forget_work {
+    struct gpu_work work;
+    struct render *render;
+    char id[STORE_ID_MAX + 8];
+};
+
+static void forget_run(struct gpu_work *w, struct gpu *gpu)
+{
+    (void)gpu;
+    struct forget_work *f = w->user;
+    render_scene_forget(f->render, f->id);
+}
+
+static void forget_done(struct gpu_work *w)
+{
+    free(w->user);
+}
+
+/* Frees the renderer's GPU copy of an inline scene ("job:<id>"), which no other work
+ * uses once its job has ended (LRU eviction would free it too, but later). */
+static void forget_render_scene(struct job_runner *r, const char *slot_id)
+{
+    struct forget_work *f = calloc(1, sizeof *f);
+    if (f == NULL)
+        return;
+    f->render = r->d.render;
+    snprintf(f->id, sizeof f->id, "%s", slot_id);
+    f->work = (struct gpu_work){.priority = GPU_PRIORITY_MAINTENANCE,
+                                .label = "inline scene free",
+                                .run = forget_run,
+                                .done = forget_done,
+                                .user = f};
+    struct err e = {0};
+    if (gpu_submit(r->d.gpu, &f->work, &e) != REFRACT_E_OK)
+        free(f);
 }
 
 /* Sets a job's state in memory and in the database, and tells the event stream. */
@@ -140,10 +184,13 @@ static void set_state(struct job_runner *r, const char *id, const char *state, c
     int64_t now = (int64_t)time(NULL);
     if (!strcmp(state, "running") && j->st.started_unix == 0)
         j->st.started_unix = now;
+    struct store_scene *inline_scene = NULL;
     if (finished_state(state)) {
         j->st.finished_unix = now;
         free(j->frames);
         j->frames = NULL;
+        inline_scene = j->inline_scene;
+        j->inline_scene = NULL;
     }
     status_locked(j, &st);
     pthread_mutex_unlock(&r->lock);
@@ -152,6 +199,9 @@ static void set_state(struct job_runner *r, const char *id, const char *state, c
         char slot_id[STORE_ID_MAX + 8];
         snprintf(slot_id, sizeof slot_id, "job:%s", id);
         irradiance_cache_forget_scene(r->d.irradiance, slot_id);
+        if (inline_scene)
+            forget_render_scene(r, slot_id);
+        store_scene_release(inline_scene);
     }
     if (store_job_state_set(r->d.store, id, state, msg, &e) != REFRACT_E_OK)
         log_warn("jobs", "job %s: %s", id, e.msg);
@@ -278,13 +328,14 @@ static void prefetch(struct job_runner *r, struct store_scene *base, const struc
     store_scene_release(nv);
 }
 
-/* Renders, encodes and commits frame n of job id (next: frame n + 1 or NULL). Runner
- * thread, lock not held. */
+/* Renders, encodes and commits frame n of job id (next: frame n + 1 or NULL) of scene
+ * scene_id, or of the inline scene's version inline_v (consumed; NULL for a scene id).
+ * Runner thread, lock not held. */
 static enum frame_outcome run_frame(struct job_runner *r, const char *id, const char *scene_id,
-                                    int n, const struct job_frame *f, const struct job_frame *next,
-                                    char *msg, size_t size)
+                                    struct store_scene *inline_v, int n, const struct job_frame *f,
+                                    const struct job_frame *next, char *msg, size_t size)
 {
-    struct store_scene *base = store_scene_get(r->d.store, scene_id);
+    struct store_scene *base = inline_v ? inline_v : store_scene_get(r->d.store, scene_id);
     if (base == NULL) {
         snprintf(msg, size, "scene \"%s\" was deleted while the job ran", scene_id);
         return FRAME_FAILED;
@@ -366,6 +417,8 @@ static enum frame_outcome run_frame(struct job_runner *r, const char *id, const 
     pthread_mutex_unlock(&r->lock);
     if (!live) {
         free(bytes);
+        if (inline_v) /* cancelled meanwhile: the frame just built its GPU copy again */
+            forget_render_scene(r, slot_id);
         return FRAME_STOPPED;
     }
     rc = store_job_frame_commit(r->d.store, id, n, bytes, len, &e);
@@ -378,8 +431,9 @@ static enum frame_outcome run_frame(struct job_runner *r, const char *id, const 
 }
 
 /* The oldest job with frames left, as a snapshot (lock held). */
-static bool next_locked(struct job_runner *r, char *id, char *scene, int *n, struct job_frame *f,
-                        struct job_frame *next, bool *has_next, bool *first)
+static bool next_locked(struct job_runner *r, char *id, char *scene, struct store_scene **inline_v,
+                        int *n, struct job_frame *f, struct job_frame *next, bool *has_next,
+                        bool *first)
 {
     for (size_t i = 0; i < r->count; i++) {
         struct job *j = r->jobs[i];
@@ -388,6 +442,9 @@ static bool next_locked(struct job_runner *r, char *id, char *scene, int *n, str
             continue;
         snprintf(id, STORE_ID_MAX, "%s", j->st.id);
         snprintf(scene, STORE_ID_MAX, "%s", j->st.scene);
+        *inline_v = j->inline_scene; /* a new reference for run_frame */
+        if (*inline_v)
+            atomic_fetch_add(&(*inline_v)->refs, 1);
         *n = j->st.frames_done;
         *f = j->frames[*n];
         *has_next = *n + 1 < j->st.frames_total;
@@ -420,9 +477,10 @@ static void *runner_main(void *arg)
     while (!r->stop) {
         char id[STORE_ID_MAX], scene[STORE_ID_MAX], msg[ERR_MSG_MAX] = "";
         struct job_frame f, next;
+        struct store_scene *inline_v = NULL;
         int n = 0;
         bool first = false, has_next = false;
-        if (!next_locked(r, id, scene, &n, &f, &next, &has_next, &first)) {
+        if (!next_locked(r, id, scene, &inline_v, &n, &f, &next, &has_next, &first)) {
             pthread_cond_wait(&r->cond, &r->lock);
             continue;
         }
@@ -430,7 +488,7 @@ static void *runner_main(void *arg)
         if (first)
             set_state(r, id, "running", NULL);
         enum frame_outcome out =
-            run_frame(r, id, scene, n, &f, has_next ? &next : NULL, msg, sizeof msg);
+            run_frame(r, id, scene, inline_v, n, &f, has_next ? &next : NULL, msg, sizeof msg);
         if (out == FRAME_FAILED) {
             log_warn("jobs", "job %s failed: %s", id, msg);
             set_state(r, id, "failed", msg);
@@ -476,26 +534,62 @@ static void random_id(char out[JOB_ID_LEN + 1])
         snprintf(out + 1 + 2 * i, 3, "%02x", b[i]);
 }
 
-/* Expands a stored or received specification against the scene's current version. */
-static enum refract_code expand(struct job_runner *r, const char *spec, size_t len,
-                                char scene[STORE_ID_MAX], struct job_frame **frames, int *count,
-                                struct err *e)
+/* The private version of inline scene document doc for job id (store_scene_private under
+ * "job:<id>", checked to use no uploads): *out is a new reference. */
+static enum refract_code inline_version(struct job_runner *r, const char *id, const cJSON *doc,
+                                        struct store_scene **out, struct err *e)
 {
+    char *json = cJSON_PrintUnformatted(doc);
+    if (json == NULL)
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory reading the inline scene");
+    char slot_id[STORE_ID_MAX + 8];
+    snprintf(slot_id, sizeof slot_id, "job:%s", id);
+    enum refract_code rc = store_scene_private(r->d.store, slot_id, json, strlen(json), out, e);
+    free(json);
+    if (rc != REFRACT_E_OK) {
+        job_spec_inline_error(e);
+        return rc;
+    }
+    rc = job_spec_inline_check((*out)->scene, e);
+    if (rc != REFRACT_E_OK) {
+        store_scene_release(*out);
+        *out = NULL;
+    }
+    return rc;
+}
+
+/* Expands a stored or received specification of job id against the scene's current
+ * version, or against its inline scene: then *inline_out gets that scene's private
+ * version (a new reference) and scene "". */
+static enum refract_code expand(struct job_runner *r, const char *id, const char *spec, size_t len,
+                                char scene[STORE_ID_MAX], struct store_scene **inline_out,
+                                struct job_frame **frames, int *count, struct err *e)
+{
+    *inline_out = NULL;
     cJSON *root = NULL;
+    const cJSON *doc = NULL;
     enum refract_code rc = jr_parse(spec, len, &root, e);
     if (rc == REFRACT_E_OK && !cJSON_IsObject(root))
         rc = err_set(e, REFRACT_E_INVALID_FIELD, "a job is a JSON object; see docs/api.md");
     if (rc == REFRACT_E_OK)
-        rc = job_spec_scene(root, scene, e);
+        rc = job_spec_scene(root, scene, &doc, e);
     struct store_scene *v = NULL;
-    if (rc == REFRACT_E_OK) {
+    if (rc == REFRACT_E_OK && doc) {
+        rc = inline_version(r, id, doc, &v, e);
+    } else if (rc == REFRACT_E_OK) {
         v = store_scene_get(r->d.store, scene);
         if (v == NULL)
             rc = err_set(e, REFRACT_E_SCENE_NOT_FOUND,
-                         "scene: no scene \"%s\"; create it with POST /v1/scenes first", scene);
+                         "scene: no scene \"%s\"; create it with POST /v1/scenes first, or send"
+                         " the whole scene document as \"scene\"",
+                         scene);
     }
     if (rc == REFRACT_E_OK)
         rc = job_spec_expand(root, v->scene, &r->d.limits, frames, count, e);
+    if (rc == REFRACT_E_OK && doc) {
+        *inline_out = v;
+        v = NULL;
+    }
     if (v)
         store_scene_release(v);
     cJSON_Delete(root);
@@ -533,6 +627,7 @@ static void load_row(const struct store_job_row *row, void *arg)
     }
     snprintf(j->st.id, sizeof j->st.id, "%s", row->id);
     snprintf(j->st.scene, sizeof j->st.scene, "%s", row->scene);
+    j->st.inline_scene = row->scene[0] == '\0';
     snprintf(j->st.state, sizeof j->st.state, "%s", row->state);
     snprintf(j->st.message, sizeof j->st.message, "%s", row->message);
     j->st.frames_total = row->frames_total;
@@ -556,14 +651,16 @@ static enum refract_code load(struct job_runner *r, struct err *e)
             char scene[STORE_ID_MAX];
             int count = 0;
             struct err pe = {0};
-            if (expand(r, c.specs[i], strlen(c.specs[i]), scene, &j->frames, &count, &pe) !=
-                    REFRACT_E_OK ||
+            if (expand(r, j->st.id, c.specs[i], strlen(c.specs[i]), scene, &j->inline_scene,
+                       &j->frames, &count, &pe) != REFRACT_E_OK ||
                 count != j->st.frames_total) {
                 char msg[ERR_MSG_MAX];
                 snprintf(msg, sizeof msg, "could not resume after a restart: %.400s",
                          pe.code ? pe.msg : "the specification no longer gives the same frames");
                 free(j->frames);
                 j->frames = NULL;
+                store_scene_release(j->inline_scene);
+                j->inline_scene = NULL;
                 snprintf(j->st.state, sizeof j->st.state, "failed");
                 snprintf(j->st.message, sizeof j->st.message, "%s", msg);
                 store_job_state_set(r->d.store, j->st.id, "failed", msg, &pe);
@@ -636,12 +733,14 @@ enum refract_code job_submit(struct job_runner *r, const char *body, size_t len,
     if (j == NULL)
         return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for a job");
     int count = 0;
-    enum refract_code rc = expand(r, body, len, j->st.scene, &j->frames, &count, e);
+    random_id(j->st.id); /* first: an inline scene's version is named after it */
+    enum refract_code rc =
+        expand(r, j->st.id, body, len, j->st.scene, &j->inline_scene, &j->frames, &count, e);
     if (rc != REFRACT_E_OK) {
         job_free(j);
         return rc;
     }
-    random_id(j->st.id);
+    j->st.inline_scene = j->inline_scene != NULL;
     snprintf(j->st.state, sizeof j->st.state, "queued");
     j->st.frames_total = count;
     j->st.created_unix = j->st.updated_unix = (int64_t)time(NULL);
@@ -667,6 +766,9 @@ enum refract_code job_submit(struct job_runner *r, const char *body, size_t len,
         rc = err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for a job");
     if (rc == REFRACT_E_OK) {
         status_locked(j, out);
+        /* Published before the runner can see the job, so "queued" is always the job's
+         * first event (lock order: the jobs lock, then the event hub's). */
+        publish(r, out);
         pthread_cond_broadcast(&r->cond);
     }
     pthread_mutex_unlock(&r->lock);
@@ -675,7 +777,6 @@ enum refract_code job_submit(struct job_runner *r, const char *body, size_t len,
         job_free(j);
         return rc;
     }
-    publish(r, out);
     return REFRACT_E_OK;
 }
 

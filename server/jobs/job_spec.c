@@ -18,9 +18,68 @@
 
 const char *const job_format_names[] = {"png", "jpeg", "exr", NULL};
 
-enum refract_code job_spec_scene(const cJSON *root, char out[STORE_ID_MAX], struct err *e)
+enum refract_code job_spec_scene(const cJSON *root, char out[STORE_ID_MAX],
+                                 const cJSON **inline_doc, struct err *e)
 {
+    *inline_doc = NULL;
+    out[0] = '\0';
+    const cJSON *scene = cJSON_GetObjectItemCaseSensitive(root, "scene");
+    if (cJSON_IsObject(scene)) {
+        *inline_doc = scene;
+        return REFRACT_E_OK;
+    }
+    if (scene != NULL && !cJSON_IsString(scene)) {
+        char what[64];
+        return err_set(e, REFRACT_E_INVALID_FIELD,
+                       "scene: expected a scene id (a string) or a whole scene document (an"
+                       " object, as POST /v1/scenes takes), got %s",
+                       jr_describe(scene, what, sizeof what));
+    }
     return jr_string(root, "", "scene", true, "", STORE_ID_MAX - 1, out, STORE_ID_MAX, e);
+}
+
+void job_spec_inline_error(struct err *e)
+{
+    static const char root[] = "(root)"; /* json_read.c's name of the document itself */
+    char msg[ERR_MSG_MAX];
+    snprintf(msg, sizeof msg, "%s", e->msg);
+    size_t n = strspn(msg, "abcdefghijklmnopqrstuvwxyz_0123456789[].");
+    const char *sep = n > 0 && msg[n] == ':' ? "." : ": ";
+    const char *rest = msg;
+    if (strncmp(msg, root, sizeof root - 1) == 0) {
+        sep = "";
+        rest = msg + sizeof root - 1;
+    }
+    snprintf(e->msg, sizeof e->msg, "scene%s%.*s", sep, (int)sizeof msg - 8, rest);
+}
+
+enum refract_code job_spec_inline_check(const struct scene *s, struct err *e)
+{
+    static const char fix[] =
+        "an inline scene cannot use uploads (uploaded volumes and meshes belong to a scene"
+        " id): create the scene with POST /v1/scenes, upload to it, and submit the job with"
+        " \"scene\": \"<id>\"";
+    for (size_t o = 0; o < s->object_count; o++) {
+        for (int ch = 0; ch < SCENE_CH_COUNT; ch++) {
+            const struct scene_field *f = &s->objects[o].fields[ch];
+            for (size_t i = 0; i < f->count; i++) {
+                const struct scene_layer *l = &f->layers[i];
+                bool mesh = l->kind == SCENE_LAYER_SHAPE && l->shape.kind == SCENE_SHAPE_MESH;
+                if (l->kind != SCENE_LAYER_VOLUME && !mesh)
+                    continue;
+                return err_set(e, REFRACT_E_INVALID_FIELD, "scene.objects[%zu].%s: %s \"%s\": %s",
+                               o, scene_channel_name((enum scene_channel)ch),
+                               mesh ? "uses the uploaded mesh" : "uses the uploaded volume",
+                               mesh ? l->shape.mesh : l->volume, fix);
+            }
+        }
+    }
+    if (s->environment.kind == SCENE_ENV_IMAGE)
+        return err_set(e, REFRACT_E_INVALID_FIELD,
+                       "scene.environment.type: \"image\" uses the uploaded environment image;"
+                       " %s (or use \"procedural\")",
+                       fix);
+    return REFRACT_E_OK;
 }
 
 vec3 job_rotate_about(vec3 p, vec3 center, vec3 axis, double angle)

@@ -13,7 +13,10 @@
  * frames_done, the first unfinished frame; no frame is lost or stored twice.
  *
  * The specification (job_spec.c) is stored as received and expanded again at start-up
- * against the scene's current camera.
+ * against the scene's current camera. Its "scene" is a scene id or a whole document (an
+ * inline scene): then the job holds a private version of it (store_scene_private, named
+ * "job:<id>", never installed), made again from the stored specification at start-up, and
+ * its GPU copy and irradiance slot, under that name, are forgotten when the job ends.
  *
  * Thread: every function may be called from any thread; the registry locks internally.
  */
@@ -64,8 +67,17 @@ struct job_limits {
 
 struct cJSON;
 
-/* The scene id a specification names (root must be an object): "scene", required. */
-enum refract_code job_spec_scene(const struct cJSON *root, char out[STORE_ID_MAX], struct err *e);
+/* The scene a specification names (root must be an object): "scene", required, is either
+ * a scene id (out gets it, *inline_doc = NULL) or a whole scene document (an "inline
+ * scene": *inline_doc points at it, borrowed from root; out = ""). */
+enum refract_code job_spec_scene(const struct cJSON *root, char out[STORE_ID_MAX],
+                                 const struct cJSON **inline_doc, struct err *e);
+/* INVALID_FIELD when the parsed inline scene s refers to an upload (a volume layer, a mesh
+ * shape, an image environment), naming its JSON path: uploads belong to a scene id. */
+enum refract_code job_spec_inline_check(const struct scene *s, struct err *e);
+/* Rewrites a scene_parse error of an inline scene so that its path starts at the job's
+ * "scene" field ("objects[0].resolution: ..." -> "scene.objects[0].resolution: ..."). */
+void job_spec_inline_error(struct err *e);
 /* Expands a specification (docs/api.md "Batch jobs") against scene s (its camera, exposure
  * and size are the defaults): *frames is a new array (caller frees) of *count frames.
  * Every bad field is INVALID_FIELD / UNKNOWN_FIELD / MISSING_FIELD naming its JSON path;
@@ -99,8 +111,9 @@ struct job_runner_desc {
 /* What GET /v1/jobs/{id} reports. */
 struct job_status {
     char id[STORE_ID_MAX];
-    char scene[STORE_ID_MAX];
-    char state[16]; /* queued, running, done, failed, cancelled */
+    char scene[STORE_ID_MAX]; /* "" for an inline scene */
+    bool inline_scene;        /* the specification holds its scene document */
+    char state[16];           /* queued, running, done, failed, cancelled */
     int frames_total, frames_done;
     double eta_s;                                                    /* < 0: unknown */
     int64_t created_unix, updated_unix, started_unix, finished_unix; /* 0 = not yet */

@@ -215,8 +215,8 @@ bool store_name_valid(const char *name, bool allow_upper);
 /* One row of the jobs table. spec is the job's normalised specification (JSON). */
 struct store_job_row {
     char id[STORE_ID_MAX];
-    char scene[STORE_ID_MAX];
-    char state[16]; /* queued, running, done, failed, cancelled */
+    char scene[STORE_ID_MAX]; /* "" (NULL in the table): an inline scene */
+    char state[16];           /* queued, running, done, failed, cancelled */
     int frames_total, frames_done;
     int64_t created_unix, updated_unix;
     int64_t started_unix, finished_unix; /* 0 = not yet */
@@ -245,5 +245,27 @@ enum refract_code store_job_frame_read(struct store *s, const char *id, int fram
                                        size_t *len, struct err *e);
 /* Deletes the job's rows and frees the frames' blobs no other row names. */
 enum refract_code store_job_delete(struct store *s, const char *id, struct err *e);
+/* Where a committed frame's bytes are: its blob's address and size. */
+struct store_job_frame_ref {
+    char sha256[SHA256_HEX_SIZE];
+    size_t bytes;
+};
+/* The refs of frames 0 .. count - 1 of job id, in order: *out is a new array (caller
+ * frees). NOT_FOUND when one of them is not committed, STORAGE. For the job archive, which
+ * streams each frame from its blob (store_job_frame_open) instead of holding them. */
+enum refract_code store_job_frame_refs(struct store *s, const char *id, int count,
+                                       struct store_job_frame_ref **out, struct err *e);
+/* Opens a frame's blob read-only: returns an fd the caller closes, or -1 with e filled
+ * (STORAGE: the blob is gone, e.g. its job was deleted since the refs were read, or has
+ * another size). An open fd stays readable even if the blob is removed meanwhile. */
+int store_job_frame_open(struct store *s, const struct store_job_frame_ref *ref, struct err *e);
+/* A private version for a job's inline scene: document json (len bytes) parsed and
+ * validated with the same limits as store_scene_create's, under id (e.g. "job:<job id>",
+ * which is not a scene id, so the render and irradiance caches keep it apart from every
+ * scene), with no uploads. Never installed or persisted: the job's specification, stored
+ * as sent, is what survives a restart. *out is a new reference. The parse errors,
+ * OUT_OF_MEMORY. */
+enum refract_code store_scene_private(struct store *s, const char *id, const char *json, size_t len,
+                                      struct store_scene **out, struct err *e);
 
 #endif

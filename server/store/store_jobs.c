@@ -9,12 +9,15 @@
  * The UPDATE only advances frames_done from exactly `frame`, and (job, frame) is the
  * primary key, so a frame can never be recorded twice.
  */
+#include <errno.h>
+#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
-#include <sys/mman.h>
+#include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "store_internal.h"
 
@@ -47,7 +50,10 @@ enum refract_code store_job_insert(struct store *s, const struct store_job_row *
         rc = REFRACT_E_STORAGE;
     } else {
         sqlite3_bind_text(q, 1, row->id, -1, SQLITE_STATIC);
-        sqlite3_bind_text(q, 2, row->scene, -1, SQLITE_STATIC);
+        if (row->scene[0])
+            sqlite3_bind_text(q, 2, row->scene, -1, SQLITE_STATIC);
+        else
+            sqlite3_bind_null(q, 2); /* an inline scene (the spec holds it) */
         sqlite3_bind_text(q, 3, row->spec, -1, SQLITE_STATIC);
         sqlite3_bind_text(q, 4, row->state, -1, SQLITE_STATIC);
         sqlite3_bind_int(q, 5, row->frames_total);
@@ -235,6 +241,65 @@ enum refract_code store_job_frame_read(struct store *s, const char *id, int fram
     return REFRACT_E_OK;
 }
 
+enum refract_code store_job_frame_refs(struct store *s, const char *id, int count,
+                                       struct store_job_frame_ref **out, struct err *e)
+{
+    *out = calloc(count > 0 ? (size_t)count : 1, sizeof **out);
+    if (*out == NULL)
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory listing %d frames", count);
+    pthread_mutex_lock(&s->lock);
+    sqlite3_stmt *q = prep(s,
+                           "SELECT frame, blob, bytes FROM job_frames WHERE job = ?1 AND frame < ?2"
+                           " ORDER BY frame",
+                           e);
+    int found = 0, rc = SQLITE_ERROR;
+    if (q != NULL) {
+        sqlite3_bind_text(q, 1, id, -1, SQLITE_STATIC);
+        sqlite3_bind_int(q, 2, count);
+        while ((rc = sqlite3_step(q)) == SQLITE_ROW && sqlite3_column_int(q, 0) == found) {
+            copy_text((*out)[found].sha256, SHA256_HEX_SIZE, sqlite3_column_text(q, 1));
+            (*out)[found++].bytes = (size_t)sqlite3_column_int64(q, 2);
+        }
+        if (rc != SQLITE_ROW && rc != SQLITE_DONE)
+            fail(s, e, "listing a job's frames");
+        sqlite3_finalize(q);
+    }
+    pthread_mutex_unlock(&s->lock);
+    enum refract_code code = REFRACT_E_OK;
+    if (q == NULL || (rc != SQLITE_ROW && rc != SQLITE_DONE))
+        code = REFRACT_E_STORAGE;
+    else if (found != count)
+        code = err_set(e, REFRACT_E_NOT_FOUND, "frame %d of job %s is not stored", found, id);
+    if (code != REFRACT_E_OK) {
+        free(*out);
+        *out = NULL;
+    }
+    return code;
+}
+
+int store_job_frame_open(struct store *s, const struct store_job_frame_ref *ref, struct err *e)
+{
+    char path[STORE_PATH_MAX];
+    store_blob_path(s, ref->sha256, path, sizeof path);
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    struct stat st;
+    if (fd < 0 || fstat(fd, &st) != 0) {
+        int saved = errno;
+        if (fd >= 0)
+            close(fd);
+        err_set(e, REFRACT_E_STORAGE, "frame blob %s: %s (was the job deleted?)", path,
+                strerror(saved));
+        return -1;
+    }
+    if ((size_t)st.st_size != ref->bytes) {
+        close(fd);
+        err_set(e, REFRACT_E_STORAGE, "frame blob %s has %lld bytes, its row says %zu", path,
+                (long long)st.st_size, ref->bytes);
+        return -1;
+    }
+    return fd;
+}
+
 enum refract_code store_job_delete(struct store *s, const char *id, struct err *e)
 {
     pthread_mutex_lock(&s->lock);
@@ -281,4 +346,29 @@ enum refract_code store_job_delete(struct store *s, const char *id, struct err *
     free(blobs);
     pthread_mutex_unlock(&s->lock);
     return rc;
+}
+
+enum refract_code store_scene_private(struct store *s, const char *id, const char *json, size_t len,
+                                      struct store_scene **out, struct err *e)
+{
+    *out = NULL;
+    struct scene *parsed = NULL;
+    enum refract_code rc = scene_parse(json, len, &s->desc.limits, &parsed, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    struct store_scene *v = store_version_new(s, id, NULL);
+    char *copy = malloc(len + 1);
+    if (v == NULL || copy == NULL) {
+        free(copy);
+        store_scene_release(v);
+        scene_destroy(parsed);
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for an inline scene");
+    }
+    memcpy(copy, json, len);
+    copy[len] = '\0';
+    v->json = copy;
+    v->json_len = len;
+    v->scene = parsed;
+    *out = v;
+    return REFRACT_E_OK;
 }

@@ -3,7 +3,8 @@
  * the id; wait reports progress lines with an ETA and exits 0 when done; get saves every
  * frame as a PNG of the asked size; status and list print JSON; cancel of a finished job
  * deletes it (status then exits 5, not_found); a bad spec exits with refractd's code and
- * message; a missing --out is a usage error.
+ * message; a missing --out is a usage error; submit --scene-file sends the file's document
+ * as the job's inline scene.
  */
 #include <sys/stat.h>
 
@@ -99,6 +100,45 @@ int main(void)
     r = cli_run(&d, NULL, NULL, (const char *[]){"job", "submit", spec_path, NULL});
     CHECK_INT(r.status, REFRACT_E_INVALID_FIELD);
     CHECK_CONTAINS(r.err, "turntable.frames");
+    cli_run_free(&r);
+
+    /* --scene-file: the job's scene is the document in the file (an inline scene). */
+    char scene_path[400];
+    snprintf(scene_path, sizeof scene_path, "%s/scene.json", d.dir);
+    f = fopen(scene_path, "w");
+    char *scene_doc = test_read_source_file("proto/examples/glass_sphere.json", &len);
+    if (f && scene_doc)
+        fputs(scene_doc, f);
+    if (f)
+        fclose(f);
+    free(scene_doc);
+    f = fopen(spec_path, "w");
+    if (f) {
+        fputs("{\"width\": 24, \"height\": 18, \"turntable\": {\"frames\": 2}}", f);
+        fclose(f);
+    }
+    r = cli_run(&d, NULL, spec_path,
+                (const char *[]){"job", "submit", "-", "--scene-file", scene_path, NULL});
+    CHECK_INT(r.status, 0);
+    char inline_id[64] = "";
+    sscanf(r.out, "%63s", inline_id);
+    cli_run_free(&r);
+    r = cli_run(&d, NULL, NULL, (const char *[]){"job", "wait", inline_id, NULL});
+    CHECK_INT(r.status, 0);
+    CHECK_CONTAINS(r.err, "2/2 frames");
+    cli_run_free(&r);
+    r = cli_run(&d, NULL, NULL, (const char *[]){"job", "status", inline_id, NULL});
+    CHECK_CONTAINS(r.out, "\"scene\":null");
+    CHECK_CONTAINS(r.out, "\"inline_scene\":true");
+    cli_run_free(&r);
+    r = cli_run(&d, NULL, spec_path,
+                (const char *[]){"job", "submit", "-", "--scene-file", spec_path, NULL});
+    CHECK_INT(r.status, REFRACT_E_UNKNOWN_FIELD); /* a job spec is no scene document */
+    CHECK_CONTAINS(r.err, "scene: unknown field \"width\"");
+    cli_run_free(&r);
+    r = cli_run(&d, NULL, NULL,
+                (const char *[]){"job", "submit", spec_path, "--scene-file", out_dir, NULL});
+    CHECK(r.status != 0); /* a directory is not a scene file */
     cli_run_free(&r);
 
     CHECK_INT(test_daemon_stop(&d), 0);

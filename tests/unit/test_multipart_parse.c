@@ -304,20 +304,24 @@ static void a_callback_that_says_stop_stops_the_stream(void)
     refract_multipart_fini(&m);
 }
 
-/* start_ms is the caller's clock when the part's boundary line began, not when its body
- * ended: what a latency measurement needs. */
-static void a_part_is_stamped_when_its_boundary_line_began(void)
+/* start_ms is the caller's clock when the part's first header line began, not when its
+ * body ended, and not when its boundary line came: refractd sends the delimiter with the
+ * frame before, so the boundary line would date the next frame to the previous one's
+ * arrival. What a latency measurement needs. */
+static void a_part_is_stamped_when_its_first_header_line_began(void)
 {
     static const char two[] = "--f\r\nContent-Length: 3\r\n\r\nabc\r\n--f\r\nContent-Length: "
                               "2\r\n\r\nxy\r\n";
-    size_t cut2 = (size_t)(strstr(two + 5, "--f") - two); /* right before part 1's "--f" */
-    size_t cuts[3] = {2, cut2, cut2 + 4};                 /* 2: inside part 0's boundary line */
+    size_t header0 = (size_t)(strstr(two, "Content") - two);
+    size_t header1 = (size_t)(strstr(two + header0 + 1, "Content") - two);
+    /* Chunks: "--" | "f\r\n" | part 0 up to and with part 1's "--f\r\n" | the rest. */
+    size_t cuts[3] = {2, header0, header1};
     struct run_log log = {0};
 
     CHECK_INT(run("f", two, sizeof(two) - 1, cuts, 3, &log), REFRACT_MULTIPART_OK);
     CHECK_INT(log.parts, 2);
-    CHECK_NEAR(log.start_ms[0], 0.0, 0); /* the chunk where "--f" began */
-    CHECK_NEAR(log.start_ms[1], 2.0, 0); /* the third chunk */
+    CHECK_NEAR(log.start_ms[0], 2.0, 0); /* the chunk where part 0's header began */
+    CHECK_NEAR(log.start_ms[1], 3.0, 0); /* not 2, where part 1's boundary line came */
 }
 
 static void the_boundary_is_read_from_the_content_type(void)
@@ -358,7 +362,7 @@ int main(void)
     bad_headers_are_errors_that_name_the_part();
     something_else_than_a_multipart_stream_is_refused();
     a_callback_that_says_stop_stops_the_stream();
-    a_part_is_stamped_when_its_boundary_line_began();
+    a_part_is_stamped_when_its_first_header_line_began();
     the_boundary_is_read_from_the_content_type();
     return test_summary("test_multipart_parse");
 }
