@@ -544,7 +544,7 @@ static void write_filter_plot(const struct bench *b, const struct overall *o, co
         .title = title,
         .x_label = "GPU time per ray (microseconds, llvmpipe)",
         .y_label = "worst mean exit-direction error (rad)",
-        .series_names = {"trilinear", "tricubic (Catmull-Rom)"},
+        .series_names = {"trilinear", "tricubic"},
         .series_count = 2,
         .points = pts,
         .count = n,
