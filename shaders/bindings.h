@@ -32,6 +32,10 @@
 #define INTEGRATOR_RK2 2      /* explicit midpoint */
 #define INTEGRATOR_ADAPTIVE 3 /* Bogacki-Shampine 3(2) with step-size control */
 
+/* ---- index filters (MARCH_IOR_FILTER; render.ior_filter) ---- */
+#define IOR_FILTER_TRILINEAR 0
+#define IOR_FILTER_TRICUBIC 1 /* Catmull-Rom of n and its exact gradient, 64 texel fetches */
+
 /* ---- uniform blocks (std140) ---- */
 #define BIND_UBO_RENDER 0  /* render_params: camera, settings, objects[] */
 #define BIND_UBO_VOLUME 1  /* volume_params: one object's grid for smoothing/gradient */

@@ -36,6 +36,13 @@ struct reftrace_grid {
 
 /* The exact continuous index field of an object, in object space: returns n at p and
  * writes grad n. */
+/* Reconstruction of a grid's index and gradient between voxel centres (render.ior_filter,
+ * docs/tracing.md "Index filter"); the GPU's twin is the MARCH_IOR_FILTER variant. */
+enum reftrace_ior_filter {
+    REFTRACE_FILTER_TRILINEAR = 0, /* 8 taps, C0 */
+    REFTRACE_FILTER_TRICUBIC = 1,  /* Catmull-Rom of n, its exact gradient (voxel_tricubic.h) */
+};
+
 typedef double (*reftrace_ior_fn)(void *ctx, vec3 p_object, vec3 *grad_object);
 
 struct reftrace_object {
@@ -50,6 +57,7 @@ struct reftrace_object {
     struct brdf_params brdf;           /* reflection of lights at its Fresnel events; zero: none */
     const struct macrocell_map *cells; /* empty-space map of the voxel fields (macrocell.h);
                                           NULL: no skipping in this object */
+    enum reftrace_ior_filter ior_filter; /* how `grid` reconstructs n and grad n */
 };
 
 /* One light as the reference sees it (docs/tracing.md "Light"); the CPU twin of the GPU's

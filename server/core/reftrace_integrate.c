@@ -16,6 +16,7 @@
 #include <stddef.h>
 
 #include "smooth.h"
+#include "voxel_tricubic.h"
 
 vec3 reftrace_voxel_size(const struct reftrace_object *o)
 {
@@ -36,6 +37,14 @@ double reftrace_sample_ior(const struct reftrace_object *o, vec3 p, vec3 *grad)
 {
     if (o->grid == NULL)
         return o->ior(o->ior_ctx, p, grad);
+    if (o->ior_filter == REFTRACE_FILTER_TRICUBIC) {
+        /* n and the exact gradient of its interpolant (the stored gradient is unused). */
+        vec3 g, vs = reftrace_voxel_size(o);
+        double n =
+            voxel_tricubic_value_grad(o->grid->ior_grad, 4, 3, o->res, voxel_coord(o, p), &g);
+        *grad = (vec3){g.x / vs.x, g.y / vs.y, g.z / vs.z};
+        return n;
+    }
     double s[4];
     voxel_sample_trilinear(o->grid->ior_grad, 4, o->res, voxel_coord(o, p), s);
     *grad = (vec3){s[0], s[1], s[2]};

@@ -39,8 +39,10 @@ struct reftrace_ode {
 /* Voxel size per axis, (bmax - bmin) / res, object units. */
 vec3 reftrace_voxel_size(const struct reftrace_object *o);
 
-/* n and grad n at object-space p: trilinear at v = (p - bmin) / vs - 0.5 for grids,
- * the callback for analytic fields. */
+/* n and grad n at object-space p, for grids at v = (p - bmin) / vs - 0.5: trilinear of the
+ * stored (grad n, n), or (o->ior_filter tricubic) Catmull-Rom of n with the exact gradient
+ * of that interpolant; the callback for analytic fields. The other channels are always
+ * trilinear. */
 double reftrace_sample_ior(const struct reftrace_object *o, vec3 p, vec3 *grad);
 void reftrace_sample_field(const struct reftrace_object *o, vec3 p, struct reftrace_field *f);
 /* Opaque embedding at p: returns false when the object has no opaque channel. */

@@ -12,6 +12,8 @@
 
 /* Order as enum scene_integrator. */
 static const char *const integrator_names[] = {"euler", "rk4", "rk2", "adaptive", NULL};
+/* Order as enum scene_ior_filter. */
+static const char *const ior_filter_names[] = {"trilinear", "tricubic", NULL};
 static const char *const tonemap_names[] = {"clamp", "filmic", NULL};
 static const char *const format_names[] = {"png", "jpeg", "exr", NULL};
 
@@ -45,9 +47,11 @@ enum refract_code http_parse_settings(const cJSON *root, const struct scene_rend
                                       struct scene_render_settings *st, struct err *e)
 {
     *st = *def;
-    int integrator = (int)st->integrator;
+    int integrator = (int)st->integrator, ior_filter = (int)st->ior_filter;
     enum refract_code rc =
         jr_enum(root, "", "integrator", false, integrator, integrator_names, &integrator, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_enum(root, "", "ior_filter", false, ior_filter, ior_filter_names, &ior_filter, e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(root, "", "step", false, st->step_voxels, 0.01, 8.0, &st->step_voxels, e);
     if (rc == REFRACT_E_OK)
@@ -60,6 +64,7 @@ enum refract_code http_parse_settings(const cJSON *root, const struct scene_rend
         rc = jr_number(root, "", "boundary_threshold", false, st->boundary_threshold, 1e-6, 10.0,
                        &st->boundary_threshold, e);
     st->integrator = (enum scene_integrator)integrator;
+    st->ior_filter = (enum scene_ior_filter)ior_filter;
     return rc;
 }
 
@@ -133,7 +138,7 @@ enum refract_code http_parse_render_request(const char *body, size_t len, const 
     static const char *const keys[] = {
         "camera",     "width", "height",    "format",    "exposure",     "tonemap",
         "integrator", "step",  "tolerance", "max_steps", "jpeg_quality", "boundary_threshold",
-        NULL};
+        "ior_filter", NULL};
     memset(out, 0, sizeof *out);
     cJSON *root = NULL;
     enum refract_code rc = http_parse_body(body, len, &root, e);
@@ -187,8 +192,9 @@ enum refract_code http_parse_trace_request(const char *body, size_t len, const s
                                            struct render_trace_ray **rays, size_t *count,
                                            struct err *e)
 {
-    static const char *const keys[] = {
-        "rays", "step", "tolerance", "integrator", "max_steps", "boundary_threshold", NULL};
+    static const char *const keys[] = {"rays",       "step",      "tolerance",
+                                       "integrator", "max_steps", "boundary_threshold",
+                                       "ior_filter", NULL};
     *rays = NULL;
     *count = 0;
     cJSON *root = NULL;

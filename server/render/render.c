@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "../core/log.h"
+#include "../core/macrocell.h"
 #include "../core/ray_status.h"
 #include "../lightsim/gpu/lightsim_gpu.h"
 #include "bindings.h"
@@ -282,9 +283,9 @@ static void bind_lights(struct render *r, const struct scene_gpu *sg, const stru
     }
 }
 
-/* The kernel variant for a scene's channels, the chosen integrator and empty-space
- * skipping (only where the scene has empty cells); with the all_variant_bits knob every
- * optional channel and the lights are compiled in. */
+/* The kernel variant for a scene's channels, the chosen integrator and index filter, and
+ * empty-space skipping (only where the scene has empty cells); with the all_variant_bits
+ * knob every optional channel and the lights are compiled in. */
 static unsigned march_variant(const struct render *r, const struct scene_gpu *sg,
                               const struct scene_render_settings *st)
 {
@@ -295,6 +296,8 @@ static unsigned march_variant(const struct render *r, const struct scene_gpu *sg
         [SCENE_INTEGRATOR_ADAPTIVE] = GPU_VARIANT_ADAPTIVE,
     };
     unsigned v = integrator_bits[st->integrator];
+    if (st->ior_filter == SCENE_FILTER_TRICUBIC)
+        v |= GPU_VARIANT_IOR_TRICUBIC;
     for (size_t i = 0; i < sg->object_count; i++) {
         unsigned f = sg->objects[i].flags;
         if (f & OBJECT_HAS_ATTENUATION)
@@ -306,7 +309,10 @@ static unsigned march_variant(const struct render *r, const struct scene_gpu *sg
         if (f & OBJECT_HAS_SCATTERING)
             v |= GPU_VARIANT_SCATTERING;
     }
-    if (st->empty_space_skipping && sg->empty_cells > 0)
+    /* A map made for trilinear sampling is too narrow for a tricubic request. */
+    bool map_fits =
+        st->ior_filter != SCENE_FILTER_TRICUBIC || sg->skip_border >= MACROCELL_BORDER_TRICUBIC;
+    if (st->empty_space_skipping && sg->empty_cells > 0 && map_fits)
         v |= GPU_VARIANT_SKIP;
     if (r->all_variant_bits)
         v |= GPU_VARIANT_ATTENUATION | GPU_VARIANT_EMISSION | GPU_VARIANT_OPAQUE |

@@ -299,11 +299,14 @@ static enum refract_code skip_finish(struct build_ctx *b, size_t i, struct err *
 {
     const struct scene_object *obj = &b->src->scene->objects[i];
     struct macrocell_map m;
-    /* trilinear sampling; a tricubic index needs MACROCELL_BORDER_TRICUBIC (and
-     * scene_reference.c the same) */
-    enum refract_code rc =
-        macrocell_build(b->skip_n, b->skip_busy, obj->resolution, b->sg->skip_cell_voxels,
-                        MACROCELL_BORDER_TRILINEAR, &m, e);
+    /* The sampling footprint beyond a cell, for the scene's index filter (a tricubic index
+     * reads two texels out; scene_reference.c does the same). A render that asks for
+     * tricubic on a map built for trilinear does not skip (render.c, march_variant). */
+    b->sg->skip_border = b->src->scene->render.ior_filter == SCENE_FILTER_TRICUBIC
+                             ? MACROCELL_BORDER_TRICUBIC
+                             : MACROCELL_BORDER_TRILINEAR;
+    enum refract_code rc = macrocell_build(b->skip_n, b->skip_busy, obj->resolution,
+                                           b->sg->skip_cell_voxels, b->sg->skip_border, &m, e);
     if (rc != REFRACT_E_OK)
         return rc;
     size_t n = macrocell_count(&m);

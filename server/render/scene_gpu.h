@@ -40,6 +40,8 @@ struct scene_gpu {
     struct gpu_buffer skip_cells;  /* uint per macro cell, 1 = empty (docs/tracing.md "Empty
                                       space"); built on the CPU from the atlases' data */
     int skip_cell_voxels;          /* macro cell edge, voxels */
+    int skip_border;               /* texels of sampling footprint the map allowed for
+                                      (MACROCELL_BORDER_*: the scene's index filter) */
     size_t empty_cells;            /* over all objects: 0 means no skipping to do */
     int atlas_size[3];
     size_t object_count;

@@ -145,6 +145,8 @@ enum scene_integrator {
 };
 /* Storage of the index+gradient atlas (docs/tracing.md "Precision"). */
 enum scene_ior_texture { SCENE_IOR_FLOAT32 = 0, SCENE_IOR_FLOAT16 = 1 };
+/* Reconstruction of n and grad n between voxel centres (docs/tracing.md "Index filter"). */
+enum scene_ior_filter { SCENE_FILTER_TRILINEAR = 0, SCENE_FILTER_TRICUBIC = 1 };
 enum scene_tonemap { SCENE_TONEMAP_CLAMP = 0, SCENE_TONEMAP_FILMIC = 1 };
 
 /* Render defaults of a scene; a render request may override each. */
@@ -160,10 +162,11 @@ struct scene_render_settings {
     double boundary_threshold; /* |grad n| * voxel size above which Fresnel reflection applies */
     enum scene_tonemap tonemap;
     /* Only what a scene needs (docs/tracing.md "Empty space", "The march"): */
-    bool empty_space_skipping; /* jump over macro cells with no gradient and no channels
-                                  (default true) */
-    double min_throughput;     /* T_f max(exp(-alpha)) below this ends a ray as absorbed
-                                  (0..0.5; default 1e-6; 0: never) */
+    bool empty_space_skipping;        /* jump over macro cells with no gradient and no channels
+                                         (default true) */
+    double min_throughput;            /* T_f max(exp(-alpha)) below this ends a ray as absorbed
+                                         (0..0.5; default 1e-6; 0: never) */
+    enum scene_ior_filter ior_filter; /* trilinear (default) or tricubic Catmull-Rom */
 };
 
 /* ---- lights, receiver and light simulation (tevs2007 ch. 4.2, 6.2) ---- */

@@ -168,17 +168,18 @@ static enum refract_code parse_camera(const cJSON *root, const struct scene_limi
 static enum refract_code parse_render(const cJSON *root, const struct scene_limits *lim,
                                       struct scene_render_settings *r, struct err *e)
 {
-    static const char *const keys[] = {"integrator",     "step",        "tolerance",
-                                       "max_steps",      "exposure",    "boundary_threshold",
-                                       "tonemap",        "ior_texture", "empty_space_skipping",
-                                       "min_throughput", NULL};
-    /* Order as enum scene_integrator / scene_ior_texture. */
+    static const char *const keys[] = {
+        "integrator",         "step",    "tolerance",   "max_steps",  "exposure",
+        "boundary_threshold", "tonemap", "ior_texture", "ior_filter", "empty_space_skipping",
+        "min_throughput",     NULL};
+    /* Order as enum scene_integrator / scene_ior_texture / scene_ior_filter. */
     static const char *const integrators[] = {"euler", "rk4", "rk2", "adaptive", NULL};
     static const char *const ior_textures[] = {"float32", "float16", NULL};
     static const char *const tonemaps[] = {"clamp", "filmic", NULL};
+    static const char *const ior_filters[] = {"trilinear", "tricubic", NULL};
     const cJSON *o;
     int integrator = SCENE_INTEGRATOR_RK4, tonemap = SCENE_TONEMAP_CLAMP;
-    int ior_texture = SCENE_IOR_FLOAT32;
+    int ior_texture = SCENE_IOR_FLOAT32, ior_filter = SCENE_FILTER_TRILINEAR;
     int def_steps = lim->max_steps < 20000 ? lim->max_steps : 20000;
     enum refract_code rc = sub_object(root, "render", keys, &o, e);
     if (rc == REFRACT_E_OK)
@@ -205,6 +206,10 @@ static enum refract_code parse_render(const cJSON *root, const struct scene_limi
         rc = jr_bool(o, "render", "empty_space_skipping", false, true, &r->empty_space_skipping, e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(o, "render", "min_throughput", false, 1e-6, 0.0, 0.5, &r->min_throughput, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_enum(o, "render", "ior_filter", false, SCENE_FILTER_TRILINEAR, ior_filters,
+                     &ior_filter, e);
+    r->ior_filter = (enum scene_ior_filter)ior_filter;
     r->integrator = (enum scene_integrator)integrator;
     r->tonemap = (enum scene_tonemap)tonemap;
     r->ior_texture = (enum scene_ior_texture)ior_texture;

@@ -82,8 +82,11 @@ static enum refract_code build_cells(struct scene_reference *r, int i, int cell,
                                        texel(g->scattering, v));
     }
     if (rc == REFRACT_E_OK)
-        /* trilinear sampling; a tricubic index needs MACROCELL_BORDER_TRICUBIC */
-        rc = macrocell_build(n, busy, o->res, cell, MACROCELL_BORDER_TRILINEAR, &r->cells[i], e);
+        /* The sampling footprint beyond a cell: a tricubic index reads two texels out. */
+        rc = macrocell_build(n, busy, o->res, cell,
+                             o->ior_filter == REFTRACE_FILTER_TRICUBIC ? MACROCELL_BORDER_TRICUBIC
+                                                                       : MACROCELL_BORDER_TRILINEAR,
+                             &r->cells[i], e);
     r->objects[i].cells = rc == REFRACT_E_OK ? &r->cells[i] : NULL;
     free(n);
     free(busy);
@@ -176,6 +179,9 @@ static enum refract_code build_voxels(struct scene_reference *r, const struct sc
     r->grids[i].scattering = r->buffers[i][SCENE_CH_SCATTERING];
     r->grids[i].anisotropy = r->buffers[i][SCENE_CH_ANISOTROPY];
     r->objects[i].grid = &r->grids[i];
+    r->objects[i].ior_filter = s->render.ior_filter == SCENE_FILTER_TRICUBIC
+                                   ? REFTRACE_FILTER_TRICUBIC
+                                   : REFTRACE_FILTER_TRILINEAR;
     free(tmp);
     free(smooth);
     if (rc == REFRACT_E_OK)

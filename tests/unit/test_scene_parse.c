@@ -76,6 +76,9 @@ static const struct bad_case bad_cases[] = {
     {TOP("\"render\": {\"boundary_threshold\": 0}"), REFRACT_E_INVALID_FIELD,
      "render.boundary_threshold", "> 0 and <= 10"},
     {TOP("\"render\": {\"tonemap\": \"aces\"}"), REFRACT_E_INVALID_FIELD, "render.tonemap", NULL},
+    {TOP("\"render\": {\"ior_filter\": \"bicubic\"}"), REFRACT_E_INVALID_FIELD,
+     "render.ior_filter: expected one of", "\"trilinear\", \"tricubic\""},
+    {TOP("\"render\": {\"ior_filter\": 3}"), REFRACT_E_INVALID_FIELD, "render.ior_filter", NULL},
     {TOP("\"render\": {\"exposure\": 21}"), REFRACT_E_INVALID_FIELD, "render.exposure", NULL},
     {TOP("\"render\": {\"min_throughput\": 0.6}"), REFRACT_E_INVALID_FIELD,
      "render.min_throughput: expected a finite number in 0..0.5", "got 0.6"},
@@ -324,6 +327,7 @@ static void applies_defaults_to_a_minimal_document(void)
     CHECK_INT(s->render.tonemap, SCENE_TONEMAP_CLAMP);
     CHECK(s->render.empty_space_skipping);
     CHECK_NEAR(s->render.min_throughput, 1e-6, 0);
+    CHECK_INT(s->render.ior_filter, SCENE_FILTER_TRILINEAR);
     CHECK_INT(s->object_count, 1);
     const struct scene_object *o = &s->objects[0];
     CHECK_STR(o->name, "object0");
@@ -372,7 +376,8 @@ static void reads_every_field_of_a_full_document(void)
         "   \"fov_y_deg\": 30, \"width\": 320, \"height\": 200},"
         " \"render\": {\"integrator\": \"euler\", \"step\": 0.25, \"max_steps\": 500,"
         "   \"exposure\": -1, \"boundary_threshold\": 0.1, \"tonemap\": \"filmic\","
-        "   \"empty_space_skipping\": false, \"min_throughput\": 0.01},"
+        "   \"empty_space_skipping\": false, \"min_throughput\": 0.01,"
+        "   \"ior_filter\": \"tricubic\"},"
         " \"objects\": [{\"name\": \"lens\", " BOUNDS ", \"resolution\": [16, 32, 8],"
         "   \"transform\": {\"translate\": [1, 0, 0], \"rotate\": {\"axis\": [0, 0, 2],"
         "   \"angle_deg\": 90}, \"scale\": 2}, \"smoothing_sigma\": 0, \"opaque_ior\": 2,"
@@ -390,6 +395,7 @@ static void reads_every_field_of_a_full_document(void)
     CHECK_INT(s->camera.height, 200);
     CHECK_INT(s->render.integrator, SCENE_INTEGRATOR_EULER);
     CHECK_INT(s->render.tonemap, SCENE_TONEMAP_FILMIC);
+    CHECK_INT(s->render.ior_filter, SCENE_FILTER_TRICUBIC);
     CHECK_INT(s->render.max_steps, 500);
     CHECK(!s->render.empty_space_skipping);
     CHECK_NEAR(s->render.min_throughput, 0.01, 0);
