@@ -23,6 +23,7 @@
 #include "core/env.h"
 #include "gpu/queue.h"
 #include "render/render.h"
+#include "gpu_test_util.h"
 #include "test.h"
 #include "unit/hard_checks.h"
 
@@ -186,13 +187,7 @@ static void run_case(struct gpu *gpu, struct gpu_case *c, const char *camera)
 
 int main(void)
 {
-    struct gpu_desc desc = {.context = {.device_index = -1}};
-    struct err e = {0};
-    struct gpu *gpu = gpu_create(&desc, &e);
-    if (gpu == NULL) {
-        fprintf(stderr, "%s\n", e.msg);
-        test_setup_failed("test_hard_render", "no EGL/GL 4.5 context could be made");
-    }
+    struct gpu *gpu = test_gpu_create("test_hard_render");
 
     /* Total internal reflection: a ray trapped in the block (400 steps, from inside), the
      * camera inside the block, and grazing rays from outside. */

@@ -31,6 +31,7 @@
 #include "render/render.h"
 #include "scene/scene.h"
 #include "scene/scene_reference.h"
+#include "gpu_test_util.h"
 #include "test.h"
 
 #define SIDE 8
@@ -181,13 +182,7 @@ static void check_case(struct gpu *gpu, const char *label, const struct scene *s
 
 int main(void)
 {
-    struct gpu_desc desc = {.context = {.device_index = -1}};
-    struct err e = {0};
-    struct gpu *gpu = gpu_create(&desc, &e);
-    if (gpu == NULL) {
-        fprintf(stderr, "%s\n", e.msg);
-        test_setup_failed("test_integrators_vs_ref", "no EGL/GL 4.5 context could be made");
-    }
+    struct gpu *gpu = test_gpu_create("test_integrators_vs_ref");
     bool software = strstr(gpu_info(gpu)->renderer, "llvmpipe") != NULL;
     double pos = software ? 2e-4 : 2e-3, dir = software ? 2e-4 : 2e-3;
     struct scene *lens = parse(LENS(32, ""));

@@ -26,6 +26,7 @@
 #include "render/render.h"
 #include "scene/scene.h"
 #include "scene/scene_reference.h"
+#include "gpu_test_util.h"
 #include "test.h"
 
 /* Rounds to the nearest half float (11 significant bits; the values here are normal). */
@@ -319,13 +320,7 @@ static struct scene *parse(const char *json)
 
 int main(void)
 {
-    struct gpu_desc desc = {.context = {.device_index = -1}};
-    struct err e = {0};
-    struct gpu *gpu = gpu_create(&desc, &e);
-    if (gpu == NULL) {
-        fprintf(stderr, "%s\n", e.msg);
-        test_setup_failed("test_render_lights", "no EGL/GL 4.5 context could be made");
-    }
+    struct gpu *gpu = test_gpu_create("test_render_lights");
     /* Bounds measured on llvmpipe (see the printed lines: slab 100% within 1e-3, mean
      * 7e-7; receiver 100%, mean 1.5e-6; GGX sphere 99.4%, mean 3.4e-4); a hardware GPU's
      * arithmetic departs further from double (fused multiply-adds, 8-bit filter weights). */

@@ -17,6 +17,7 @@
 #include "gpu/queue.h"
 #include "render/render.h"
 #include "scene/scene.h"
+#include "gpu_test_util.h"
 #include "test.h"
 
 #define RES 16
@@ -90,13 +91,7 @@ static double image_gap(const float *a, const float *b, int pixels)
 
 int main(void)
 {
-    struct gpu_desc desc = {.context = {.device_index = -1}};
-    struct err e = {0};
-    struct gpu *gpu = gpu_create(&desc, &e);
-    if (gpu == NULL) {
-        fprintf(stderr, "%s\n", e.msg);
-        test_setup_failed("test_scene_needs", "no EGL/GL 4.5 context could be made");
-    }
+    struct gpu *gpu = test_gpu_create("test_scene_needs");
     struct scene *plain = parse(PLAIN), *tinted = parse(TINTED);
     if (plain && tinted) {
         struct needs_work p, pa, t, ta;

@@ -13,6 +13,7 @@
 #include "gpu/queue.h"
 #include "render/scene_gpu.h"
 #include "scene/scene.h"
+#include "gpu_test_util.h"
 #include "test.h"
 
 static const char *const scene_json =
@@ -106,13 +107,8 @@ static void compare_object(const struct scene *s, size_t index, const struct bui
 
 int main(void)
 {
-    struct gpu_desc desc = {.context = {.device_index = -1}};
     struct err e = {0};
-    struct gpu *gpu = gpu_create(&desc, &e);
-    if (gpu == NULL) {
-        fprintf(stderr, "%s\n", e.msg);
-        test_setup_failed("test_volume_kernels", "no EGL/GL 4.5 context could be made");
-    }
+    struct gpu *gpu = test_gpu_create("test_volume_kernels");
     struct scene *s = NULL;
     struct scene_limits lim = scene_limits_default();
     if (scene_parse(scene_json, strlen(scene_json), &lim, &s, &e) != REFRACT_E_OK) {
