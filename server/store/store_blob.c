@@ -259,10 +259,9 @@ void store_blob_sweep_locked(struct store *s)
                  temporaries, orphans);
 }
 
-enum refract_code store_blob_map(const struct store *s, const char *hash, size_t bytes, void **map,
-                                 struct err *e)
+int store_blob_open(const struct store *s, const char *hash, size_t bytes, const char *what,
+                    const char *hint, struct err *e)
 {
-    *map = NULL;
     char path[STORE_PATH_MAX];
     store_blob_path(s, hash, path, sizeof path);
     int fd = open(path, O_RDONLY | O_CLOEXEC);
@@ -271,13 +270,27 @@ enum refract_code store_blob_map(const struct store *s, const char *hash, size_t
         int saved = errno;
         if (fd >= 0)
             close(fd);
-        return err_set(e, REFRACT_E_STORAGE, "blob %s: %s", path, strerror(saved));
+        err_set(e, REFRACT_E_STORAGE, "%s %s: %s%s", what, path, strerror(saved), hint);
+        return -1;
     }
     if ((size_t)st.st_size != bytes) {
         close(fd);
-        return err_set(e, REFRACT_E_STORAGE, "blob %s has %lld bytes, its row says %zu", path,
-                       (long long)st.st_size, bytes);
+        err_set(e, REFRACT_E_STORAGE, "%s %s has %lld bytes, its row says %zu", what, path,
+                (long long)st.st_size, bytes);
+        return -1;
     }
+    return fd;
+}
+
+enum refract_code store_blob_map(const struct store *s, const char *hash, size_t bytes, void **map,
+                                 struct err *e)
+{
+    *map = NULL;
+    char path[STORE_PATH_MAX];
+    store_blob_path(s, hash, path, sizeof path);
+    int fd = store_blob_open(s, hash, bytes, "blob", "", e);
+    if (fd < 0)
+        return e->code;
     if (bytes > 0) {
         void *p = mmap(NULL, bytes, PROT_READ, MAP_SHARED, fd, 0);
         if (p == MAP_FAILED) {

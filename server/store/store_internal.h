@@ -84,6 +84,10 @@ long long store_db_upload_count_locked(struct store *s);
 
 /* ---- store_blob.c ---- */
 void store_blob_path(const struct store *s, const char *hash, char *out, size_t size);
+/* Opens the blob read-only and checks its size against the row's `bytes`: the fd, or -1
+ * with e filled ("<what> <path>: <errno text><hint>", or the size mismatch). */
+int store_blob_open(const struct store *s, const char *hash, size_t bytes, const char *what,
+                    const char *hint, struct err *e);
 /* Creates <data>/tmp/<stem>-XXXXXX for writing; returns its fd (path in path_out) or -1
  * with e filled. */
 int store_tmp_create(struct store *s, const char *stem, char *path_out, size_t size, struct err *e);

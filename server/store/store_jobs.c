@@ -279,25 +279,7 @@ enum refract_code store_job_frame_refs(struct store *s, const char *id, int coun
 
 int store_job_frame_open(struct store *s, const struct store_job_frame_ref *ref, struct err *e)
 {
-    char path[STORE_PATH_MAX];
-    store_blob_path(s, ref->sha256, path, sizeof path);
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
-    struct stat st;
-    if (fd < 0 || fstat(fd, &st) != 0) {
-        int saved = errno;
-        if (fd >= 0)
-            close(fd);
-        err_set(e, REFRACT_E_STORAGE, "frame blob %s: %s (was the job deleted?)", path,
-                strerror(saved));
-        return -1;
-    }
-    if ((size_t)st.st_size != ref->bytes) {
-        close(fd);
-        err_set(e, REFRACT_E_STORAGE, "frame blob %s has %lld bytes, its row says %zu", path,
-                (long long)st.st_size, ref->bytes);
-        return -1;
-    }
-    return fd;
+    return store_blob_open(s, ref->sha256, ref->bytes, "frame blob", " (was the job deleted?)", e);
 }
 
 enum refract_code store_job_delete(struct store *s, const char *id, struct err *e)
