@@ -46,7 +46,7 @@ struct uploader {
     struct shared *sh;
     bool mesh; /* meshes, else volumes */
     int count, failures;
-    char msg[512];
+    char msg[1024];
 };
 
 static int on_frame(const struct refract_frame *f, void *user)
