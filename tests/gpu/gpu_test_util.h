@@ -1,13 +1,17 @@
 /*
  * gpu_test_util.h - what the GPU tests share, header-only: the GPU thread on the machine's
  * preferred device (hardware, else llvmpipe), or the test reported as not set up (a skip
- * with its reason, tests/test.h) when no EGL/GL 4.5 context can be made.
+ * with its reason, tests/test.h) when no EGL/GL 4.5 context can be made; and the small
+ * geometry the GPU-vs-CPU comparisons share. Scenes are parsed with parse_ok
+ * (tests/unit/scene_test_util.h).
  */
 #ifndef REFRACT_TEST_GPU_UTIL_H
 #define REFRACT_TEST_GPU_UTIL_H
 
+#include <math.h>
 #include <stdio.h>
 
+#include "core/vec3.h"
 #include "gpu/queue.h"
 #include "test.h"
 
@@ -21,6 +25,18 @@ static inline struct gpu *test_gpu_create(const char *test_name)
         test_setup_failed(test_name, "no EGL/GL 4.5 context could be made");
     }
     return gpu;
+}
+
+static inline vec3 v3(const double a[3])
+{
+    return (vec3){a[0], a[1], a[2]};
+}
+
+/* The angle between two directions (radians), safe for rounding past +-1. */
+static inline double angle_between(vec3 a, vec3 b)
+{
+    double c = vec3_dot(vec3_normalize(a), vec3_normalize(b));
+    return acos(fmax(-1.0, fmin(1.0, c)));
 }
 
 #endif

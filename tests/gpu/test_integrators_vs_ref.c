@@ -32,6 +32,7 @@
 #include "scene/scene.h"
 #include "scene/scene_reference.h"
 #include "gpu_test_util.h"
+#include "unit/scene_test_util.h"
 #include "test.h"
 
 #define SIDE 8
@@ -56,29 +57,6 @@ static void trace_run(struct gpu_work *w, struct gpu *gpu)
     struct render_scene_source src = {.id = t->id, .generation = 1, .scene = t->scene};
     render_trace(r, &src, &t->settings, t->rays, RAYS, t->hits, NULL, &w->err);
     render_destroy(r);
-}
-
-static struct scene *parse(const char *json)
-{
-    struct scene *s = NULL;
-    struct scene_limits lim = scene_limits_default();
-    struct err e = {0};
-    if (scene_parse(json, strlen(json), &lim, &s, &e) != REFRACT_E_OK) {
-        fprintf(stderr, "scene: %s\n", e.msg);
-        CHECK(false);
-    }
-    return s;
-}
-
-static vec3 v3(const double a[3])
-{
-    return (vec3){a[0], a[1], a[2]};
-}
-
-static double angle_between(vec3 a, vec3 b)
-{
-    double c = vec3_dot(vec3_normalize(a), vec3_normalize(b));
-    return acos(fmax(-1.0, fmin(1.0, c)));
 }
 
 static const enum scene_integrator integrators[4] = {
@@ -185,11 +163,11 @@ int main(void)
     struct gpu *gpu = test_gpu_create("test_integrators_vs_ref");
     bool software = strstr(gpu_info(gpu)->renderer, "llvmpipe") != NULL;
     double pos = software ? 2e-4 : 2e-3, dir = software ? 2e-4 : 2e-3;
-    struct scene *lens = parse(LENS(32, ""));
-    struct scene *gauss = parse(GAUSS(32, ""));
-    struct scene *lens16 = parse(LENS(32, "\"render\": {\"ior_texture\": \"float16\"}, "));
-    struct scene *lens3 = parse(LENS(32, "\"render\": {\"ior_filter\": \"tricubic\"}, "));
-    struct scene *gauss3 = parse(GAUSS(32, "\"render\": {\"ior_filter\": \"tricubic\"}, "));
+    struct scene *lens = parse_ok(LENS(32, ""));
+    struct scene *gauss = parse_ok(GAUSS(32, ""));
+    struct scene *lens16 = parse_ok(LENS(32, "\"render\": {\"ior_texture\": \"float16\"}, "));
+    struct scene *lens3 = parse_ok(LENS(32, "\"render\": {\"ior_filter\": \"tricubic\"}, "));
+    struct scene *gauss3 = parse_ok(GAUSS(32, "\"render\": {\"ior_filter\": \"tricubic\"}, "));
     for (int m = 0; m < 4 && lens && gauss; m++) {
         bool adaptive = integrators[m] == SCENE_INTEGRATOR_ADAPTIVE;
         double step = adaptive ? 2.0 : 0.5, loose = adaptive ? 5.0 : 1.0;

@@ -27,6 +27,7 @@
 #include "scene/scene.h"
 #include "scene/scene_reference.h"
 #include "gpu_test_util.h"
+#include "unit/scene_test_util.h"
 #include "test.h"
 
 /* Rounds to the nearest half float (11 significant bits; the values here are normal). */
@@ -298,19 +299,6 @@ static void compare(struct gpu *gpu, struct lit_case *c)
     free(rw.out.rgba);
 }
 
-static struct scene *parse(const char *json)
-{
-    struct scene *s = NULL;
-    struct scene_limits lim = scene_limits_default();
-    struct err e = {0};
-    if (scene_parse(json, strlen(json), &lim, &s, &e) != REFRACT_E_OK) {
-        fprintf(stderr, "scene: %s\n", e.msg);
-        CHECK(false);
-        return NULL;
-    }
-    return s;
-}
-
 #define CAMERA_A                                                                                   \
     "\"camera\": {\"eye\": [0.3, 0.8, 3.6], \"look_at\": [0, 0, 0], \"fov_y_deg\": 40, "           \
     "\"width\": 48, \"height\": 36}"
@@ -331,20 +319,22 @@ int main(void)
      * light volume whose irradiance varies across it; GGX faces. */
     struct lit_case slab = {
         .name = "scattering slab, HG g = 0.5", .close_fraction = close, .mean_bound = mean};
-    slab.scene = parse("{" CAMERA_A ", \"objects\": [{\"bounds\": {\"min\": [-1, -0.6, -1], "
-                       "\"max\": [1, 0.6, 1]}, \"resolution\": [20, 12, 20], \"ior\": 1.33, "
-                       "\"attenuation\": 0.25, \"scattering\": [0.75, 0.5, 0.25], "
-                       "\"anisotropy\": 0.5, \"brdf\": {\"type\": \"ggx\", \"roughness\": 0.3}}]}");
+    slab.scene =
+        parse_ok("{" CAMERA_A ", \"objects\": [{\"bounds\": {\"min\": [-1, -0.6, -1], "
+                 "\"max\": [1, 0.6, 1]}, \"resolution\": [20, 12, 20], \"ior\": 1.33, "
+                 "\"attenuation\": 0.25, \"scattering\": [0.75, 0.5, 0.25], "
+                 "\"anisotropy\": 0.5, \"brdf\": {\"type\": \"ggx\", \"roughness\": 0.3}}]}");
     /* 2. A receiver plane under a glass ball, the volume with a bright spot on it; the ball
      * reflects the same volume with GGX. */
     struct lit_case recv = {
         .name = "receiver with a bright spot", .close_fraction = close, .mean_bound = mean};
-    recv.scene = parse("{" CAMERA_B ", \"objects\": [{\"bounds\": {\"min\": [-0.8, -0.8, "
-                       "-0.8], \"max\": [0.8, 0.8, 0.8]}, \"resolution\": 24, "
-                       "\"smoothing_sigma\": 1, \"ior\": {\"shape\": \"sphere\", \"radius\": 0.6, "
-                       "\"inside\": 1.5}, \"brdf\": {\"type\": \"ggx\", \"roughness\": 0.2}}], "
-                       "\"receiver\": {\"height\": -1.2, \"half_size\": 2, \"albedo\": [0.8, "
-                       "0.75, 0.5]}}");
+    recv.scene =
+        parse_ok("{" CAMERA_B ", \"objects\": [{\"bounds\": {\"min\": [-0.8, -0.8, "
+                 "-0.8], \"max\": [0.8, 0.8, 0.8]}, \"resolution\": 24, "
+                 "\"smoothing_sigma\": 1, \"ior\": {\"shape\": \"sphere\", \"radius\": 0.6, "
+                 "\"inside\": 1.5}, \"brdf\": {\"type\": \"ggx\", \"roughness\": 0.2}}], "
+                 "\"receiver\": {\"height\": -1.2, \"half_size\": 2, \"albedo\": [0.8, "
+                 "0.75, 0.5]}}");
     /* 3. A GGX highlight on a glass sphere under a direct light (no light simulation).
      * Its curved surfaces are where float and double rays part at silhouettes and the
      * environment's grid lines (as in test_render_reference): a few pixels differ by up
@@ -352,11 +342,11 @@ int main(void)
     struct lit_case ggx = {.name = "GGX highlight, direct light",
                            .close_fraction = close,
                            .mean_bound = software ? 1e-3 : 5e-3};
-    ggx.scene = parse("{" CAMERA_A ", \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], "
-                      "\"max\": [1, 1, 1]}, \"resolution\": 32, \"smoothing_sigma\": 1, "
-                      "\"ior\": {\"shape\": \"sphere\", \"radius\": 0.8, \"inside\": 1.5}, "
-                      "\"brdf\": {\"type\": \"ggx\", \"color\": [1, 0.9, 0.8], "
-                      "\"roughness\": 0.3}}]}");
+    ggx.scene = parse_ok("{" CAMERA_A ", \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], "
+                         "\"max\": [1, 1, 1]}, \"resolution\": 32, \"smoothing_sigma\": 1, "
+                         "\"ior\": {\"shape\": \"sphere\", \"radius\": 0.8, \"inside\": 1.5}, "
+                         "\"brdf\": {\"type\": \"ggx\", \"color\": [1, 0.9, 0.8], "
+                         "\"roughness\": 0.3}}]}");
     if (slab.scene && recv.scene && ggx.scene) {
         CHECK(recv.scene->receiver.enabled && slab.scene->objects[0].brdf.kind == SCENE_BRDF_GGX);
         CHECK(scene_needs_light_simulation(slab.scene) && !scene_needs_light_simulation(ggx.scene));
@@ -388,11 +378,11 @@ int main(void)
     struct lit_case multi = {.name = "spot + point, Phong, opaque",
                              .close_fraction = software ? 0.97 : 0.9,
                              .mean_bound = software ? 1e-3 : 5e-3};
-    multi.scene = parse("{" CAMERA_A ", \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], "
-                        "\"max\": [1, 1, 1]}, \"resolution\": 24, \"ior\": 1.4, "
-                        "\"opaque_ior\": 1.8, \"opaque\": {\"shape\": \"sphere\", \"radius\": "
-                        "0.45, \"inside\": [0.8, 0.2, 0.1]}, \"brdf\": {\"type\": \"phong\", "
-                        "\"exponent\": 40, \"color\": [1, 1, 0.5]}}]}");
+    multi.scene = parse_ok("{" CAMERA_A ", \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], "
+                           "\"max\": [1, 1, 1]}, \"resolution\": 24, \"ior\": 1.4, "
+                           "\"opaque_ior\": 1.8, \"opaque\": {\"shape\": \"sphere\", \"radius\": "
+                           "0.45, \"inside\": [0.8, 0.2, 0.1]}, \"brdf\": {\"type\": \"phong\", "
+                           "\"exponent\": 40, \"color\": [1, 1, 0.5]}}]}");
     if (multi.scene) {
         CHECK(!scene_needs_light_simulation(multi.scene));
         multi.light_count = 2;

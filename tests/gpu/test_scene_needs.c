@@ -18,6 +18,7 @@
 #include "render/render.h"
 #include "scene/scene.h"
 #include "gpu_test_util.h"
+#include "unit/scene_test_util.h"
 #include "test.h"
 
 #define RES 16
@@ -59,17 +60,6 @@ static void needs_run(struct gpu_work *w, struct gpu *gpu)
     render_destroy(r);
 }
 
-static struct scene *parse(const char *json)
-{
-    struct scene *s = NULL;
-    struct scene_limits lim = scene_limits_default();
-    struct err e = {0};
-    if (scene_parse(json, strlen(json), &lim, &s, &e) != REFRACT_E_OK)
-        fprintf(stderr, "scene: %s\n", e.msg);
-    CHECK(s != NULL);
-    return s;
-}
-
 static void render(struct gpu *gpu, const struct scene *s, bool all_bits, struct needs_work *n)
 {
     *n = (struct needs_work){.scene = s, .all_bits = all_bits};
@@ -92,7 +82,7 @@ static double image_gap(const float *a, const float *b, int pixels)
 int main(void)
 {
     struct gpu *gpu = test_gpu_create("test_scene_needs");
-    struct scene *plain = parse(PLAIN), *tinted = parse(TINTED);
+    struct scene *plain = parse_ok(PLAIN), *tinted = parse_ok(TINTED);
     if (plain && tinted) {
         struct needs_work p, pa, t, ta;
         render(gpu, plain, false, &p);

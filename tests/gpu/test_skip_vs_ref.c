@@ -38,6 +38,7 @@
 #include "scene/scene.h"
 #include "scene/scene_reference.h"
 #include "gpu_test_util.h"
+#include "unit/scene_test_util.h"
 #include "test.h"
 
 #define SIDE 10
@@ -149,29 +150,6 @@ static void check_view(struct gpu *gpu, const char *label, const struct scene *s
               label, twin_close, total);
     free(v[0].out.rgba);
     free(v[1].out.rgba);
-}
-
-static struct scene *parse(const char *json)
-{
-    struct scene *s = NULL;
-    struct scene_limits lim = scene_limits_default();
-    struct err e = {0};
-    if (scene_parse(json, strlen(json), &lim, &s, &e) != REFRACT_E_OK) {
-        fprintf(stderr, "scene: %s\n", e.msg);
-        CHECK(false);
-    }
-    return s;
-}
-
-static vec3 v3(const double a[3])
-{
-    return (vec3){a[0], a[1], a[2]};
-}
-
-static double angle_between(vec3 a, vec3 b)
-{
-    double c = vec3_dot(vec3_normalize(a), vec3_normalize(b));
-    return acos(fmax(-1.0, fmin(1.0, c)));
 }
 
 /* An oblique bundle from outside the box, and rays from points inside it. */
@@ -424,7 +402,7 @@ int main(void)
                             1.0, 1.0, 1.0}; /* adaptive: as test_integrators_vs_ref */
     const double cpu_bound[] = {1e-7, 1e-6, 1e-3, 1e-7, 1e-7, 1e-7, 1e-6};
     for (int k = 0; k < 7; k++) {
-        struct scene *s = parse(docs[k]);
+        struct scene *s = parse_ok(docs[k]);
         if (s)
             check_scene(gpu, labels[k], s, loose[k] * bound, cpu_bound[k], ratio[k]);
         if (s && k == 5)
@@ -432,7 +410,7 @@ int main(void)
         scene_destroy(s);
     }
     /* The same field: the tricubic map marks fewer cells empty (its footprint is wider). */
-    struct scene *lin = parse(GRIN), *cub = parse(GRIN_TRICUBIC);
+    struct scene *lin = parse_ok(GRIN), *cub = parse_ok(GRIN_TRICUBIC);
     struct scene_reference rl, rc;
     if (lin && cub &&
         scene_reference_build(lin, SCENE_REFERENCE_VOXELS, NULL, NULL, &rl, &e) == REFRACT_E_OK) {
