@@ -132,6 +132,19 @@ void store_env_release(struct store_env *env);
 typedef enum refract_code (*store_upload_install_fn)(struct store *s, const char *id, void *item,
                                                      struct err *e);
 
+/* The checks that need the scene's slot before an upload may commit (the scene exists,
+ * there is room for one more of the kind unless name replaces one). */
+typedef enum refract_code (*store_upload_room_fn)(struct store *s, const char *id, const char *name,
+                                                  struct err *e);
+
+/* The first half of committing an uploaded file: room(...) then the temporary file becomes
+ * the blob (store_blob_commit_locked, crediting the blob the row of (id, kind, name) would
+ * replace). The temporary file is gone afterwards either way. */
+enum refract_code store_upload_take_file_locked(struct store *s, const char *id, const char *kind,
+                                                const char *name, const char *tmp_path,
+                                                const char *sha256, size_t len,
+                                                store_upload_room_fn room, struct err *e);
+
 /* The commit path of an upload whose blob (info->sha256) is durable: commits its uploads row
  * (scene id, kind, name, info) in its own transaction (on failure the new blob is
  * released), then installs item and releases the blob the row replaced. */

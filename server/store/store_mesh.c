@@ -175,12 +175,8 @@ enum refract_code store_mesh_put_file(struct store *s, const char *id, const cha
     }
     snprintf(m->info.sha256, sizeof m->info.sha256, "%s", sha256);
     pthread_mutex_lock(&s->lock);
-    rc = mesh_room_locked(s, id, name, e);
-    if (rc == REFRACT_E_OK)
-        rc = store_blob_commit_locked(s, tmp_path, sha256, len,
-                                      store_db_replace_credit_locked(s, id, "mesh", name), e);
-    else
-        unlink(tmp_path);
+    rc = store_upload_take_file_locked(s, id, "mesh", name, tmp_path, sha256, len, mesh_room_locked,
+                                       e);
     if (rc == REFRACT_E_OK)
         rc =
             store_upload_finish_locked(s, id, "mesh", m->name, &m->info, install_mesh_locked, m, e);

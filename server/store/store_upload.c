@@ -120,6 +120,20 @@ static enum refract_code commit_row_locked(struct store *s, const struct store_u
     return rc;
 }
 
+enum refract_code store_upload_take_file_locked(struct store *s, const char *id, const char *kind,
+                                                const char *name, const char *tmp_path,
+                                                const char *sha256, size_t len,
+                                                store_upload_room_fn room, struct err *e)
+{
+    enum refract_code rc = room(s, id, name, e);
+    if (rc != REFRACT_E_OK) {
+        unlink(tmp_path);
+        return rc;
+    }
+    return store_blob_commit_locked(s, tmp_path, sha256, len,
+                                    store_db_replace_credit_locked(s, id, kind, name), e);
+}
+
 enum refract_code store_upload_finish_locked(struct store *s, const char *id, const char *kind,
                                              const char *name, const struct store_upload_info *info,
                                              store_upload_install_fn install, void *item,
@@ -184,12 +198,8 @@ enum refract_code store_volume_put_file(struct store *s, const char *id, const c
     if (out)
         *out = NULL;
     pthread_mutex_lock(&s->lock);
-    enum refract_code rc = volume_room_locked(s, id, name, e);
-    if (rc == REFRACT_E_OK)
-        rc = store_blob_commit_locked(s, tmp_path, info->sha256, info->bytes,
-                                      store_db_replace_credit_locked(s, id, "volume", name), e);
-    else
-        unlink(tmp_path);
+    enum refract_code rc = store_upload_take_file_locked(
+        s, id, "volume", name, tmp_path, info->sha256, info->bytes, volume_room_locked, e);
     void *map = NULL;
     if (rc == REFRACT_E_OK) {
         rc = store_blob_map(s, info->sha256, info->bytes, &map, e);
@@ -251,6 +261,16 @@ static enum refract_code decode_env(struct store *s, const void *bytes, size_t l
 }
 
 /* Swaps in a copy of `id`'s current version with environment `item`. */
+/* An environment replaces the scene's one: only the scene must exist. */
+static enum refract_code env_room_locked(struct store *s, const char *id, const char *name,
+                                         struct err *e)
+{
+    (void)name;
+    if (store_find_slot(s, id) == NULL)
+        return err_set(e, REFRACT_E_SCENE_NOT_FOUND, "no scene with id \"%s\"", id);
+    return REFRACT_E_OK;
+}
+
 static enum refract_code install_env_locked(struct store *s, const char *id, void *item,
                                             struct err *e)
 {
@@ -316,14 +336,8 @@ enum refract_code store_env_put_file(struct store *s, const char *id, const char
     }
     snprintf(env->info.sha256, sizeof env->info.sha256, "%s", sha256);
     pthread_mutex_lock(&s->lock);
-    if (store_find_slot(s, id) == NULL) {
-        unlink(tmp_path);
-        rc = err_set(e, REFRACT_E_SCENE_NOT_FOUND, "no scene with id \"%s\"", id);
-    }
-    if (rc == REFRACT_E_OK)
-        rc = store_blob_commit_locked(
-            s, tmp_path, sha256, len,
-            store_db_replace_credit_locked(s, id, "environment", "environment"), e);
+    rc = store_upload_take_file_locked(s, id, "environment", "environment", tmp_path, sha256, len,
+                                       env_room_locked, e);
     if (rc == REFRACT_E_OK)
         rc = finish_env_locked(s, id, env, e);
     pthread_mutex_unlock(&s->lock);
