@@ -44,7 +44,9 @@ struct view_session {
     /* The newest full frame's linear image (its render result, 16 bytes a pixel): while
      * hdr_gen == change_gen it is what the settings show but for the encode-only ones
      * (exposure, tonemap, jpeg_quality, max_fps, progressive), and the next frame is
-     * encoded from it instead of rendered (view_session_update, the scheduler). */
+     * encoded from it instead of rendered (view_session_update, the scheduler). Replaced
+     * only when a full render finishes; a re-encode job borrows it (one frame in flight
+     * per session, so nothing replaces it meanwhile). */
     float *hdr;
     int hdr_width, hdr_height;
     double hdr_render_ms;
@@ -67,7 +69,8 @@ struct view_job {
     struct render_view_result result;
     const char *irradiance;
     enum view_frame_kind kind;
-    bool reencode;                 /* from the session's hdr: no GPU work */
+    bool reencode;                 /* from the session's hdr (result.rgba borrows it): no GPU
+                                      work */
     uint64_t change_gen;           /* what the frame shows */
     struct view_settings settings; /* snapshot at the frame's start */
     struct view_job *next;         /* encoder queue */

@@ -40,18 +40,15 @@ static struct view_job *job_make_locked(struct view_session *s, int64_t now)
     job->settings = s->settings;
     job->change_gen = s->change_gen;
     if (s->hdr != NULL && s->hdr_gen == s->change_gen) {
-        /* Encode-only change: a copy of the newest full frame's image goes straight to an
-         * encoder (the session keeps its own for the next such change). */
-        size_t floats = (size_t)s->hdr_width * (size_t)s->hdr_height * 4;
-        job->result.rgba = malloc(floats * sizeof(float));
-        if (job->result.rgba != NULL) {
-            memcpy(job->result.rgba, s->hdr, floats * sizeof(float));
-            job->result.width = s->hdr_width;
-            job->result.height = s->hdr_height;
-            job->result.gpu_ms = s->hdr_render_ms;
-            job->irradiance = s->hdr_irradiance;
-            job->reencode = true;
-        }
+        /* Encode-only change: the newest full frame's image goes straight to an encoder,
+         * borrowed, not copied: only a finished render replaces s->hdr, and this job is
+         * the session's one frame in flight until it finishes. */
+        job->result.rgba = s->hdr;
+        job->result.width = s->hdr_width;
+        job->result.height = s->hdr_height;
+        job->result.gpu_ms = s->hdr_render_ms;
+        job->irradiance = s->hdr_irradiance;
+        job->reencode = true;
     }
     bool preview = !job->reencode && s->settings.progressive &&
                    s->last_full_render_ms > PREVIEW_AFTER_MS && s->preview_gen != s->change_gen;
@@ -64,7 +61,8 @@ static struct view_job *job_make_locked(struct view_session *s, int64_t now)
 static void job_free(struct view_job *job)
 {
     store_scene_release(job->version);
-    free(job->result.rgba);
+    if (!job->reencode)
+        free(job->result.rgba); /* a re-encode borrowed the session's image */
     view_session_release(job->session);
     free(job);
 }
