@@ -132,6 +132,11 @@ void store_env_release(struct store_env *env);
 typedef enum refract_code (*store_upload_install_fn)(struct store *s, const char *id, void *item,
                                                      struct err *e);
 
+/* Fills info's per-component and overall range, FNV-1a checksum and size from count
+ * floats (components interleaved). */
+void store_describe_floats(const float *data, size_t count, int components,
+                           struct store_upload_info *info);
+
 /* The checks that need the scene's slot before an upload may commit (the scene exists,
  * there is room for one more of the kind unless name replaces one). */
 typedef enum refract_code (*store_upload_room_fn)(struct store *s, const char *id, const char *name,

@@ -27,6 +27,25 @@
 #include "../io/io_volume.h"
 #include "store_internal.h"
 
+/* The end of every conversion: data (len bytes) becomes the blob of row, whose info the
+ * caller filled except the size, time and address, and the row (scene id, kind, name) is
+ * inserted. */
+static enum refract_code put_migrated(struct store *s, const char *id, const char *kind,
+                                      const char *name, const void *data, size_t len,
+                                      struct store_upload_row *row, struct err *e)
+{
+    row->info.bytes = len;
+    row->info.created_unix = (int64_t)time(NULL);
+    enum refract_code rc = store_blob_write_locked(s, data, len, row->info.sha256, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    snprintf(row->scene, sizeof row->scene, "%.63s", id);
+    snprintf(row->name, sizeof row->name, "%.63s", name);
+    snprintf(row->kind, sizeof row->kind, "%s", kind);
+    char old[SHA256_HEX_SIZE];
+    return store_db_upload_put_locked(s, row, old, e);
+}
+
 static enum refract_code migrate_volume(struct store *s, const char *id, const char *vdir,
                                         const char *name, struct err *e)
 {
@@ -52,38 +71,13 @@ static enum refract_code migrate_volume(struct store *s, const char *id, const c
         rc = err_set(e, REFRACT_E_STORAGE, "%s: %zu bytes, its metadata says %zu", path, raw_len,
                      expect);
     if (rc == REFRACT_E_OK) {
-        const float *f = (const float *)raw;
-        size_t n = raw_len / sizeof(float);
-        for (int c = 0; c < 3; c++) {
-            in->min[c] = c < in->components && n ? f[c] : 0.0;
-            in->max[c] = in->min[c];
-        }
-        for (size_t i = 0; i < n; i++) {
-            int c = (int)(i % (size_t)in->components);
-            in->min[c] = f[i] < in->min[c] ? f[i] : in->min[c];
-            in->max[c] = f[i] > in->max[c] ? f[i] : in->max[c];
-        }
-        in->min_all = in->min[0];
-        in->max_all = in->max[0];
-        for (int c = 1; c < in->components; c++) {
-            in->min_all = in->min[c] < in->min_all ? in->min[c] : in->min_all;
-            in->max_all = in->max[c] > in->max_all ? in->max[c] : in->max_all;
-        }
-        in->checksum = io_fnv1a64_update(IO_FNV1A64_INIT, raw, raw_len);
-        in->bytes = raw_len;
-        in->created_unix = (int64_t)time(NULL);
+        store_describe_floats((const float *)raw, raw_len / sizeof(float), in->components, in);
         snprintf(in->type, sizeof in->type, "float32");
         snprintf(in->format, sizeof in->format, "raw");
-        rc = store_blob_write_locked(s, raw, raw_len, in->sha256, e);
+        rc = put_migrated(s, id, "volume", name, raw, raw_len, &row, e);
     }
     free(raw);
-    if (rc != REFRACT_E_OK)
-        return rc;
-    snprintf(row.scene, sizeof row.scene, "%.63s", id);
-    snprintf(row.name, sizeof row.name, "%.63s", name);
-    snprintf(row.kind, sizeof row.kind, "volume");
-    char old[SHA256_HEX_SIZE];
-    return store_db_upload_put_locked(s, &row, old, e);
+    return rc;
 }
 
 static enum refract_code migrate_env(struct store *s, const char *id, const char *path,
@@ -106,18 +100,10 @@ static enum refract_code migrate_env(struct store *s, const char *id, const char
         snprintf(in->type, sizeof in->type, "image");
         snprintf(in->format, sizeof in->format, "image");
         in->checksum = io_fnv1a64_update(IO_FNV1A64_INIT, img, len);
-        in->bytes = len;
-        in->created_unix = (int64_t)time(NULL);
-        rc = store_blob_write_locked(s, img, len, in->sha256, e);
+        rc = put_migrated(s, id, "environment", "environment", img, len, &row, e);
     }
     free(img);
-    if (rc != REFRACT_E_OK)
-        return rc;
-    snprintf(row.scene, sizeof row.scene, "%.63s", id);
-    snprintf(row.name, sizeof row.name, "environment");
-    snprintf(row.kind, sizeof row.kind, "environment");
-    char old[SHA256_HEX_SIZE];
-    return store_db_upload_put_locked(s, &row, old, e);
+    return rc;
 }
 
 /* A mesh file as uploaded becomes its blob and a "mesh" row; it is parsed (and its bounds
@@ -134,18 +120,10 @@ static enum refract_code migrate_mesh(struct store *s, const char *id, const cha
         snprintf(in->type, sizeof in->type, "mesh");
         snprintf(in->format, sizeof in->format, "%s", format);
         in->checksum = io_fnv1a64_update(IO_FNV1A64_INIT, bytes, len);
-        in->bytes = len;
-        in->created_unix = (int64_t)time(NULL);
-        rc = store_blob_write_locked(s, bytes, len, in->sha256, e);
+        rc = put_migrated(s, id, "mesh", name, bytes, len, &row, e);
     }
     free(bytes);
-    if (rc != REFRACT_E_OK)
-        return rc;
-    snprintf(row.scene, sizeof row.scene, "%.63s", id);
-    snprintf(row.name, sizeof row.name, "%.63s", name);
-    snprintf(row.kind, sizeof row.kind, "mesh");
-    char old[SHA256_HEX_SIZE];
-    return store_db_upload_put_locked(s, &row, old, e);
+    return rc;
 }
 
 static void migrate_meshes(struct store *s, const char *id, const char *dir)

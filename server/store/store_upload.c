@@ -38,9 +38,8 @@ static struct store_volume *volume_new(const char *name, const struct store_uplo
     return v;
 }
 
-/* Fills the range and checksum of an in-memory volume. */
-static void describe_floats(const float *data, size_t count, int components,
-                            struct store_upload_info *info)
+void store_describe_floats(const float *data, size_t count, int components,
+                           struct store_upload_info *info)
 {
     for (int c = 0; c < 3; c++) {
         info->min[c] = c < components && count ? data[c] : 0.0;
@@ -165,7 +164,7 @@ enum refract_code store_volume_put(struct store *s, const char *id, const char *
                                      .created_unix = (int64_t)time(NULL)};
     snprintf(info.type, sizeof info.type, "float32");
     snprintf(info.format, sizeof info.format, "raw");
-    describe_floats(data, count, components, &info);
+    store_describe_floats(data, count, components, &info);
     pthread_mutex_lock(&s->lock);
     enum refract_code rc = volume_room_locked(s, id, name, e);
     if (rc == REFRACT_E_OK)
