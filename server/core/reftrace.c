@@ -29,6 +29,7 @@
 
 #include "env.h"
 #include "fresnel.h"
+#include "interface.h"
 #include "reftrace_integrate.h"
 #include "reftrace_light.h"
 
@@ -663,6 +664,136 @@ static void march_object(struct march *m, const struct object_frame *fr, vec3 p,
     }
 }
 
+/* ---- exact surfaces (docs/tracing.md "Surfaces") ---- */
+
+/* Self-intersection offsets relative to a surface's size: the surface a ray just left is
+ * searched from this far on, the others from SURFACE_EPS_OTHER (a hit at the origin of a
+ * surface the ray did not come from is a real crossing). */
+#define SURFACE_EPS_SAME 1e-9
+#define SURFACE_EPS_OTHER 1e-13
+
+uint32_t reftrace_inside_set(const struct reftrace_surface *surfaces, int count, vec3 p)
+{
+    uint32_t set = 0;
+    for (int k = 0; k < count && k < INTERFACE_MAX_SURFACES; k++)
+        if (geom_surface_inside(&surfaces[k].geom, p))
+            set |= 1u << k;
+    return set;
+}
+
+/* The nearest surface crossing ahead of the march; -1 when none. last/last_prim: the
+ * surface (and mesh triangle) the ray left at its previous event. */
+static int next_surface(const struct march *m, int last, int64_t last_prim, struct geom_hit *hit)
+{
+    const struct reftrace_settings *set = m->set;
+    int best = -1;
+    double t_best = INFINITY;
+    for (int k = 0; k < set->surface_count; k++) {
+        const struct reftrace_surface *sf = &set->surfaces[k];
+        double size = geom_surface_size(&sf->geom);
+        double tmin = (k == last ? SURFACE_EPS_SAME : SURFACE_EPS_OTHER) * size;
+        struct geom_hit h;
+        if (geom_surface_intersect(&sf->geom, m->x, m->d, tmin, t_best, k == last ? last_prim : -1,
+                                   &h)) {
+            t_best = h.t;
+            *hit = h;
+            best = k;
+        }
+    }
+    return best;
+}
+
+static double medium_ior(const struct march *m, int medium)
+{
+    return medium < 0 ? m->set->ambient_ior : m->set->surfaces[medium].ior;
+}
+
+/* A straight leg of length t (world) through the medium of surface `medium` (-1: the
+ * ambient medium, which neither absorbs nor emits): optical path n t, optical depth
+ * sigma_a t (Beer-Lambert, tevs2007 eq. 5.9) and the emission integrated in closed form,
+ * int_0^t exp(-sigma s) L_e ds = L_e (1 - exp(-sigma t)) / sigma (tevs2007 eq. 5.4 with
+ * frisvad2010's basic radiance factor), the continuous limit of the voxel march's sum. */
+static void surface_leg(struct march *m, int medium, double t)
+{
+    m->opl += medium_ior(m, medium) * t;
+    if (medium >= 0) {
+        const struct reftrace_surface *sf = &m->set->surfaces[medium];
+        vec3 before = exp_neg(m->alpha);
+        double w = m->t_f * basic_radiance(m, sf->ior);
+        double e[3];
+        for (int c = 0; c < 3; c++) {
+            double sig = sf->attenuation[c];
+            e[c] = sig > 0.0 ? sf->emission[c] * -expm1(-sig * t) / sig : sf->emission[c] * t;
+        }
+        m->L = vec3_add(m->L, vec3_mul(vec3_scale(before, w), vec3_make(e[0], e[1], e[2])));
+        m->alpha = vec3_add(m->alpha, vec3_scale(vec3_make(sf->attenuation[0],
+                                                           sf->attenuation[1],
+                                                           sf->attenuation[2]),
+                                                 t));
+    }
+    m->x = vec3_madd(m->x, m->d, t);
+}
+
+static void record_event(struct reftrace_result *out, enum reftrace_event_kind kind,
+                         const struct march *m, const struct geom_hit *h, int k, int from,
+                         int to, double n_from, double n_to, double R)
+{
+    if (out->event_count < REFTRACE_MAX_EVENTS) {
+        struct reftrace_event *ev = &out->events[out->event_count];
+        ev->kind = kind;
+        ev->point = m->x;
+        ev->normal = vec3_dot(h->shading, m->d) > 0.0 ? vec3_scale(h->shading, -1.0) : h->shading;
+        ev->surface = k;
+        ev->medium_from = from;
+        ev->medium_to = to;
+        ev->n_from = n_from;
+        ev->n_to = n_to;
+        ev->fresnel_R = R;
+    }
+    out->event_count++;
+}
+
+/* The crossing of surface k at the march's position (interface.h): toggles k in *inside;
+ * where the medium changes, the Fresnel event of interface_cross with the environment's
+ * reflection gathered (as at a bounds face) or total internal reflection. */
+static void surface_event(struct march *m, uint32_t *inside, int k, const struct geom_hit *h,
+                          struct reftrace_result *out)
+{
+    uint32_t next = *inside ^ (1u << k);
+    int from = interface_medium(*inside), to = interface_medium(next);
+    m->steps++;
+    m->crossed = true;
+    if (from == to) {
+        *inside = next; /* k lies inside a higher-priority solid: not an interface here */
+        return;
+    }
+    double n_from = medium_ior(m, from), n_to = medium_ior(m, to);
+    struct interface_event ev = interface_cross(m->d, h->shading, n_from, n_to);
+    if (fabs(n_from - n_to) <= INDEX_EPS) {
+        ev.R = 0.0; /* index-matched: the ray passes unchanged */
+        ev.tir = false;
+        ev.refracted = m->d;
+    }
+    record_event(out, ev.tir ? REFTRACE_EVENT_REFLECTED : REFTRACE_EVENT_REFRACTED, m, h, k, from,
+                 ev.tir ? from : to, n_from, n_to, ev.R);
+    if (ev.tir) {
+        m->d = ev.reflected;
+        return;
+    }
+    if (ev.R > 0.0)
+        add_reflection(m, ev.R, ev.reflected);
+    m->t_f *= 1.0 - ev.R;
+    m->d = ev.refracted;
+    *inside = next;
+}
+
+static double absorbed_cut(const struct reftrace_settings *set)
+{
+    return set->min_throughput > 0.0   ? set->min_throughput
+           : set->min_throughput < 0.0 ? 0.0
+                                       : ABSORBED_EPS;
+}
+
 void reftrace_ray(const struct reftrace_object *objects, int count,
                   const struct reftrace_settings *settings, vec3 origin, vec3 dir,
                   struct reftrace_result *out)
@@ -677,14 +808,49 @@ void reftrace_ray(const struct reftrace_object *objects, int count,
         .t_f = 1.0,
         .running = true,
     };
+    out->event_count = 0;
+    uint32_t inside = reftrace_inside_set(settings->surfaces, settings->surface_count, origin);
+    int last_surface = -1;
+    int64_t last_prim = -1;
     for (int pass = 0; m.running; pass++) {
-        if (pass >= MAX_PASSES) {
+        if (pass >= MAX_PASSES + settings->max_steps) {
             stop(&m, RAY_MAX_STEPS);
             break;
         }
-        /* 1. The object entered first. */
+        /* 1. The object entered first; voxel objects lie in the ambient medium, outside
+         * every surface (scene_parse refuses overlaps), so inside a surface only surfaces
+         * are searched. Then the nearest surface, when it comes first. */
         struct entry e;
-        if (!next_object(&m, objects, count, &e)) {
+        bool have_object = inside == 0 && next_object(&m, objects, count, &e);
+        if (settings->surface_count > 0) {
+            struct geom_hit h;
+            int k = next_surface(&m, last_surface, last_prim, &h);
+            if (k >= 0 && (!have_object || h.t <= e.t_world)) {
+                if (m.steps >= settings->max_steps) {
+                    stop(&m, RAY_MAX_STEPS);
+                    break;
+                }
+                surface_leg(&m, interface_medium(inside), h.t);
+                surface_event(&m, &inside, k, &h, out);
+                last_surface = k;
+                last_prim = h.prim;
+                if (throughput(&m) < absorbed_cut(settings))
+                    stop(&m, RAY_ABSORBED);
+                continue;
+            }
+            last_surface = -1;
+            if (!have_object && inside != 0) {
+                /* Inside a solid that never ends (a half-space): a medium that absorbs in
+                 * every channel takes all the light; one that does not lets it go. */
+                const double *a = settings->surfaces[interface_medium(inside)].attenuation;
+                if (a[0] > 0.0 && a[1] > 0.0 && a[2] > 0.0) {
+                    m.alpha = vec3_make(INFINITY, INFINITY, INFINITY);
+                    stop(&m, RAY_ABSORBED);
+                    break;
+                }
+            }
+        }
+        if (!have_object) {
             stop(&m, m.crossed ? RAY_EXITED : RAY_MISSED);
             /* 5. The receiver where the ray hits it, else the background term of tevs2007
              * eq. 5.10. */

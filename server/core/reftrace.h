@@ -18,6 +18,8 @@
 #include <stdbool.h>
 
 #include "brdf.h"
+#include "geom/geom.h"
+#include "interface.h"
 #include "macrocell.h"
 #include "ray_status.h"
 #include "vec3.h"
@@ -98,6 +100,32 @@ enum reftrace_integrator {
                               tolerance_voxels: the twin of the GPU's "adaptive" */
 };
 
+/* An exact surface and the medium inside it (docs/tracing.md "Surfaces"). An array of
+ * them is sorted by nesting priority, index 0 the highest (interface.h). */
+struct reftrace_surface {
+    struct geom_surface geom;
+    double ior;            /* constant n of the medium inside */
+    double attenuation[3]; /* sigma_a per world unit */
+    double emission[3];    /* L_e per world unit */
+};
+
+/* One surface event of a ray (the trace API's "events"). */
+enum reftrace_event_kind {
+    REFTRACE_EVENT_REFRACTED = 0,
+    REFTRACE_EVENT_REFLECTED = 1, /* total internal reflection */
+};
+
+struct reftrace_event {
+    enum reftrace_event_kind kind;
+    vec3 point, normal; /* world; normal unit, pointing back into the incoming side */
+    int surface;        /* index into the surface array */
+    int medium_from, medium_to; /* surface whose medium it is, -1 the ambient medium */
+    double n_from, n_to;
+    double fresnel_R; /* the reflectance at the event; 1 for total internal reflection */
+};
+
+#define REFTRACE_MAX_EVENTS 64
+
 struct reftrace_settings {
     enum reftrace_integrator integrator;
     double step_voxels;        /* fixed step (euler, rk4); initial and largest step (adaptive) */
@@ -113,6 +141,8 @@ struct reftrace_settings {
                                                  empty_space_skipping; not with REFTRACE_ADAPTIVE) */
     double min_throughput; /* the absorbed cut-off (render.min_throughput); 0: the
                               default 1e-6; negative: never */
+    const struct reftrace_surface *surfaces; /* exact surfaces by priority; NULL: none */
+    int surface_count;                       /* at most INTERFACE_MAX_SURFACES */
 };
 
 struct reftrace_result {
@@ -122,7 +152,12 @@ struct reftrace_result {
     double optical_path_length;       /* integral of n ds, world units */
     int steps;
     vec3 radiance; /* L along the ray as a view ray would gather it */
+    int event_count; /* surface events, the first REFTRACE_MAX_EVENTS of them in events */
+    struct reftrace_event events[REFTRACE_MAX_EVENTS];
 };
+
+/* The set of surfaces whose solids contain the world point p (bit k: surfaces[k]). */
+uint32_t reftrace_inside_set(const struct reftrace_surface *surfaces, int count, vec3 p);
 
 /* Traces one ray (origin, unit direction, world space) through `count` objects. */
 void reftrace_ray(const struct reftrace_object *objects, int count,
