@@ -49,6 +49,17 @@
 #define BIND_SSBO_SKIP_CELLS 19 /* render_view, trace_rays: uint per macro cell, 1 = empty
                                    (after the light simulator's 5..18) */
 
+/* ---- exact surfaces (docs/tracing.md "Surfaces"; server/core/geom, shaders/geom) ---- */
+#define MAX_SURFACES 32 /* = INTERFACE_MAX_SURFACES: a ray's inside set is 32 bits */
+#define BIND_SSBO_SURFACES 23         /* surface_params[] by priority, highest first */
+#define BIND_SSBO_SURFACE_PROFILES 24 /* vec2 (r, h) points of the lathes' profiles */
+#define GEOM_SPHERE 0 /* = enum geom_kind */
+#define GEOM_BOX 1
+#define GEOM_CYLINDER 2
+#define GEOM_PLANE 3
+#define GEOM_LATHE 4
+#define GEOM_MESH 5
+
 /* ---- texture units (samplers) ---- */
 #define UNIT_IOR_GRAD 0    /* sampler3D atlas: rgb = grad n (object units), a = n */
 #define UNIT_ATTENUATION 1 /* sampler3D atlas: rgb = sigma_a per world unit */

@@ -31,6 +31,12 @@
 #ifndef MARCH_SKIP
 #define MARCH_SKIP 1
 #endif
+#ifndef MARCH_SURFACES
+#define MARCH_SURFACES 1 // exact surfaces (docs/tracing.md "Surfaces")
+#endif
+#ifndef MARCH_MESHES
+#define MARCH_MESHES 0 // triangle-mesh surfaces (shaders/geom/mesh.glsl)
+#endif
 
 layout(std140, binding = BIND_UBO_RENDER) uniform march_params_block
 {

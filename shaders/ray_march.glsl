@@ -16,6 +16,18 @@
 // The variant switches MARCH_INTEGRATOR, MARCH_ATTENUATION, MARCH_EMISSION, MARCH_OPAQUE,
 // MARCH_SCATTERING, MARCH_LIGHTS and MARCH_SKIP are set in march_bindings.glsl.
 
+#if MARCH_SURFACES
+#include "geom_hit.glsl"
+#include "surface.glsl"
+#include "sphere.glsl"
+#include "box.glsl"
+#include "cylinder.glsl"
+#include "plane.glsl"
+#include "lathe.glsl"
+#include "surface_dispatch.glsl"
+#include "interface.glsl"
+#endif
+
 const float MARCH_INDEX_EPS = 1e-6;       // |n_field - n_ambient| below this: no interface
 // The absorbed cut-off (throughput below it ends the ray) is params.settings_f3.x,
 // render.min_throughput (default 1e-6; 0: never).
@@ -526,9 +538,93 @@ void march_through_object(inout march_state s, int obj, vec3 p, vec3 q)
     s.d = march_dir_to_world(obj, q);
 }
 
+#if MARCH_SURFACES
+// ---- exact surfaces (docs/tracing.md "Surfaces"); twin: server/core/reftrace.c ----
+
+// A hit this close (relative to a surface's size) on a surface other than the one just
+// left is a real crossing; the one just left is searched from surfaces[k].medium.z on.
+const float MARCH_SURFACE_EPS_OTHER = 1e-7;
+
+// The nearest surface crossing before t_max; -1 when none.
+int march_next_surface(vec3 x, vec3 d, int last, int last_prim, float t_max, out geom_hit hit)
+{
+    int best = -1;
+    float t_best = t_max;
+    hit.t = 0.0;
+    hit.normal = vec3(0.0);
+    hit.shading = vec3(0.0);
+    hit.prim = -1;
+    for (int k = 0; k < params.surfaces.x; k++) {
+        float tmin = k == last ? surfaces[k].medium.z : 0.0;
+        geom_hit h;
+        if (geom_surface_intersect(k, x, d, tmin, t_best, k == last ? last_prim : -1, h)) {
+            t_best = h.t;
+            hit = h;
+            best = k;
+        }
+    }
+    return best;
+}
+
+float march_medium_ior(int medium)
+{
+    return medium < 0 ? params.settings_f.z : surfaces[medium].medium.x;
+}
+
+// A straight leg of length t through the medium of surface `medium` (-1: ambient): optical
+// path n t, Beer-Lambert depth sigma_a t (tevs2007 eq. 5.9) and the emission integrated in
+// closed form, L_e (1 - exp(-sigma t)) / sigma (L_e t where sigma = 0).
+void march_surface_leg(inout march_state s, int medium, float t)
+{
+    s.opl += march_medium_ior(medium) * t;
+    if (medium >= 0) {
+        vec3 sig = surfaces[medium].attenuation.rgb;
+#if MARCH_RADIANCE
+        vec3 le = surfaces[medium].emission.rgb;
+        vec3 e = vec3(0.0);
+        for (int c = 0; c < 3; c++)
+            e[c] = sig[c] > 0.0 ? le[c] * (1.0 - exp(-sig[c] * t)) / sig[c] : le[c] * t;
+        s.L += s.t_f * exp(-s.alpha) * march_basic_radiance(surfaces[medium].medium.x) * e;
+#endif
+        s.alpha += sig * t;
+    }
+    s.x += s.d * t;
+}
+
+// Crossing surface k (core/interface.h): toggles k in the inside set; where the medium
+// changes, the Fresnel event with the environment's reflection gathered, or total
+// internal reflection.
+void march_surface_event(inout march_state s, inout uint inside, int k, geom_hit h)
+{
+    uint next = inside ^ (1u << uint(k));
+    int from = interface_medium(inside), to = interface_medium(next);
+    s.steps++;
+    s.crossed = true;
+    if (from == to) {
+        inside = next;
+        return;
+    }
+    float n_from = march_medium_ior(from), n_to = march_medium_ior(to);
+    if (abs(n_from - n_to) <= MARCH_INDEX_EPS) {
+        inside = next;
+        return;
+    }
+    interface_event ev = interface_cross(s.d, h.shading, n_from, n_to);
+    if (ev.tir) {
+        s.d = ev.reflected;
+        return;
+    }
+    march_add_reflection(s, ev.R, ev.reflected);
+    s.t_f *= 1.0 - ev.R;
+    s.d = ev.refracted;
+    inside = next;
+}
+#endif
+
 // Traces a world ray through the scene. Statuses, exit point and direction, transmittance
 // and optical path length follow docs/tracing.md; s.L holds the gathered radiance.
-march_state march_ray(vec3 origin, vec3 dir)
+// inside: the set of surfaces whose solids contain the origin (MARCH_SURFACES).
+march_state march_ray(vec3 origin, vec3 dir, uint inside)
 {
     march_state s;
     s.x = origin;
@@ -544,12 +640,47 @@ march_state march_ray(vec3 origin, vec3 dir)
     bool left_scene = false;
     // Each pass enters one object (or reflects off one face); the step budget bounds
     // the loop, the pass cap guards against a ray that reflects off faces forever.
-    for (int pass = 0; pass < 4 * MAX_OBJECTS + 64 && s.status == RAY_STATUS_RUNNING; pass++) {
-        float t_world;
-        bool inside;
-        int axis;
-        float sgn;
-        int obj = march_next_object(s, t_world, inside, axis, sgn);
+    int max_passes = 4 * MAX_OBJECTS + 64;
+#if MARCH_SURFACES
+    max_passes += params.settings_i.y; // a surface event counts as a step
+    int last_surface = -1, last_prim = -1;
+    float min_throughput = params.settings_f3.x;
+#endif
+    for (int pass = 0; pass < max_passes && s.status == RAY_STATUS_RUNNING; pass++) {
+        float t_world = 1e30;
+        bool in_bounds = false;
+        int axis = 0;
+        float sgn = 1.0;
+        int obj = -1;
+#if MARCH_SURFACES
+        // Voxel objects lie in the ambient medium, outside every surface.
+        if (inside == 0u)
+#endif
+            obj = march_next_object(s, t_world, in_bounds, axis, sgn);
+#if MARCH_SURFACES
+        geom_hit h;
+        int k = march_next_surface(s.x, s.d, last_surface, last_prim, obj >= 0 ? t_world : 1e30, h);
+        if (k >= 0) {
+            if (s.steps >= params.settings_i.y) {
+                s.status = RAY_STATUS_MAX_STEPS;
+                break;
+            }
+            march_surface_leg(s, interface_medium(inside), h.t);
+            march_surface_event(s, inside, k, h);
+            last_surface = k;
+            last_prim = h.prim;
+            if (march_throughput(s) < min_throughput)
+                s.status = RAY_STATUS_ABSORBED;
+            continue;
+        }
+        last_surface = -1;
+        if (obj < 0 && inside != 0u && surfaces[interface_medium(inside)].medium.w > 0.5) {
+            // A solid that never ends (a half-space) and absorbs in every channel.
+            s.alpha = vec3(1e30);
+            s.status = RAY_STATUS_ABSORBED;
+            break;
+        }
+#endif
         if (obj < 0) {
             left_scene = true;
             break;
@@ -559,7 +690,7 @@ march_state march_ray(vec3 origin, vec3 dir)
         s.crossed = true;
         vec3 p = march_point_to_object(obj, s.x);
         vec3 q = march_dir_to_object(obj, s.d);
-        if (!inside) {
+        if (!in_bounds) {
             float n_in = volume_sample_ior_grad(obj, p).a;
             if (!march_face(s, obj, p, q, march_axis_normal(axis, sgn), ambient, n_in)) {
                 s.d = march_dir_to_world(obj, q); // reflected off the face, never entered

@@ -26,6 +26,6 @@ void main()
     vec3 dir = camera_ray_direction(params.forward.xyz, params.right.xyz, params.up.xyz,
                                     params.eye.w, params.forward.w, float(px.x), float(px.y),
                                     float(params.image.x), float(params.image.y));
-    march_state s = march_ray(params.eye.xyz, dir);
+    march_state s = march_ray(params.eye.xyz, dir, uint(params.surfaces.y));
     image_out[px.y * params.image.x + px.x] = vec4(s.L, 1.0);
 }

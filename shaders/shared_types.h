@@ -60,6 +60,28 @@ struct march_params {
     vec4 settings_f3;              /* x: min_throughput (0: never); y: macro cell edge (voxels) */
     ivec4 skip_cells[MAX_OBJECTS]; /* xyz: macro cells per axis; w: the object's first cell in
                                       the BIND_SSBO_SKIP_CELLS buffer */
+    /* Exact surfaces (docs/tracing.md "Surfaces"), appended likewise. */
+    ivec4 surfaces; /* x: surface count; y: the eye's inside set (bits, render_view) */
+};
+
+#ifdef REFRACT_HOST_C
+typedef struct surface_params surface_params;
+#endif
+
+/* One exact surface and its medium (std430, BIND_SSBO_SURFACES), in priority order. */
+struct surface_params {
+    mat4 object_from_world;
+    mat4 world_from_object; /* similarity: scale * R, then translate */
+    ivec4 kind;     /* x: GEOM_*; y: axis (cylinder, lathe); z: lathe's first profile point;
+                       w: lathe's point count */
+    ivec4 mesh;     /* GEOM_MESH: x first node, y first triangle, z first vertex */
+    vec4 shape0;    /* sphere: centre, radius; box, cylinder: centre (w: cylinder radius);
+                       plane: a point; lathe: base (w: +1 counter-clockwise profile, -1 not) */
+    vec4 shape1;    /* box: full sizes; cylinder: x full height; plane: unit normal */
+    vec4 medium;    /* x: n inside; y: scale (world units per object unit); z: offset past
+                       the surface just left (world units); w: 1 = absorbs in every channel */
+    vec4 attenuation; /* rgb: sigma_a per world unit */
+    vec4 emission;    /* rgb: L_e per world unit */
 };
 
 /* Uniform block of smooth_ior.comp and gradient_ior.comp: one object's grid. */
@@ -72,7 +94,7 @@ struct volume_params {
 
 /* trace_rays.comp input record (std430). */
 struct trace_ray_in {
-    vec4 origin;    /* xyz: world position */
+    vec4 origin;    /* xyz: world position; w: the origin's inside set (uint bits, surfaces) */
     vec4 direction; /* xyz: unit world direction */
 };
 

@@ -25,7 +25,8 @@ void main()
     int i = int(gl_GlobalInvocationID.x);
     if (i >= params.image.z)
         return;
-    march_state s = march_ray(rays_in[i].origin.xyz, rays_in[i].direction.xyz);
+    march_state s = march_ray(rays_in[i].origin.xyz, rays_in[i].direction.xyz,
+                              floatBitsToUint(rays_in[i].origin.w));
     hits_out[i].exit_origin = vec4(s.x, float(s.status));
     hits_out[i].exit_direction = vec4(s.d, float(s.steps));
     hits_out[i].transmittance = vec4(s.t_f * exp(-s.alpha), s.opl);

@@ -27,7 +27,8 @@ static unsigned variant_mask(enum gpu_kernel kernel)
         return GPU_VARIANT_COUNT - 1;
     case GPU_KERNEL_TRACE_RAYS:
         return GPU_VARIANT_INTEGRATOR_BITS | GPU_VARIANT_ATTENUATION | GPU_VARIANT_OPAQUE |
-               GPU_VARIANT_SCATTERING | GPU_VARIANT_SKIP | GPU_VARIANT_IOR_TRICUBIC;
+               GPU_VARIANT_SCATTERING | GPU_VARIANT_SKIP | GPU_VARIANT_IOR_TRICUBIC |
+               GPU_VARIANT_SURFACES;
     default:
         return 0;
     }
@@ -131,12 +132,14 @@ static GLuint build_variant(enum gpu_kernel k, unsigned v, const char *shader_di
              "#define MARCH_INTEGRATOR %s\n#define MARCH_IOR_FILTER %s\n"
              "#define MARCH_ATTENUATION %d\n"
              "#define MARCH_EMISSION %d\n#define MARCH_OPAQUE %d\n"
-             "#define MARCH_SCATTERING %d\n#define MARCH_LIGHTS %d\n#define MARCH_SKIP %d",
+             "#define MARCH_SCATTERING %d\n#define MARCH_LIGHTS %d\n#define MARCH_SKIP %d\n"
+             "#define MARCH_SURFACES %d",
              integrator_define(v),
              (v & GPU_VARIANT_IOR_TRICUBIC) ? "IOR_FILTER_TRICUBIC" : "IOR_FILTER_TRILINEAR",
              (v & GPU_VARIANT_ATTENUATION) ? 1 : 0, (v & GPU_VARIANT_EMISSION) ? 1 : 0,
              (v & GPU_VARIANT_OPAQUE) ? 1 : 0, (v & GPU_VARIANT_SCATTERING) ? 1 : 0,
-             (v & GPU_VARIANT_LIGHTS) ? 1 : 0, (v & GPU_VARIANT_SKIP) ? 1 : 0);
+             (v & GPU_VARIANT_LIGHTS) ? 1 : 0, (v & GPU_VARIANT_SKIP) ? 1 : 0,
+             (v & GPU_VARIANT_SURFACES) ? 1 : 0);
     snprintf(label, sizeof label, "%s variant %u", kernel_files[k], v);
     struct gpu_program_desc desc = {
         .label = label, .main = kernel_files[k], .preamble = mask ? preamble : NULL};
@@ -172,7 +175,8 @@ enum refract_code gpu_programs_build(struct gpu_programs *p, const char *shader_
     }
     log_info("gpu",
              "compiled %d compute programs (kernels x variants) from %s; variants with "
-             "scattering, lights, rk2, adaptive or tricubic, or without empty-space skipping, "
+             "scattering, lights, rk2, adaptive, tricubic or surfaces, or without empty-space "
+             "skipping, "
              "compile on first use",
              built, shader_dir ? shader_dir : "embedded shaders");
     return REFRACT_E_OK;

@@ -47,14 +47,16 @@ enum gpu_kernel {
             scene has empty macro cells (docs/tracing.md "Empty space") */
 #define GPU_VARIANT_IOR_TRICUBIC                                                                   \
     256u /* tricubic Catmull-Rom index, its exact gradient (render.ior_filter) */
-#define GPU_VARIANT_COUNT 512
+#define GPU_VARIANT_SURFACES                                                                       \
+    512u /* the scene has exact surfaces (docs/tracing.md "Surfaces") */
+#define GPU_VARIANT_COUNT 1024
 /* Variants with any of these bits, or without GPU_VARIANT_SKIP (skipping off is for
  * comparisons), are compiled on first use (gpu_program_get), not at start-up: doubling the
  * variant count five times would make the start-up 32 times longer. One variant with every
  * bit (the adaptive integrator) is compiled at start-up, so a shader error still stops it. */
 #define GPU_VARIANT_LAZY                                                                           \
     (GPU_VARIANT_SCATTERING | GPU_VARIANT_LIGHTS | GPU_VARIANT_INTEGRATOR_HI |                     \
-     GPU_VARIANT_IOR_TRICUBIC)
+     GPU_VARIANT_IOR_TRICUBIC | GPU_VARIANT_SURFACES)
 
 struct gpu_program_desc {
     const char *label;    /* for glObjectLabel and messages */

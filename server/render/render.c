@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../core/interface.h"
 #include "../core/log.h"
 #include "../core/macrocell.h"
 #include "../core/ray_status.h"
@@ -36,8 +37,11 @@ struct render {
 
 _Static_assert(sizeof(struct object_params) == 2 * 64 + 6 * 16, "object_params layout");
 _Static_assert(sizeof(struct march_params) ==
-                   10 * 16 + MAX_OBJECTS * (sizeof(struct object_params) + 16),
+                   11 * 16 + MAX_OBJECTS * (sizeof(struct object_params) + 16),
                "march_params layout");
+_Static_assert(sizeof(struct surface_params) == 2 * 64 + 7 * 16, "surface_params layout");
+_Static_assert(MAX_SURFACES == SCENE_MAX_SURFACES && MAX_SURFACES == INTERFACE_MAX_SURFACES,
+               "one bit per surface in a ray's inside set");
 _Static_assert(sizeof(struct volume_params) == 3 * 16 + 8 * 16, "volume_params layout");
 _Static_assert(SCENE_INTEGRATOR_EULER == INTEGRATOR_EULER &&
                    SCENE_INTEGRATOR_RK4 == INTEGRATOR_RK4 &&
@@ -204,6 +208,15 @@ static void fill_objects(struct march_params *mp, const struct scene *s, const s
         mp->skip_cells[i] = (ivec4){so->cells[0], so->cells[1], so->cells[2], so->first_cell};
     }
     mp->settings_f3.y = (float)sg->skip_cell_voxels;
+    mp->surfaces = (ivec4){(int)sg->surface_count, 0, 0, 0};
+}
+
+/* The uint bits of an inside set in a float slot (read back by floatBitsToUint). */
+static float set_bits(uint32_t set)
+{
+    float f;
+    memcpy(&f, &set, sizeof f);
+    return f;
 }
 
 static void fill_settings(struct march_params *mp, const struct scene *s,
@@ -314,6 +327,8 @@ static unsigned march_variant(const struct render *r, const struct scene_gpu *sg
         st->ior_filter != SCENE_FILTER_TRICUBIC || sg->skip_border >= MACROCELL_BORDER_TRICUBIC;
     if (st->empty_space_skipping && sg->empty_cells > 0 && map_fits)
         v |= GPU_VARIANT_SKIP;
+    if (sg->surface_count > 0)
+        v |= GPU_VARIANT_SURFACES;
     if (r->all_variant_bits)
         v |= GPU_VARIANT_ATTENUATION | GPU_VARIANT_EMISSION | GPU_VARIANT_OPAQUE |
              GPU_VARIANT_SCATTERING | GPU_VARIANT_LIGHTS;
@@ -331,6 +346,9 @@ static void bind_scene(struct render *r, const struct scene_gpu *sg, const struc
     glBindTextureUnit(UNIT_SCATTERING, sg->scattering.tex);
     glBindTextureUnit(UNIT_ENVIRONMENT, sg->environment.tex);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_SKIP_CELLS, sg->skip_cells.buf);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_SURFACES, sg->surfaces.buf);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_SURFACE_PROFILES,
+                     sg->surface_profiles.buf);
 }
 
 enum refract_code render_view(struct render *r, const struct render_scene_source *src,
@@ -352,6 +370,7 @@ enum refract_code render_view(struct render *r, const struct render_scene_source
     fill_objects(&mp, src->scene, sg);
     fill_settings(&mp, src->scene, &req->settings);
     fill_camera(&mp, &req->camera);
+    mp.surfaces.y = (int)scene_surfaces_inside(src->scene, req->camera.eye);
     struct gpu_buffer image;
     enum refract_code rc = gpu_buffer_create("render image", bytes, NULL, &image, e);
     if (rc != REFRACT_E_OK) {
@@ -417,8 +436,9 @@ enum refract_code render_trace(struct render *r, const struct render_scene_sourc
         return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for %zu rays", count);
     }
     for (size_t i = 0; i < count; i++) {
-        in[i].origin = (vec4){(float)rays[i].origin[0], (float)rays[i].origin[1],
-                              (float)rays[i].origin[2], 0.0f};
+        vec3 o = {rays[i].origin[0], rays[i].origin[1], rays[i].origin[2]};
+        in[i].origin = (vec4){(float)o.x, (float)o.y, (float)o.z,
+                              set_bits(scene_surfaces_inside(src->scene, o))};
         in[i].direction = (vec4){(float)rays[i].direction[0], (float)rays[i].direction[1],
                                  (float)rays[i].direction[2], 0.0f};
     }

@@ -128,6 +128,8 @@ static void layout_atlas(struct scene_gpu *sg, const struct scene *s)
     }
     sg->atlas_size[2] = z;
     sg->object_count = s->object_count;
+    if (s->object_count == 0) /* a scene of surfaces only: one stand-in texel */
+        sg->atlas_size[0] = sg->atlas_size[1] = sg->atlas_size[2] = 1;
 }
 
 static enum refract_code alloc_atlas(struct build_ctx *b, struct gpu_volume *v,
@@ -497,6 +499,9 @@ static enum refract_code build_all(struct build_ctx *b, struct err *e)
             "skip cells", b->cell_count ? b->cell_count * sizeof(uint32_t) : sizeof none,
             b->cell_count ? (const void *)b->cells : &none, &b->sg->skip_cells, e);
     if (rc == REFRACT_E_OK)
+        rc = surfaces_gpu_build(s, &b->sg->surfaces, &b->sg->surface_profiles, e);
+    b->sg->surface_count = s->surface_count;
+    if (rc == REFRACT_E_OK)
         rc = build_environment(b, e);
     if (rc == REFRACT_E_OK && s->render.ior_texture == SCENE_IOR_FLOAT16)
         rc = narrow_ior_atlas(b, e);
@@ -539,7 +544,8 @@ struct scene_gpu *scene_gpu_build_cells(struct gpu *gpu, const struct render_sce
         return NULL;
     }
     sg->bytes = sg->ior_grad.bytes + sg->attenuation.bytes + sg->emission.bytes + sg->opaque.bytes +
-                sg->scattering.bytes + sg->environment.bytes + sg->skip_cells.bytes;
+                sg->scattering.bytes + sg->environment.bytes + sg->skip_cells.bytes +
+                sg->surfaces.bytes + sg->surface_profiles.bytes;
     sg->build_ms = gpu_time_ms() - t0;
     log_info("render",
              "built scene %s (generation %llu): %zu objects, atlas %dx%dx%d, %.1f MiB, "
@@ -561,5 +567,7 @@ void scene_gpu_destroy(struct scene_gpu *sg)
     gpu_volume_destroy(&sg->scattering);
     gpu_volume_destroy(&sg->environment);
     gpu_buffer_destroy(&sg->skip_cells);
+    gpu_buffer_destroy(&sg->surfaces);
+    gpu_buffer_destroy(&sg->surface_profiles);
     free(sg);
 }

@@ -43,6 +43,9 @@ struct scene_gpu {
     int skip_border;               /* texels of sampling footprint the map allowed for
                                       (MACROCELL_BORDER_*: the scene's index filter) */
     size_t empty_cells;            /* over all objects: 0 means no skipping to do */
+    struct gpu_buffer surfaces;    /* surface_params per exact surface, by priority */
+    struct gpu_buffer surface_profiles; /* the lathes' (r, h) points */
+    size_t surface_count;
     int atlas_size[3];
     size_t object_count;
     struct scene_gpu_object objects[MAX_OBJECTS];
@@ -61,5 +64,10 @@ struct scene_gpu *scene_gpu_build(struct gpu *gpu, const struct render_scene_sou
 struct scene_gpu *scene_gpu_build_cells(struct gpu *gpu, const struct render_scene_source *src,
                                         size_t max_bytes, int skip_cell_voxels, struct err *e);
 void scene_gpu_destroy(struct scene_gpu *sg);
+
+/* surfaces_gpu.c: packs s's surfaces (shared_types.h surface_params) and the lathes'
+ * profile points into two new storage buffers (a stand-in element when empty). */
+enum refract_code surfaces_gpu_build(const struct scene *s, struct gpu_buffer *records,
+                                     struct gpu_buffer *profiles, struct err *e);
 
 #endif

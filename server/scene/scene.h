@@ -57,6 +57,7 @@ enum scene_shape_kind {
     SCENE_SHAPE_TEXT = 5,
     SCENE_SHAPE_BUMPY_SPHERE = 6, /* sphere whose radius is modulated: caustic cusps (hard case) */
     SCENE_SHAPE_MESH = 7,         /* an uploaded triangle mesh (server/mesh), voxelized */
+    SCENE_SHAPE_PLANE = 8,        /* surfaces only: the half-space behind `normal` through center */
 };
 
 /* All lengths in object-space units of the owning object. */
@@ -76,6 +77,7 @@ struct scene_shape {
     int bump_frequency;    /* bumpy_sphere: f, 1..32 */
     char mesh[SCENE_VOLUME_NAME_MAX]; /* mesh: upload name */
     struct xform object_from_mesh;    /* mesh: center + scale * R(rotate) * p_mesh */
+    vec3 normal;                      /* plane: unit */
 };
 
 struct scene_layer {
@@ -221,14 +223,38 @@ struct scene_lightsim {
     int max_patches;   /* capacity of the patch list, 1024..1048576; 262144 */
 };
 
+/* ---- exact surfaces (docs/scenes.md "Surfaces", docs/tracing.md "Surfaces") ---- */
+
+#define SCENE_MAX_SURFACES 32 /* = INTERFACE_MAX_SURFACES: bits of a ray's inside set */
+
+/* What fills a surface's solid: a constant medium. */
+struct scene_medium {
+    double ior;            /* 1..5 */
+    double attenuation[3]; /* sigma_a per world unit, >= 0 */
+    double emission[3];    /* L_e per world unit, >= 0 */
+};
+
+/* A surface bounding a medium: its shape (sphere, box, cylinder, plane, lathe, mesh) in
+ * object space, placed by a similarity transform. */
+struct scene_surface {
+    char name[SCENE_NAME_MAX];
+    struct scene_shape shape;
+    struct xform world_from_object;
+    int priority; /* nesting priority: the higher wins where solids overlap */
+    struct scene_medium medium;
+    int document_index; /* position in the document's "surfaces" (messages) */
+};
+
 struct scene {
     char name[SCENE_NAME_MAX];
     double ambient_ior; /* n outside every object's bounds */
     struct scene_camera camera;
     struct scene_environment environment;
     struct scene_render_settings render;
-    struct scene_object *objects; /* owned */
+    struct scene_object *objects; /* owned; may be empty when there are surfaces */
     size_t object_count;
+    struct scene_surface *surfaces; /* owned; sorted by priority, highest first (interface.h) */
+    size_t surface_count;
     struct scene_light lights[SCENE_MAX_LIGHTS];
     size_t light_count;
     struct scene_receiver receiver;
@@ -339,6 +365,18 @@ double scene_shape_sdf(const struct scene_shape *shape, vec3 p);
 /* Axis-aligned box (object space) that contains the shape's solid. Returns false, and
  * leaves lo/hi alone, when the solid is empty (text of spaces only). */
 bool scene_shape_bounds(const struct scene_shape *shape, vec3 *lo, vec3 *hi);
+
+/* ---- exact surfaces for the marches (scene_surface.c) ---- */
+
+struct geom_surface; /* core/geom/geom.h */
+
+/* The surface as core/geom describes it. A mesh surface gets kind GEOM_MESH and its
+ * transform; the caller attaches the mesh. */
+void scene_surface_geom(const struct scene_surface *sf, struct geom_surface *g);
+/* The set of surfaces (bit k: s->surfaces[k], in priority order) whose solids contain the
+ * world point p: where a ray from p starts (core/interface.h). Mesh surfaces are not
+ * tested here (see the callers). */
+uint32_t scene_surfaces_inside(const struct scene *s, vec3 p);
 
 /* Voxel size of an object in object-space units along each axis, and its smallest. */
 vec3 scene_object_voxel_size(const struct scene_object *obj);

@@ -285,8 +285,8 @@ static enum refract_code parse_resolution(const cJSON *obj, const char *path,
     return REFRACT_E_OK;
 }
 
-static enum refract_code parse_transform(const cJSON *obj, const char *path, struct xform *x,
-                                         struct err *e)
+enum refract_code scene_parse_transform(const cJSON *obj, const char *path, struct xform *x,
+                                        struct err *e)
 {
     static const char *const keys[] = {"translate", "rotate", "scale", NULL};
     static const char *const rot_keys[] = {"axis", "angle_deg", NULL};
@@ -376,7 +376,7 @@ static enum refract_code parse_object(const cJSON *obj, const char *path, int in
     if (rc == REFRACT_E_OK)
         rc = parse_resolution(obj, path, outer->limits, o->resolution, e);
     if (rc == REFRACT_E_OK)
-        rc = parse_transform(obj, path, &o->world_from_object, e);
+        rc = scene_parse_transform(obj, path, &o->world_from_object, e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(obj, path, "smoothing_sigma", false, 1.0, 0.0, 8.0,
                        &o->smoothing_sigma_voxels, e);
@@ -398,9 +398,15 @@ static enum refract_code parse_objects(const cJSON *root, const struct scene_par
     const struct scene_limits *lim = ctx->limits;
     const cJSON *arr = member(root, "objects");
     char got[80];
+    bool has_surfaces = member(root, "surfaces") != NULL;
+    if (arr == NULL && has_surfaces)
+        return REFRACT_E_OK; /* a scene of exact surfaces only */
     if (arr == NULL)
-        return err_set(e, REFRACT_E_MISSING_FIELD, "(root): missing required field \"objects\"");
+        return err_set(e, REFRACT_E_MISSING_FIELD,
+                       "(root): missing required field \"objects\" (or \"surfaces\")");
     int n = cJSON_IsArray(arr) ? cJSON_GetArraySize(arr) : 0;
+    if (n == 0 && has_surfaces && cJSON_IsArray(arr))
+        return REFRACT_E_OK;
     if (n == 0)
         return err_set(e, REFRACT_E_INVALID_FIELD,
                        "objects: expected an array of 1..%d objects, got %s", lim->max_objects,
@@ -458,7 +464,7 @@ static enum refract_code parse_document(const cJSON *root, const struct scene_li
 {
     static const char *const keys[] = {"name",     "description", "ambient_ior", "environment",
                                        "camera",   "render",      "objects",     "lights",
-                                       "receiver", "lightsim",    NULL};
+                                       "receiver", "lightsim",    "surfaces",    NULL};
     enum refract_code rc = jr_check_object(root, "", keys, e);
     if (rc == REFRACT_E_OK)
         rc = jr_string(root, "", "name", false, "untitled", SCENE_NAME_MAX - 1, s->name,
@@ -481,9 +487,16 @@ static enum refract_code parse_document(const cJSON *root, const struct scene_li
         return rc;
     struct scene_parse_ctx ctx = {.limits = lim, .ambient_ior = s->ambient_ior};
     rc = parse_objects(root, &ctx, s, e);
+    if (rc == REFRACT_E_OK)
+        rc = scene_parse_surfaces(member(root, "surfaces"), lim, s, e);
     /* After the objects: the receiver's default size depends on where they are. */
     if (rc == REFRACT_E_OK)
         rc = scene_parse_receiver(member(root, "receiver"), s, e);
+    if (rc == REFRACT_E_OK && s->surface_count > 0 && s->receiver.enabled)
+        rc = err_set(e, REFRACT_E_INVALID_FIELD,
+                     "receiver: the light simulator does not trace exact surfaces yet, so a "
+                     "scene with \"surfaces\" cannot have a receiver plane; remove "
+                     "\"receiver\" or model the scene with voxel objects only");
     return rc;
 }
 
@@ -520,5 +533,8 @@ void scene_destroy(struct scene *s)
             scene_field_fini(&s->objects[i].fields[ch]);
     }
     free(s->objects);
+    for (size_t i = 0; i < s->surface_count; i++)
+        free(s->surfaces[i].shape.profile);
+    free(s->surfaces);
     free(s);
 }

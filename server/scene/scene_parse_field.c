@@ -123,6 +123,11 @@ static const char *const shape_keys[][6] = {
     [SCENE_SHAPE_MESH] = {"mesh", "center", "scale", "rotate", NULL},
 };
 
+const char *const *scene_shape_keys(enum scene_shape_kind kind)
+{
+    return shape_keys[kind];
+}
+
 /* An array of 3 numbers, each > 0 and <= SCENE_COORD_MAX (box edge lengths). */
 static enum refract_code positive_vec3(const cJSON *obj, const char *path, const char *key,
                                        vec3 *out, struct err *e)
@@ -325,9 +330,9 @@ static enum refract_code parse_mesh_placement(const cJSON *o, const char *path,
 }
 
 /* The geometry keys of a shape (everything except shape, inside, outside). */
-static enum refract_code parse_geometry(const cJSON *o, const char *path,
-                                        const struct scene_limits *lim, struct scene_shape *s,
-                                        struct err *e)
+enum refract_code scene_parse_geometry(const cJSON *o, const char *path,
+                                       const struct scene_limits *lim, struct scene_shape *s,
+                                       struct err *e)
 {
     const double m = SCENE_COORD_MAX;
     const vec3 zero = {0, 0, 0};
@@ -336,6 +341,8 @@ static enum refract_code parse_geometry(const cJSON *o, const char *path,
     if (s->kind != SCENE_SHAPE_LATHE)
         rc = jr_vec3(o, path, "center", false, zero, -m, m, &s->center, e);
     switch (s->kind) {
+    case SCENE_SHAPE_PLANE:
+        break; /* surfaces only: scene_parse_surface.c reads its point and normal */
     case SCENE_SHAPE_SPHERE:
         if (rc == REFRACT_E_OK)
             rc = jr_number_gt(o, path, "radius", true, 0.0, 0.0, m, &s->radius, e);
@@ -428,7 +435,7 @@ static enum refract_code parse_shape_layer(const cJSON *o, const char *path, enu
         return rc;
     l->kind = SCENE_LAYER_SHAPE;
     l->shape.kind = (enum scene_shape_kind)kind;
-    rc = parse_geometry(o, path, ctx->limits, &l->shape, e);
+    rc = scene_parse_geometry(o, path, ctx->limits, &l->shape, e);
     if (rc == REFRACT_E_OK)
         rc = value_member(o, path, "inside", ch, l->inside, e);
     if (rc == REFRACT_E_OK && member(o, "outside") != NULL) {

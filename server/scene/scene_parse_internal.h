@@ -35,6 +35,23 @@ enum refract_code scene_parse_field(const cJSON *item, const char *path, enum sc
                                     const struct scene_parse_ctx *ctx, struct scene_field *out,
                                     struct err *e);
 
+/* The geometry keys of a voxel shape kind (after "shape": centre, radius, ...), and their
+ * parser (scene_parse_field.c), shared with the surfaces' parser. */
+const char *const *scene_shape_keys(enum scene_shape_kind kind);
+enum refract_code scene_parse_geometry(const cJSON *o, const char *path,
+                                       const struct scene_limits *lim, struct scene_shape *s,
+                                       struct err *e);
+/* scene_parse.c: an object's or a surface's "transform". */
+enum refract_code scene_parse_transform(const cJSON *obj, const char *path, struct xform *x,
+                                        struct err *e);
+/* scene_parse_surface.c: "surfaces" (arr may be NULL: none); after the objects, which it
+ * checks the surfaces against. */
+enum refract_code scene_parse_surfaces(const cJSON *arr, const struct scene_limits *lim,
+                                       struct scene *s, struct err *e);
+/* A surface's world box (infinite components for planes); false for meshes, whose box
+ * is known only with the upload. */
+bool scene_surface_world_bounds(const struct scene_surface *sf, vec3 *lo, vec3 *hi);
+
 /* Frees what a field owns (layers, lathe profiles, text) and zeroes it. */
 void scene_field_fini(struct scene_field *f);
 

@@ -217,6 +217,17 @@ enum refract_code scene_reference_build(const struct scene *s, enum scene_refere
         rc = mode == SCENE_REFERENCE_ANALYTIC ? build_analytic(out, i, o, s->ambient_ior, e)
                                               : build_voxels(out, s, i, lookup, ctx, e);
     }
+    /* Exact surfaces are the same in both modes: nothing to discretise. */
+    for (size_t k = 0; k < s->surface_count && k < SCENE_MAX_SURFACES; k++) {
+        struct reftrace_surface *rs = &out->surfaces[k];
+        const struct scene_medium *m = &s->surfaces[k].medium;
+        scene_surface_geom(&s->surfaces[k], &rs->geom);
+        rs->ior = m->ior;
+        memcpy(rs->attenuation, m->attenuation, sizeof rs->attenuation);
+        memcpy(rs->emission, m->emission, sizeof rs->emission);
+    }
+    out->settings.surfaces = out->surfaces;
+    out->settings.surface_count = (int)s->surface_count;
     if (rc != REFRACT_E_OK)
         scene_reference_free(out);
     return rc;

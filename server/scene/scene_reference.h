@@ -34,6 +34,7 @@ struct scene_reference {
     double constants[SCENE_REFERENCE_MAX_OBJECTS];
     struct macrocell_map cells[SCENE_REFERENCE_MAX_OBJECTS]; /* voxel mode: the empty-space
                                                                 maps (owned) */
+    struct reftrace_surface surfaces[SCENE_MAX_SURFACES]; /* settings.surfaces points here */
 };
 
 /* The reference tracer's twin of a render integrator (adaptive -> REFTRACE_BS23). */

@@ -159,6 +159,16 @@ static void mix_field(uint64_t *h, const struct scene_field *f)
     }
 }
 
+static void mix_xform(uint64_t *h, const struct xform *x)
+{
+    mix_vec3(h, x->translate);
+    for (int r = 0; r < 3; r++) {
+        for (int c = 0; c < 3; c++)
+            mix_double(h, x->rot[r][c]);
+    }
+    mix_double(h, x->scale);
+}
+
 static void mix_object(uint64_t *h, const struct scene_object *o)
 {
     static const enum scene_channel transport_channels[] = {SCENE_CH_IOR, SCENE_CH_ATTENUATION,
@@ -167,13 +177,7 @@ static void mix_object(uint64_t *h, const struct scene_object *o)
     mix_vec3(h, o->bounds_max);
     for (int a = 0; a < 3; a++)
         mix_int(h, o->resolution[a]);
-    const struct xform *x = &o->world_from_object;
-    mix_vec3(h, x->translate);
-    for (int r = 0; r < 3; r++) {
-        for (int c = 0; c < 3; c++)
-            mix_double(h, x->rot[r][c]);
-    }
-    mix_double(h, x->scale);
+    mix_xform(h, &o->world_from_object);
     mix_double(h, o->smoothing_sigma_voxels);
     mix_double(h, o->opaque_ior);
     for (size_t c = 0; c < sizeof transport_channels / sizeof transport_channels[0]; c++) {
@@ -196,6 +200,19 @@ static void mix_lightsim(uint64_t *h, const struct scene_lightsim *ls)
     mix_int(h, ls->max_patches);
 }
 
+/* A surface and its medium (docs/tracing.md "Surfaces"): the order is the priority
+ * order, which decides the media. Emission is left out as for objects. */
+static void mix_surface(uint64_t *h, const struct scene_surface *sf)
+{
+    mix_shape(h, &sf->shape);
+    mix_vec3(h, sf->shape.normal);
+    mix_xform(h, &sf->world_from_object);
+    mix_int(h, sf->priority);
+    mix_double(h, sf->medium.ior);
+    for (int c = 0; c < 3; c++)
+        mix_double(h, sf->medium.attenuation[c]);
+}
+
 uint64_t scene_transport_hash(const struct scene *s)
 {
     uint64_t h = FNV_OFFSET;
@@ -204,6 +221,13 @@ uint64_t scene_transport_hash(const struct scene *s)
     mix_int(&h, (long long)s->object_count);
     for (size_t i = 0; i < s->object_count; i++)
         mix_object(&h, &s->objects[i]);
+    /* Scenes without surfaces hash as they did before surfaces existed, so that their
+     * cached irradiance volumes stay valid. */
+    if (s->surface_count > 0) {
+        mix_int(&h, (long long)s->surface_count);
+        for (size_t i = 0; i < s->surface_count; i++)
+            mix_surface(&h, &s->surfaces[i]);
+    }
     /* A disabled receiver's numbers are zero from the parser, but only its presence
      * matters then. */
     mix_int(&h, s->receiver.enabled);

@@ -236,6 +236,8 @@ double scene_shape_sdf(const struct scene_shape *s, vec3 p)
 {
     vec3 d = vec3_sub(p, s->center);
     switch (s->kind) {
+    case SCENE_SHAPE_PLANE:
+        return vec3_dot(d, s->normal); /* surfaces only: the half-space behind the normal */
     case SCENE_SHAPE_SPHERE:
         return vec3_length(d) - s->radius;
     case SCENE_SHAPE_BOX:

@@ -28,12 +28,15 @@ bool sphere_intersect(vec3 c, double r, vec3 o, vec3 d, double tmin, double tmax
         t0 = t1;
         t1 = tmp;
     }
-    double t = t0 > tmin ? t0 : t1;
+    bool near_root = t0 > tmin;
+    double t = near_root ? t0 : t1;
     if (!(t > tmin && t < tmax))
         return false;
     h->t = t;
-    h->normal = vec3_scale(vec3_sub(vec3_madd(o, d, t), c), 1.0 / r);
-    h->normal = vec3_normalize(h->normal);
+    /* The roots are -b -+ sqrt(disc), so the hit relative to the centre is
+     * f -+ sqrt(disc) d: exact to the precision of f, where o + t d - c would lose
+     * |o - c| / r of it. */
+    h->normal = vec3_normalize(vec3_madd(f, d, near_root ? -sqrt(disc) : sqrt(disc)));
     h->shading = h->normal;
     h->prim = 0;
     return true;

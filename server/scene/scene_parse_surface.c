@@ -1,0 +1,285 @@
+/*
+ * scene_parse_surface.c - the scene document's "surfaces" (docs/scenes.md "Surfaces"):
+ * exact surfaces bounding constant media, with nesting priorities.
+ *
+ * Each surface is a shape of the kinds that have an exact intersection (sphere, box,
+ * cylinder, lathe, mesh: the same keys as the voxel shapes; plane: a point and a
+ * normal), an optional transform, a priority and a medium. Rules, each refused with the
+ * JSON path when broken:
+ *   - priority defaults to the surface's position in the list, so a later surface wins
+ *     where solids overlap (as later layers override earlier ones in a field);
+ *   - two surfaces of equal priority must not overlap (their world boxes are disjoint;
+ *     for meshes, whose boxes come with the upload, equal priorities are refused);
+ *   - voxel objects lie in the ambient medium: an object's world box must not overlap a
+ *     surface's (a GRIN medium inside an exact surface is not supported yet);
+ *   - the light simulator does not trace surfaces yet, so a scene with surfaces may not
+ *     ask for it (no receiver, no scattering objects).
+ * The surfaces are stored sorted by priority, highest first (core/interface.h).
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "json_read.h"
+#include "scene_parse_internal.h"
+
+static const cJSON *member(const cJSON *obj, const char *key)
+{
+    return cJSON_IsObject(obj) ? cJSON_GetObjectItemCaseSensitive(obj, key) : NULL;
+}
+
+/* Names of "shape" for surfaces, as enum scene_shape_kind values. */
+static const char *const surface_shape_names[] = {"sphere", "box",   "cylinder", "plane",
+                                                  "lathe",  "mesh",  NULL};
+static const enum scene_shape_kind surface_shape_kinds[] = {
+    SCENE_SHAPE_SPHERE, SCENE_SHAPE_BOX,   SCENE_SHAPE_CYLINDER,
+    SCENE_SHAPE_PLANE,  SCENE_SHAPE_LATHE, SCENE_SHAPE_MESH};
+
+static enum refract_code parse_rgb(const cJSON *o, const char *path, const char *key, double *out,
+                                   struct err *e)
+{
+    vec3 v;
+    enum refract_code rc = jr_vec3(o, path, key, false, vec3_make(0, 0, 0), 0.0, 1e6, &v, e);
+    out[0] = v.x;
+    out[1] = v.y;
+    out[2] = v.z;
+    return rc;
+}
+
+static enum refract_code parse_medium(const cJSON *o, const char *path, struct scene_medium *m,
+                                      struct err *e)
+{
+    static const char *const keys[] = {"ior", "attenuation", "emission", NULL};
+    char p[256];
+    jr_path(p, sizeof p, path, "medium");
+    const cJSON *mo = member(o, "medium");
+    if (mo == NULL)
+        return err_set(e, REFRACT_E_MISSING_FIELD,
+                       "%s: missing required field \"medium\" (what fills the surface, e.g. "
+                       "{\"ior\": 1.5})",
+                       path);
+    enum refract_code rc = jr_check_object(mo, p, keys, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_number(mo, p, "ior", true, 1.0, 1.0, 5.0, &m->ior, e);
+    if (rc == REFRACT_E_OK)
+        rc = parse_rgb(mo, p, "attenuation", m->attenuation, e);
+    if (rc == REFRACT_E_OK)
+        rc = parse_rgb(mo, p, "emission", m->emission, e);
+    return rc;
+}
+
+static enum refract_code parse_shape(const cJSON *o, const char *path,
+                                     const struct scene_limits *lim, struct scene_surface *sf,
+                                     struct err *e)
+{
+    const cJSON *shape = member(o, "shape");
+    char got[80];
+    if (cJSON_IsString(shape)) {
+        const char *voxel_only[] = {"rounded_box", "text", "bumpy_sphere"};
+        for (size_t i = 0; i < 3; i++)
+            if (strcmp(shape->valuestring, voxel_only[i]) == 0)
+                return err_set(e, REFRACT_E_INVALID_FIELD,
+                               "%s.shape: \"%s\" has no exact surface; surfaces are sphere, box, "
+                               "cylinder, plane, lathe or mesh (upload a mesh of it), or use "
+                               "the shape in a voxel object's field",
+                               path, shape->valuestring);
+    }
+    int which;
+    enum refract_code rc = jr_enum(o, path, "shape", true, 0, surface_shape_names, &which, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    enum scene_shape_kind kind = surface_shape_kinds[which];
+    const char *allowed[16];
+    size_t n = 0;
+    const char *common[] = {"name", "shape", "transform", "priority", "medium"};
+    for (size_t i = 0; i < 5; i++)
+        allowed[n++] = common[i];
+    if (kind == SCENE_SHAPE_PLANE) {
+        allowed[n++] = "point";
+        allowed[n++] = "normal";
+    } else {
+        const char *const *keys = scene_shape_keys(kind);
+        for (size_t i = 0; keys[i] != NULL; i++)
+            allowed[n++] = keys[i];
+    }
+    allowed[n] = NULL;
+    rc = jr_check_object(o, path, allowed, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    sf->shape.kind = kind;
+    if (kind == SCENE_SHAPE_PLANE) {
+        rc = jr_vec3(o, path, "point", false, vec3_make(0, 0, 0), -SCENE_COORD_MAX,
+                     SCENE_COORD_MAX, &sf->shape.center, e);
+        if (rc == REFRACT_E_OK)
+            rc = jr_direction(o, path, "normal", true, vec3_make(0, 1, 0), &sf->shape.normal, e);
+        (void)got;
+        return rc;
+    }
+    return scene_parse_geometry(o, path, lim, &sf->shape, e);
+}
+
+static enum refract_code parse_surface(const cJSON *o, const char *path, int index,
+                                       const struct scene_limits *lim, struct scene_surface *sf,
+                                       struct err *e)
+{
+    char got[80];
+    if (!cJSON_IsObject(o))
+        return err_set(e, REFRACT_E_INVALID_FIELD, "%s: expected an object, got %s", path,
+                       jr_describe(o, got, sizeof got));
+    char def_name[32];
+    snprintf(def_name, sizeof def_name, "surface%d", index);
+    sf->document_index = index;
+    enum refract_code rc = parse_shape(o, path, lim, sf, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_string(o, path, "name", false, def_name, SCENE_NAME_MAX - 1, sf->name,
+                       sizeof sf->name, e);
+    if (rc == REFRACT_E_OK)
+        rc = scene_parse_transform(o, path, &sf->world_from_object, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_int(o, path, "priority", false, index, 0, 1000000, &sf->priority, e);
+    if (rc == REFRACT_E_OK)
+        rc = parse_medium(o, path, &sf->medium, e);
+    return rc;
+}
+
+/* The world box of an object-space box's 8 corners. */
+static void world_box(const struct xform *xf, vec3 lo, vec3 hi, vec3 *wlo, vec3 *whi)
+{
+    *wlo = vec3_make(INFINITY, INFINITY, INFINITY);
+    *whi = vec3_make(-INFINITY, -INFINITY, -INFINITY);
+    for (int c = 0; c < 8; c++) {
+        vec3 p = {(c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z};
+        vec3 w = xform_point_to_world(xf, p);
+        for (int a = 0; a < 3; a++) {
+            vec3_set(wlo, a, fmin(vec3_get(*wlo, a), vec3_get(w, a)));
+            vec3_set(whi, a, fmax(vec3_get(*whi, a), vec3_get(w, a)));
+        }
+    }
+}
+
+bool scene_surface_world_bounds(const struct scene_surface *sf, vec3 *lo, vec3 *hi)
+{
+    const struct scene_shape *sh = &sf->shape;
+    if (sh->kind == SCENE_SHAPE_MESH)
+        return false;
+    if (sh->kind == SCENE_SHAPE_PLANE) {
+        vec3 c = xform_point_to_world(&sf->world_from_object, sh->center);
+        vec3 n = xform_dir_to_world(&sf->world_from_object, sh->normal);
+        *lo = vec3_make(-INFINITY, -INFINITY, -INFINITY);
+        *hi = vec3_make(INFINITY, INFINITY, INFINITY);
+        for (int a = 0; a < 3; a++) {
+            int b = (a + 1) % 3, k = (a + 2) % 3;
+            if (fabs(vec3_get(n, b)) > 1e-12 || fabs(vec3_get(n, k)) > 1e-12)
+                continue;
+            if (vec3_get(n, a) > 0.0)
+                vec3_set(hi, a, vec3_get(c, a));
+            else
+                vec3_set(lo, a, vec3_get(c, a));
+        }
+        return true;
+    }
+    vec3 a, b;
+    if (!scene_shape_bounds(sh, &a, &b))
+        return false;
+    world_box(&sf->world_from_object, a, b, lo, hi);
+    return true;
+}
+
+static bool boxes_overlap(vec3 alo, vec3 ahi, vec3 blo, vec3 bhi)
+{
+    for (int k = 0; k < 3; k++)
+        if (vec3_get(ahi, k) <= vec3_get(blo, k) || vec3_get(bhi, k) <= vec3_get(alo, k))
+            return false;
+    return true;
+}
+
+static int by_priority(const void *a, const void *b)
+{
+    const struct scene_surface *x = a, *y = b;
+    if (x->priority != y->priority)
+        return x->priority > y->priority ? -1 : 1;
+    return x->document_index - y->document_index;
+}
+
+static enum refract_code check_rules(const struct scene *s, struct err *e)
+{
+    for (size_t i = 0; i < s->surface_count; i++) {
+        const struct scene_surface *a = &s->surfaces[i];
+        vec3 alo, ahi;
+        bool abox = scene_surface_world_bounds(a, &alo, &ahi);
+        for (size_t j = i + 1; j < s->surface_count; j++) {
+            const struct scene_surface *b = &s->surfaces[j];
+            if (a->priority != b->priority)
+                continue;
+            vec3 blo, bhi;
+            bool bbox = scene_surface_world_bounds(b, &blo, &bhi);
+            if (!abox || !bbox || boxes_overlap(alo, ahi, blo, bhi))
+                return err_set(e, REFRACT_E_INVALID_FIELD,
+                               "surfaces[%d].priority: %d, the same as surfaces[%d] (\"%s\"), "
+                               "and their solids may overlap%s; nesting priority decides which "
+                               "medium fills an overlap, so give them different priorities "
+                               "(the higher wins)",
+                               b->document_index, b->priority, a->document_index, a->name,
+                               (!abox || !bbox) ? " (a mesh's extent is known only with its upload)"
+                                                : "");
+        }
+        if (!abox)
+            continue;
+        for (size_t k = 0; k < s->object_count; k++) {
+            const struct scene_object *o = &s->objects[k];
+            vec3 olo, ohi;
+            world_box(&o->world_from_object, o->bounds_min, o->bounds_max, &olo, &ohi);
+            if (boxes_overlap(alo, ahi, olo, ohi))
+                return err_set(e, REFRACT_E_INVALID_FIELD,
+                               "surfaces[%d]: its solid may overlap objects[%zu] (\"%s\")'s "
+                               "bounds; voxel objects must lie in the ambient medium outside "
+                               "every surface (a GRIN or scattering medium inside an exact "
+                               "surface is not supported yet): move one of them",
+                               a->document_index, k, o->name);
+        }
+    }
+    for (size_t k = 0; k < s->object_count; k++)
+        if (scene_channel_used(&s->objects[k], SCENE_CH_SCATTERING))
+            return err_set(e, REFRACT_E_INVALID_FIELD,
+                           "objects[%zu].scattering: the light simulator does not trace exact "
+                           "surfaces yet, so a scene with \"surfaces\" cannot have scattering "
+                           "objects; model the scene with voxel objects only",
+                           k);
+    return REFRACT_E_OK;
+}
+
+enum refract_code scene_parse_surfaces(const cJSON *arr, const struct scene_limits *lim,
+                                       struct scene *s, struct err *e)
+{
+    char got[80];
+    if (arr == NULL)
+        return REFRACT_E_OK;
+    int n = cJSON_IsArray(arr) ? cJSON_GetArraySize(arr) : -1;
+    if (n < 0 || (n == 0 && s->object_count == 0))
+        return err_set(e, REFRACT_E_INVALID_FIELD, "surfaces: expected an array of 1..%d surfaces, got %s",
+                       SCENE_MAX_SURFACES, jr_describe(arr, got, sizeof got));
+    if (n > SCENE_MAX_SURFACES) {
+        return err_set(e, REFRACT_E_LIMIT_EXCEEDED,
+                       "surfaces: %d surfaces exceed the limit of %d per scene (a fixed limit: "
+                       "a ray carries the set of solids it is inside as 32 bits); merge "
+                       "surfaces into meshes",
+                       n, SCENE_MAX_SURFACES);
+    }
+    if (n == 0)
+        return REFRACT_E_OK;
+    s->surfaces = calloc((size_t)n, sizeof *s->surfaces);
+    if (s->surfaces == NULL)
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "surfaces: out of memory");
+    int i = 0;
+    for (const cJSON *it = arr->child; it != NULL; it = it->next, i++) {
+        char p[64];
+        s->surface_count = (size_t)i + 1; /* so scene_destroy frees what this one owns */
+        enum refract_code rc = parse_surface(it, jr_path_index(p, sizeof p, "surfaces", i), i,
+                                             lim, &s->surfaces[i], e);
+        if (rc != REFRACT_E_OK)
+            return rc;
+    }
+    qsort(s->surfaces, s->surface_count, sizeof *s->surfaces, by_priority);
+    return check_rules(s, e);
+}
