@@ -59,6 +59,10 @@
 #define GEOM_PLANE 3
 #define GEOM_LATHE 4
 #define GEOM_MESH 5
+#define BIND_SSBO_TRACE_EVENTS 25 /* trace_rays: trace_event_out[TRACE_MAX_EVENTS] per ray */
+#define TRACE_MAX_EVENTS 16       /* surface events recorded per traced ray ("events": true) */
+#define TRACE_EVENT_REFRACTED 0
+#define TRACE_EVENT_REFLECTED 1 /* total internal reflection */
 
 /* ---- texture units (samplers) ---- */
 #define UNIT_IOR_GRAD 0    /* sampler3D atlas: rgb = grad n (object units), a = n */

@@ -45,6 +45,7 @@ struct march_state {
     int steps;       // integration steps taken
     int status;      // RAY_STATUS_*
     bool crossed;    // entered at least one object
+    int events;      // surface events (MARCH_SURFACES)
 };
 
 float march_object_scale(int obj)
@@ -610,6 +611,11 @@ void march_surface_event(inout march_state s, inout uint inside, int k, geom_hit
         return;
     }
     interface_event ev = interface_cross(s.d, h.shading, n_from, n_to);
+#ifdef MARCH_TRACE_EVENTS
+    march_trace_event(s.events, s.x, s.d, h.shading, ev.tir, ev.R, k, from, ev.tir ? from : to,
+                      n_from, n_to);
+#endif
+    s.events++;
     if (ev.tir) {
         s.d = ev.reflected;
         return;
@@ -636,6 +642,7 @@ march_state march_ray(vec3 origin, vec3 dir, uint inside)
     s.steps = 0;
     s.status = RAY_STATUS_RUNNING;
     s.crossed = false;
+    s.events = 0;
     float ambient = params.settings_f.z;
     bool left_scene = false;
     // Each pass enters one object (or reflects off one face); the step budget bounds

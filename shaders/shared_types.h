@@ -48,7 +48,8 @@ struct march_params {
     vec4 forward;     /* xyz: unit view direction; w: aspect (width / height) */
     vec4 right;       /* xyz: unit right vector */
     vec4 up;          /* xyz: unit up vector (orthogonal to forward and right) */
-    ivec4 image;      /* x: width, y: height (pixels); z: ray count (trace) */
+    ivec4 image;      /* x: width, y: height (pixels); z: ray count (trace); w: 1 = record
+                         surface events (trace) */
     ivec4 settings_i; /* x: INTEGRATOR_*; y: max_steps; z: object count; w: 1 = image env */
     vec4 settings_f;  /* x: step (voxels); y: boundary threshold (dn per voxel);
                          z: ambient n; w: environment intensity */
@@ -103,6 +104,16 @@ struct trace_hit_out {
     vec4 exit_origin;    /* xyz: world; w: status (RAY_STATUS_*) */
     vec4 exit_direction; /* xyz: unit world; w: steps */
     vec4 transmittance;  /* xyz: T_fresnel * exp(-alpha); w: optical path length */
+    ivec4 events;        /* x: surface events of the ray (also those past TRACE_MAX_EVENTS) */
+};
+
+/* trace_rays.comp: one surface event (std430), when the request asks for events
+ * (march_params.image.w = 1). */
+struct trace_event_out {
+    vec4 point;  /* xyz: world; w: TRACE_EVENT_* */
+    vec4 normal; /* xyz: unit, facing the incoming ray; w: Fresnel R (1: total reflection) */
+    ivec4 media; /* x: surface; y: medium before (surface index, -1 ambient); z: after */
+    vec4 ior;    /* x: n before; y: n after */
 };
 
 /* ==== light simulator (docs/lightsim.md; server/lightsim/gpu) ==== */

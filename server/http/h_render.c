@@ -134,6 +134,7 @@ struct trace_job {
     struct scene_render_settings settings;
     struct render_trace_ray *rays;
     struct render_trace_hit *hits;
+    struct render_trace_event *events; /* "events": true; RENDER_TRACE_MAX_EVENTS per ray */
     size_t count;
     double gpu_ms;
 };
@@ -144,6 +145,7 @@ static void trace_job_free(void *p)
     store_scene_release(job->version);
     free(job->rays);
     free(job->hits);
+    free(job->events);
     free(job);
 }
 
@@ -153,13 +155,42 @@ static void trace_run(struct gpu_work *w, struct gpu *gpu)
     struct http_request *req = w->user;
     struct trace_job *job = req->job;
     struct render_scene_source src = view_scene_source(job->version);
-    render_trace(req->app->render, &src, &job->settings, job->rays, job->count, job->hits,
-                 &job->gpu_ms, &w->err);
+    render_trace_events(req->app->render, &src, &job->settings, job->rays, job->count, job->hits,
+                        job->events, &job->gpu_ms, &w->err);
 }
 
 static cJSON *vec3_json(const double v[3])
 {
     return cJSON_CreateDoubleArray(v, 3);
+}
+
+static const char *medium_name(const struct scene *s, int medium)
+{
+    return medium >= 0 && (size_t)medium < s->surface_count ? s->surfaces[medium].name : "ambient";
+}
+
+/* The ray's surface events ("events": true; docs/api.md "Trace"). */
+static void add_events(cJSON *o, const struct scene *s, const struct render_trace_hit *h,
+                       const struct render_trace_event *ev)
+{
+    cJSON *arr = cJSON_AddArrayToObject(o, "events");
+    int n = h->event_count < RENDER_TRACE_MAX_EVENTS ? h->event_count : RENDER_TRACE_MAX_EVENTS;
+    for (int k = 0; k < n; k++) {
+        const struct render_trace_event *e = &ev[k];
+        cJSON *j = cJSON_CreateObject();
+        cJSON_AddStringToObject(j, "kind",
+                                e->kind == TRACE_EVENT_REFLECTED ? "reflected" : "refracted");
+        cJSON_AddStringToObject(j, "surface", medium_name(s, e->surface));
+        cJSON_AddItemToObject(j, "point", vec3_json(e->point));
+        cJSON_AddItemToObject(j, "normal", vec3_json(e->normal));
+        cJSON_AddStringToObject(j, "medium_before", medium_name(s, e->medium_from));
+        cJSON_AddStringToObject(j, "medium_after", medium_name(s, e->medium_to));
+        cJSON_AddNumberToObject(j, "n_before", e->n_from);
+        cJSON_AddNumberToObject(j, "n_after", e->n_to);
+        cJSON_AddNumberToObject(j, "fresnel_reflectance", e->fresnel_R);
+        cJSON_AddItemToArray(arr, j);
+    }
+    cJSON_AddNumberToObject(o, "event_count", h->event_count);
 }
 
 static enum MHD_Result trace_answer(struct http_request *req)
@@ -178,6 +209,8 @@ static enum MHD_Result trace_answer(struct http_request *req)
         cJSON_AddItemToObject(o, "transmittance", vec3_json(h->transmittance));
         cJSON_AddNumberToObject(o, "optical_path_length", h->optical_path_length);
         cJSON_AddNumberToObject(o, "steps", h->steps);
+        if (job->events != NULL)
+            add_events(o, job->version->scene, h, &job->events[i * RENDER_TRACE_MAX_EVENTS]);
         cJSON_AddItemToArray(arr, o);
     }
     cJSON_AddNumberToObject(root, "gpu_ms", job->gpu_ms);
@@ -200,12 +233,19 @@ enum MHD_Result http_handle_trace(struct http_request *req)
     req->job = job;
     req->job_free = trace_job_free;
     struct err e = {0};
+    bool events = false;
     if (http_parse_trace_request(req->body, req->body_len, v->scene, req->cfg, &job->settings,
-                                 &job->rays, &job->count, &e) != REFRACT_E_OK)
+                                 &job->rays, &job->count, &events, &e) != REFRACT_E_OK)
         return http_respond_err(req, &e);
     job->hits = calloc(job->count, sizeof *job->hits);
     if (job->hits == NULL)
         return http_respond_error(req, REFRACT_E_OUT_OF_MEMORY, "out of memory for the hits");
+    if (events) {
+        job->events = calloc(job->count * RENDER_TRACE_MAX_EVENTS, sizeof *job->events);
+        if (job->events == NULL)
+            return http_respond_error(req, REFRACT_E_OUT_OF_MEMORY,
+                                      "out of memory for the events; trace fewer rays at a time");
+    }
     req->work.label = "trace";
     req->work.run = trace_run;
     return http_suspend_for_gpu(req, trace_answer);

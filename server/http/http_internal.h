@@ -153,7 +153,7 @@ enum refract_code http_parse_trace_request(const char *body, size_t len, const s
                                            const struct http_config *cfg,
                                            struct scene_render_settings *settings,
                                            struct render_trace_ray **rays, size_t *count,
-                                           struct err *e);
+                                           bool *events, struct err *e);
 
 /* ---- volume uploads (upload_volume.c) ---- */
 

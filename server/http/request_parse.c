@@ -190,11 +190,11 @@ enum refract_code http_parse_trace_request(const char *body, size_t len, const s
                                            const struct http_config *cfg,
                                            struct scene_render_settings *settings,
                                            struct render_trace_ray **rays, size_t *count,
-                                           struct err *e)
+                                           bool *events, struct err *e)
 {
     static const char *const keys[] = {"rays",       "step",      "tolerance",
                                        "integrator", "max_steps", "boundary_threshold",
-                                       "ior_filter", NULL};
+                                       "ior_filter", "events",    NULL};
     *rays = NULL;
     *count = 0;
     cJSON *root = NULL;
@@ -204,6 +204,8 @@ enum refract_code http_parse_trace_request(const char *body, size_t len, const s
     rc = jr_check_object(root, "", keys, e);
     if (rc == REFRACT_E_OK)
         rc = http_parse_settings(root, &scene->render, cfg, settings, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_bool(root, "", "events", false, false, events, e);
     const cJSON *list = cJSON_GetObjectItemCaseSensitive(root, "rays");
     if (rc == REFRACT_E_OK && list == NULL)
         rc = err_set(e, REFRACT_E_MISSING_FIELD,

@@ -49,7 +49,9 @@ _Static_assert(SCENE_INTEGRATOR_EULER == INTEGRATOR_EULER &&
                    SCENE_INTEGRATOR_ADAPTIVE == INTEGRATOR_ADAPTIVE,
                "scene and shader integrator numbers");
 _Static_assert(sizeof(struct trace_ray_in) == 32, "trace_ray_in layout");
-_Static_assert(sizeof(struct trace_hit_out) == 48, "trace_hit_out layout");
+_Static_assert(sizeof(struct trace_hit_out) == 64, "trace_hit_out layout");
+_Static_assert(sizeof(struct trace_event_out) == 64, "trace_event_out layout");
+_Static_assert(RENDER_TRACE_MAX_EVENTS == TRACE_MAX_EVENTS, "events per traced ray");
 _Static_assert(sizeof(struct light_params) == 5 * 16, "light_params layout");
 _Static_assert(sizeof(struct march_lights) ==
                    3 * 16 + 2 * MAX_OBJECTS * 16 + MAX_LIGHTS * sizeof(struct light_params),
@@ -425,6 +427,34 @@ enum refract_code render_trace(struct render *r, const struct render_scene_sourc
                                const struct render_trace_ray *rays, size_t count,
                                struct render_trace_hit *hits, double *gpu_ms, struct err *e)
 {
+    return render_trace_events(r, src, settings, rays, count, hits, NULL, gpu_ms, e);
+}
+
+static void copy_events(const struct trace_event_out *in, size_t count,
+                        struct render_trace_event *out)
+{
+    for (size_t i = 0; i < count * RENDER_TRACE_MAX_EVENTS; i++) {
+        out[i] = (struct render_trace_event){
+            .kind = (int)in[i].point.w,
+            .fresnel_R = in[i].normal.w,
+            .surface = in[i].media.x,
+            .medium_from = in[i].media.y,
+            .medium_to = in[i].media.z,
+            .n_from = in[i].ior.x,
+            .n_to = in[i].ior.y,
+        };
+        copy_xyz(out[i].point, in[i].point);
+        copy_xyz(out[i].normal, in[i].normal);
+    }
+}
+
+enum refract_code render_trace_events(struct render *r, const struct render_scene_source *src,
+                                      const struct scene_render_settings *settings,
+                                      const struct render_trace_ray *rays, size_t count,
+                                      struct render_trace_hit *hits,
+                                      struct render_trace_event *events, double *gpu_ms,
+                                      struct err *e)
+{
     struct scene_gpu *sg = cache_get(r, src, NULL, e);
     if (sg == NULL)
         return e->code;
@@ -447,10 +477,15 @@ enum refract_code render_trace(struct render *r, const struct render_scene_sourc
     fill_objects(&mp, src->scene, sg);
     fill_settings(&mp, src->scene, settings);
     mp.image.z = (int)count;
-    struct gpu_buffer in_buf = {0}, out_buf = {0};
+    mp.image.w = events != NULL ? 1 : 0;
+    struct gpu_buffer in_buf = {0}, out_buf = {0}, ev_buf = {0};
+    size_t ev_bytes =
+        (events != NULL ? count * RENDER_TRACE_MAX_EVENTS : 1) * sizeof(struct trace_event_out);
     enum refract_code rc = gpu_buffer_create("trace rays in", count * sizeof *in, in, &in_buf, e);
     if (rc == REFRACT_E_OK)
         rc = gpu_buffer_create("trace hits out", count * sizeof *res, NULL, &out_buf, e);
+    if (rc == REFRACT_E_OK)
+        rc = gpu_buffer_create("trace events out", ev_bytes, NULL, &ev_buf, e);
     GLuint prog = 0;
     if (rc == REFRACT_E_OK) {
         prog = gpu_program_get_e(gpu_programs_get(r->gpu), GPU_KERNEL_TRACE_RAYS,
@@ -462,6 +497,7 @@ enum refract_code render_trace(struct render *r, const struct render_scene_sourc
         glUseProgram(prog);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_RAYS_IN, in_buf.buf);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_HITS_OUT, out_buf.buf);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_TRACE_EVENTS, ev_buf.buf);
         double t = gpu_time_ms();
         glDispatchCompute(gpu_groups((int)count, TRACE_LOCAL_X), 1, 1);
         glFinish();
@@ -478,9 +514,21 @@ enum refract_code render_trace(struct render *r, const struct render_scene_sourc
         copy_xyz(hits[i].exit_origin, res[i].exit_origin);
         copy_xyz(hits[i].exit_direction, res[i].exit_direction);
         copy_xyz(hits[i].transmittance, res[i].transmittance);
+        hits[i].event_count = res[i].events.x;
+    }
+    if (rc == REFRACT_E_OK && events != NULL) {
+        struct trace_event_out *ev = malloc(ev_bytes);
+        if (ev == NULL)
+            rc = err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for the trace events");
+        if (rc == REFRACT_E_OK)
+            rc = gpu_buffer_read(&ev_buf, ev, ev_bytes, e);
+        if (rc == REFRACT_E_OK)
+            copy_events(ev, count, events);
+        free(ev);
     }
     gpu_buffer_destroy(&in_buf);
     gpu_buffer_destroy(&out_buf);
+    gpu_buffer_destroy(&ev_buf);
     free(in);
     free(res);
     return rc;

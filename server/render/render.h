@@ -96,6 +96,19 @@ struct render_trace_hit {
     double transmittance[3];
     double optical_path_length;
     int steps;
+    int event_count; /* surface events of the ray (the first RENDER_TRACE_MAX_EVENTS are kept) */
+};
+
+/* One surface event of a traced ray (docs/api.md "Trace", "events": true). */
+#define RENDER_TRACE_MAX_EVENTS 16 /* = TRACE_MAX_EVENTS (shaders/bindings.h) */
+struct render_trace_event {
+    int kind; /* TRACE_EVENT_REFRACTED or TRACE_EVENT_REFLECTED (total internal reflection) */
+    double point[3];
+    double normal[3]; /* unit, facing the incoming ray */
+    double fresnel_R; /* reflectance at the event; 1 under total internal reflection */
+    int surface;      /* index in the scene's surfaces (priority order) */
+    int medium_from, medium_to; /* surface whose medium, -1 the ambient medium */
+    double n_from, n_to;
 };
 
 /* Makes a renderer on the GPU thread. Returns a new render (destroy with
@@ -115,6 +128,16 @@ size_t render_cache_bytes(const struct render *r);
 enum refract_code render_view(struct render *r, const struct render_scene_source *src,
                               const struct render_view_request *req, struct render_view_result *out,
                               struct err *e);
+
+/* render_trace, also recording each ray's surface events: events has
+ * count * RENDER_TRACE_MAX_EVENTS entries (ray i's at i * RENDER_TRACE_MAX_EVENTS), or is
+ * NULL (none recorded). */
+enum refract_code render_trace_events(struct render *r, const struct render_scene_source *src,
+                                      const struct scene_render_settings *settings,
+                                      const struct render_trace_ray *rays, size_t count,
+                                      struct render_trace_hit *hits,
+                                      struct render_trace_event *events, double *gpu_ms,
+                                      struct err *e);
 
 /* Traces `count` rays with the view renderer's march (trace_rays.comp). hits has count
  * entries. */

@@ -1,0 +1,228 @@
+/*
+ * test_surfaces_api.c - exact surfaces through the HTTP API of a real refractd
+ * (docs/scenes.md "Surfaces", docs/api.md "Trace"):
+ *   - a glass sphere scene of surfaces only is created, rendered (PNG and EXR) and traced;
+ *     the trace's exit direction against Snell at both surfaces (closed form);
+ *   - "events": true lists each surface event: surface and media names, n on both sides,
+ *     the normal, the Fresnel reflectance (closed form at normal incidence), and a ray that
+ *     meets the glass-wine interface of nested media with 1.33 -> 1.5;
+ *   - a scene of voxel objects only traces exactly as before (no "events" key without
+ *     the option; an empty events list with it);
+ *   - bad input gets a 400/422 naming the JSON path: voxel-only shapes, a missing
+ *     medium, an out-of-range ior, equal priorities of overlapping solids, a voxel object
+ *     overlapping a surface, a receiver with surfaces, too many surfaces, unknown keys,
+ *     a plane without a normal.
+ */
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "daemon.h"
+#include "expect.h"
+#include "test.h"
+
+#define SPHERE_SCENE                                                                               \
+    "{\"name\": \"ball\", \"camera\": {\"eye\": [0, 0, 4], \"look_at\": [0, 0, 0], "             \
+    "\"width\": 64, \"height\": 48}, \"surfaces\": [{\"name\": \"ball\", \"shape\": \"sphere\", " \
+    "\"radius\": 0.8, \"medium\": {\"ior\": 1.5, \"attenuation\": [0.02, 0.01, 0.02]}}]}"
+
+static const cJSON *get(const cJSON *o, const char *k)
+{
+    return cJSON_GetObjectItemCaseSensitive(o, k);
+}
+
+static double num(const cJSON *o, const char *k)
+{
+    const cJSON *v = get(o, k);
+    return cJSON_IsNumber(v) ? v->valuedouble : NAN;
+}
+
+static void vec(const cJSON *o, const char *k, double out[3])
+{
+    const cJSON *a = get(o, k);
+    for (int i = 0; i < 3; i++) {
+        const cJSON *v = cJSON_GetArrayItem(a, i);
+        out[i] = cJSON_IsNumber(v) ? v->valuedouble : NAN;
+    }
+}
+
+static void sphere_scene(struct test_daemon *d)
+{
+    section("sphere");
+    char id[128];
+    CHECK(test_create_scene(d, SPHERE_SCENE, id));
+    char path[256];
+    snprintf(path, sizeof path, "/v1/scenes/%s/render", id);
+    char *png = EXPECT_STATUS(d, "POST", path, "{\"format\": \"png\"}", 200);
+    CHECK(png != NULL);
+    free(png);
+    /* A ray at height b: Snell in and out (closed form for a sphere of radius R, n):
+     * deviation 2 (theta_i - theta_t). */
+    snprintf(path, sizeof path, "/v1/scenes/%s/trace", id);
+    const double b = 0.5, R = 0.8, n = 1.5;
+    char req[512];
+    snprintf(req, sizeof req,
+             "{\"events\": true, \"rays\": [{\"origin\": [0, %g, -3], \"direction\": [0, 0, 1]},"
+             " {\"origin\": [0, 0, -3], \"direction\": [0, 0, 1]},"
+             " {\"origin\": [0, 0.9, -3], \"direction\": [0, 0, 1]}]}",
+             b);
+    char *body = EXPECT_STATUS(d, "POST", path, req, 200);
+    cJSON *root = cJSON_Parse(body ? body : "{}");
+    const cJSON *rays = get(root, "rays");
+    CHECK_INT(cJSON_GetArraySize(rays), 3);
+    const cJSON *r0 = cJSON_GetArrayItem(rays, 0);
+    double dir[3];
+    vec(r0, "exit_direction", dir);
+    double ti = asin(b / R), tt = asin(b / (R * n));
+    double dev = 2 * (ti - tt);
+    CHECK_NEAR(dir[1], -sin(dev), 1e-5);
+    CHECK_NEAR(dir[2], cos(dev), 1e-5);
+    CHECK_INT((int)num(r0, "event_count"), 2);
+    const cJSON *events = get(r0, "events");
+    CHECK_INT(cJSON_GetArraySize(events), 2);
+    const cJSON *e0 = cJSON_GetArrayItem(events, 0), *e1 = cJSON_GetArrayItem(events, 1);
+    CHECK(cJSON_IsString(get(e0, "kind")) && strcmp(get(e0, "kind")->valuestring, "refracted") == 0);
+    CHECK(cJSON_IsString(get(e0, "surface")) && strcmp(get(e0, "surface")->valuestring, "ball") == 0);
+    CHECK(strcmp(get(e0, "medium_before")->valuestring, "ambient") == 0);
+    CHECK(strcmp(get(e0, "medium_after")->valuestring, "ball") == 0);
+    CHECK(strcmp(get(e1, "medium_after")->valuestring, "ambient") == 0);
+    CHECK_NEAR(num(e0, "n_before"), 1.0, 1e-6);
+    CHECK_NEAR(num(e0, "n_after"), 1.5, 1e-6);
+    double p[3], nrm[3];
+    vec(e0, "point", p);
+    vec(e0, "normal", nrm);
+    CHECK_NEAR(sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]), R, 1e-5);
+    CHECK_NEAR(nrm[2], -sqrt(1 - (b / R) * (b / R)), 1e-5); /* faces the incoming ray */
+    /* The central ray: normal incidence, R = ((n - 1) / (n + 1))^2 = 0.04, no deviation. */
+    const cJSON *r1 = cJSON_GetArrayItem(rays, 1);
+    CHECK_NEAR(num(cJSON_GetArrayItem(get(r1, "events"), 0), "fresnel_reflectance"), 0.04, 1e-6);
+    vec(r1, "transmittance", dir);
+    CHECK_NEAR(dir[0], 0.96 * 0.96 * exp(-0.02 * 2 * R), 1e-5);
+    /* The ray above the sphere passes by: no events, "missed". */
+    const cJSON *r2 = cJSON_GetArrayItem(rays, 2);
+    CHECK(strcmp(get(r2, "status")->valuestring, "missed") == 0);
+    CHECK_INT(cJSON_GetArraySize(get(r2, "events")), 0);
+    cJSON_Delete(root);
+    free(body);
+}
+
+static void nested_media(struct test_daemon *d)
+{
+    section("nested");
+    /* Wine (priority 1) overlapping the inside of a glass ball shell (priority 2): a
+     * ray from the centre meets the glass at r = 0.9 with 1.33 -> 1.5. */
+    const char *doc =
+        "{\"name\": \"nested\", \"surfaces\": ["
+        " {\"name\": \"wine\", \"shape\": \"sphere\", \"radius\": 0.92, \"priority\": 1,"
+        "  \"medium\": {\"ior\": 1.33}},"
+        " {\"name\": \"glass\", \"shape\": \"sphere\", \"radius\": 1.0, \"priority\": 2,"
+        "  \"medium\": {\"ior\": 1.5}},"
+        " {\"name\": \"inner\", \"shape\": \"sphere\", \"radius\": 0.9, \"priority\": 3,"
+        "  \"medium\": {\"ior\": 1.33}}]}";
+    char id[128], path[256];
+    CHECK(test_create_scene(d, doc, id));
+    snprintf(path, sizeof path, "/v1/scenes/%s/trace", id);
+    char *body = EXPECT_STATUS(d, "POST", path,
+                               "{\"events\": true, \"rays\": [{\"origin\": [0.1, 0, 0], "
+                               "\"direction\": [0, 0.6, 0.8]}]}",
+                               200);
+    cJSON *root = cJSON_Parse(body ? body : "{}");
+    const cJSON *r0 = cJSON_GetArrayItem(get(root, "rays"), 0);
+    const cJSON *events = get(r0, "events");
+    CHECK_INT(cJSON_GetArraySize(events), 2); /* wine -> glass, glass -> air */
+    const cJSON *e0 = cJSON_GetArrayItem(events, 0);
+    CHECK(cJSON_IsString(get(e0, "medium_before")) &&
+          strcmp(get(e0, "medium_before")->valuestring, "inner") == 0);
+    CHECK(cJSON_IsString(get(e0, "medium_after")) &&
+          strcmp(get(e0, "medium_after")->valuestring, "glass") == 0);
+    CHECK_NEAR(num(e0, "n_before"), 1.33, 1e-6);
+    CHECK_NEAR(num(e0, "n_after"), 1.5, 1e-6);
+    double p[3];
+    vec(e0, "point", p);
+    CHECK_NEAR(sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]), 0.9, 1e-5);
+    cJSON_Delete(root);
+    free(body);
+}
+
+static void voxel_scene_unchanged(struct test_daemon *d)
+{
+    section("voxels");
+    const char *doc = "{\"name\": \"vox\", \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], "
+                      "\"max\": [1, 1, 1]}, \"resolution\": 16, \"ior\": 1.2}]}";
+    char id[128], path[256];
+    CHECK(test_create_scene(d, doc, id));
+    snprintf(path, sizeof path, "/v1/scenes/%s/trace", id);
+    const char *ray = "\"rays\": [{\"origin\": [0, 0.3, -3], \"direction\": [0, 0, 1]}]}";
+    char req[256];
+    snprintf(req, sizeof req, "{%s", ray);
+    char *plain = EXPECT_STATUS(d, "POST", path, req, 200);
+    CHECK(plain != NULL && strstr(plain, "\"events\"") == NULL);
+    snprintf(req, sizeof req, "{\"events\": true, %s", ray);
+    char *with = EXPECT_STATUS(d, "POST", path, req, 200);
+    CHECK(with != NULL && strstr(with, "\"events\":[]") != NULL);
+    free(plain);
+    free(with);
+}
+
+#define SURF(body) "{\"surfaces\": [" body "]}"
+#define BALL "{\"shape\": \"sphere\", \"radius\": 0.5, \"medium\": {\"ior\": 1.5}}"
+
+static void bad_input(struct test_daemon *d)
+{
+    section("bad input");
+    char many[8192] = "{\"surfaces\": [";
+    for (int i = 0; i < 33; i++) {
+        char one[160];
+        snprintf(one, sizeof one,
+                 "%s{\"shape\": \"sphere\", \"center\": [%d, 0, 0], \"radius\": 0.4, "
+                 "\"medium\": {\"ior\": 1.5}}",
+                 i ? ", " : "", i);
+        strcat(many, one);
+    }
+    strcat(many, "]}");
+    const struct json_error_case cases[] = {
+        {__LINE__, SURF("{\"shape\": \"rounded_box\", \"size\": [1, 1, 1], \"radius\": 0.1, "
+                        "\"medium\": {\"ior\": 1.5}}"),
+         400, "invalid_field", {"surfaces[0].shape", "rounded_box", "mesh"}},
+        {__LINE__, SURF("{\"shape\": \"sphere\", \"radius\": 0.5}"), 400, "missing_field",
+         {"surfaces[0]", "medium"}},
+        {__LINE__, SURF("{\"shape\": \"sphere\", \"radius\": 0.5, \"medium\": {\"ior\": 7}}"), 400,
+         "invalid_field", {"surfaces[0].medium.ior"}},
+        {__LINE__, SURF("{\"shape\": \"sphere\", \"radius\": 0.5, \"medium\": {\"n\": 1.5}}"),
+         400, "unknown_field", {"surfaces[0].medium", "n"}},
+        {__LINE__, SURF(BALL ", {\"shape\": \"box\", \"size\": [1, 1, 1], \"priority\": 0, "
+                             "\"medium\": {\"ior\": 1.3}}"),
+         400, "invalid_field", {"surfaces[1].priority", "different priorities"}},
+        {__LINE__,
+         "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+         "\"resolution\": 8, \"ior\": 1.2}], \"surfaces\": [" BALL "]}",
+         400, "invalid_field", {"surfaces[0]", "objects[0]"}},
+        {__LINE__, "{\"receiver\": {\"height\": -1, \"half_size\": 2}, \"surfaces\": [" BALL "]}", 400,
+         "invalid_field", {"receiver", "surfaces"}},
+        {__LINE__, many, 422, "limit_exceeded", {"surfaces", "32"}},
+        {__LINE__, SURF("{\"shape\": \"sphere\", \"radius\": 0.5, \"colour\": 1, "
+                        "\"medium\": {\"ior\": 1.5}}"),
+         400, "unknown_field", {"surfaces[0]", "colour"}},
+        {__LINE__, SURF("{\"shape\": \"plane\", \"point\": [0, 0, 0], \"medium\": {\"ior\": 1.33}}"),
+         400, "missing_field", {"surfaces[0]", "normal"}},
+        {__LINE__, "{\"surfaces\": []}", 400, "invalid_field", {"surfaces"}},
+        {__LINE__, "{\"name\": \"x\"}", 400, "missing_field", {"objects", "surfaces"}},
+    };
+    EXPECT_JSON_ERROR_CASES(d, "POST", "/v1/scenes", cases);
+}
+
+int main(void)
+{
+    struct test_daemon d;
+    if (!test_daemon_start(&d, NULL))
+        test_setup_failed("test_surfaces_api", d.why);
+    sphere_scene(&d);
+    nested_media(&d);
+    voxel_scene_unchanged(&d);
+    bad_input(&d);
+    CHECK_INT(test_daemon_stop(&d), 0);
+    test_daemon_cleanup(&d);
+    return test_summary("test_surfaces_api");
+}
