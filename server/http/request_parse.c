@@ -11,10 +11,9 @@
 #include "http_internal.h"
 
 /* Order as enum scene_integrator. */
-static const char *const integrator_names[] = {"euler", "rk4", "rk2", "adaptive", NULL};
-/* Order as enum scene_ior_filter. */
-static const char *const ior_filter_names[] = {"trilinear", "tricubic", NULL};
-static const char *const tonemap_names[] = {"clamp", "filmic", NULL};
+#define integrator_names scene_integrator_words
+#define ior_filter_names scene_ior_filter_words
+#define tonemap_names scene_tonemap_words
 static const char *const format_names[] = {"png", "jpeg", "exr", NULL};
 
 enum refract_code http_parse_body(const char *body, size_t len, cJSON **root, struct err *e)

@@ -151,6 +151,13 @@ enum scene_ior_texture { SCENE_IOR_FLOAT32 = 0, SCENE_IOR_FLOAT16 = 1 };
 enum scene_ior_filter { SCENE_FILTER_TRILINEAR = 0, SCENE_FILTER_TRICUBIC = 1 };
 enum scene_tonemap { SCENE_TONEMAP_CLAMP = 0, SCENE_TONEMAP_FILMIC = 1 };
 
+/* The JSON words of these enums, indexed by value, NULL-terminated (scene_words.c): the one
+ * table each that parsers (jr_enum) and status answers share. */
+extern const char *const scene_integrator_words[];
+extern const char *const scene_ior_texture_words[];
+extern const char *const scene_ior_filter_words[];
+extern const char *const scene_tonemap_words[];
+
 /* Render defaults of a scene; a render request may override each. */
 struct scene_render_settings {
     enum scene_integrator integrator;

@@ -173,10 +173,10 @@ static enum refract_code parse_render(const cJSON *root, const struct scene_limi
         "boundary_threshold", "tonemap", "ior_texture", "ior_filter", "empty_space_skipping",
         "min_throughput",     NULL};
     /* Order as enum scene_integrator / scene_ior_texture / scene_ior_filter. */
-    static const char *const integrators[] = {"euler", "rk4", "rk2", "adaptive", NULL};
-    static const char *const ior_textures[] = {"float32", "float16", NULL};
-    static const char *const tonemaps[] = {"clamp", "filmic", NULL};
-    static const char *const ior_filters[] = {"trilinear", "tricubic", NULL};
+    const char *const *integrators = scene_integrator_words;
+    const char *const *ior_textures = scene_ior_texture_words;
+    const char *const *tonemaps = scene_tonemap_words;
+    const char *const *ior_filters = scene_ior_filter_words;
     const cJSON *o;
     int integrator = SCENE_INTEGRATOR_RK4, tonemap = SCENE_TONEMAP_CLAMP;
     int ior_texture = SCENE_IOR_FLOAT32, ior_filter = SCENE_FILTER_TRILINEAR;

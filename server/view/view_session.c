@@ -12,8 +12,6 @@
 #include "view_internal.h"
 
 const char *const view_quality_names[] = {"normal", "draft", "final", NULL};
-static const char *const integrator_names[] = {"euler", "rk4"};
-static const char *const tonemap_names[] = {"clamp", "filmic"};
 
 void view_settings_defaults(const struct scene *s, struct view_settings *out)
 {
@@ -255,10 +253,10 @@ static void add_settings(cJSON *o, const struct view_settings *st,
     cJSON_AddNumberToObject(o, "width", st->camera.width);
     cJSON_AddNumberToObject(o, "height", st->camera.height);
     cJSON_AddNumberToObject(o, "exposure", st->exposure_ev);
-    cJSON_AddStringToObject(o, "tonemap", tonemap_names[st->tonemap == SCENE_TONEMAP_FILMIC]);
+    cJSON_AddStringToObject(o, "tonemap", scene_tonemap_words[st->tonemap]);
     cJSON_AddStringToObject(o, "quality", view_quality_names[st->quality]);
     cJSON_AddStringToObject(o, "integrator",
-                            integrator_names[rs->integrator == SCENE_INTEGRATOR_RK4]);
+                            scene_integrator_words[rs->integrator]);
     cJSON_AddNumberToObject(o, "step", rs->step_voxels);
     cJSON_AddNumberToObject(o, "max_steps", rs->max_steps);
     cJSON_AddNumberToObject(o, "boundary_threshold", rs->boundary_threshold);

@@ -104,6 +104,19 @@ static void status_echoes_settings(struct test_daemon *d, const char *scene)
     CHECK_INT((int)number(st, "width"), 32); /* what the PATCH does not name stays */
     cJSON_Delete(st);
     free(body);
+    /* Every stepper is reported as set (a two-entry copy of the words once said "euler"
+     * for rk2 and adaptive). */
+    const char *const steppers[] = {"rk2", "adaptive", "euler", "rk4"};
+    for (int k = 0; k < 4; k++) {
+        char patch[64];
+        snprintf(patch, sizeof patch, "{\"integrator\": \"%s\"}", steppers[k]);
+        body = EXPECT_STATUS(d, "PATCH", path, patch, 200);
+        st = body ? cJSON_Parse(body) : NULL;
+        CHECK_MSG(st != NULL && strcmp(string(st, "integrator"), steppers[k]) == 0,
+                  "set %s, status says %s", steppers[k], st ? string(st, "integrator") : "?");
+        cJSON_Delete(st);
+        free(body);
+    }
 
     /* A refused PATCH changes nothing. */
     EXPECT_ERROR(d, "PATCH", path, "{\"width\": 40, \"max_fps\": 0}", 400, "invalid_field",
