@@ -21,7 +21,7 @@ static void add_hex(cJSON *o, const char *name, uint64_t v)
 cJSON *http_irradiance_status(const struct http_app *app, struct store_scene *v)
 {
     struct irradiance_source src;
-    view_irradiance_source(v, &src);
+    render_request_irradiance_source(v, &src);
     struct irradiance_light_status st[SCENE_MAX_LIGHTS];
     int n = irradiance_cache_status(app->irradiance, &src, st);
     cJSON *root = cJSON_CreateObject();
@@ -83,7 +83,7 @@ enum MHD_Result http_handle_irradiance_exr(struct http_request *req)
     if (v == NULL)
         return answer;
     struct irradiance_source src;
-    view_irradiance_source(v, &src);
+    render_request_irradiance_source(v, &src);
     struct irradiance_volume vol;
     uint64_t key = 0;
     bool previous = false;

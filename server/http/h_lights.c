@@ -133,7 +133,7 @@ static enum MHD_Result store_and_answer(struct http_request *req, cJSON *doc)
     /* Before the cache request, so the lights change comes before its irradiance events. */
     http_publish_scene(req->app, EVENT_SCENE_UPDATED, v->id, v, "lights");
     struct irradiance_source src;
-    view_irradiance_source(v, &src);
+    render_request_irradiance_source(v, &src);
     bool all_hit = irradiance_cache_request(req->app->irradiance, &src, true);
     cJSON *root = http_irradiance_status(req->app, v);
     store_scene_release(v);

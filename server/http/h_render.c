@@ -44,7 +44,7 @@ static void render_run(struct gpu_work *w, struct gpu *gpu)
     (void)gpu;
     struct http_request *req = w->user;
     struct render_job *job = req->job;
-    view_render_version(req->app->render, req->app->irradiance, req->app->store, job->version,
+    render_request_version(req->app->render, req->app->irradiance, req->app->store, job->version,
                         &job->request.view, job->lights, &job->result, &job->irradiance, &w->err);
 }
 
@@ -120,7 +120,7 @@ enum MHD_Result http_handle_render(struct http_request *req)
                                   &e) != REFRACT_E_OK)
         return http_respond_err(req, &e);
     struct irradiance_source isrc;
-    view_irradiance_source(v, &isrc);
+    render_request_irradiance_source(v, &isrc);
     irradiance_cache_request(req->app->irradiance, &isrc, false);
     req->work.label = "render";
     req->work.run = render_run;
@@ -154,7 +154,7 @@ static void trace_run(struct gpu_work *w, struct gpu *gpu)
     (void)gpu;
     struct http_request *req = w->user;
     struct trace_job *job = req->job;
-    struct render_scene_source src = view_scene_source(job->version);
+    struct render_scene_source src = render_request_scene_source(job->version);
     render_trace_events(req->app->render, &src, &job->settings, job->rays, job->count, job->hits,
                         job->events, &job->gpu_ms, &w->err);
 }

@@ -89,7 +89,7 @@ static void prepare_run(struct gpu_work *w, struct gpu *gpu)
     store_scene_release(current);
     if (stale)
         return;
-    struct render_scene_source src = view_scene_source(v);
+    struct render_scene_source src = render_request_scene_source(v);
     struct render_scene_status rs;
     struct err e = {0};
     if (render_scene_prepare(job->app->render, &src, &rs, &e) == REFRACT_E_OK) {
@@ -114,7 +114,7 @@ static void prepare_done(struct gpu_work *w)
 void http_prepare_scene(const struct http_app *app, struct store_scene *version)
 {
     struct irradiance_source isrc;
-    view_irradiance_source(version, &isrc);
+    render_request_irradiance_source(version, &isrc);
     irradiance_cache_request(app->irradiance, &isrc, false);
     struct prepare_job *job = calloc(1, sizeof *job);
     if (job == NULL)

@@ -12,7 +12,7 @@
 #include <microhttpd.h>
 
 #include "../view/view.h"
-#include "../view/view_source.h"
+#include "../request/render_request.h"
 #include "../core/sha256.h"
 #include "http.h"
 
@@ -223,8 +223,8 @@ void http_publish_scene(const struct http_app *app, const char *type, const char
 /* ---- irradiance (h_irradiance.c) ---- */
 /* The irradiance status body (docs/api.md) of a version. */
 cJSON *http_irradiance_status(const struct http_app *app, struct store_scene *v);
-/* A version as render and irradiance source: view_scene_source and
- * view_irradiance_source (server/view/view_source.h, shared with the view sessions). */
+/* A version as render and irradiance source: render_request_scene_source and
+ * render_request_irradiance_source (server/request/render_request.h, shared with the view sessions). */
 
 /* Looks up the scene named by the first path parameter; answers 404 and returns NULL when
  * it does not exist. Returns a new reference. */

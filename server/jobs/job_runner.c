@@ -25,7 +25,7 @@
 #include "../io/io_image.h"
 #include "../render/render.h"
 #include "../scene/json_read.h"
-#include "../view/view_source.h"
+#include "../request/render_request.h"
 #include "jobs.h"
 
 /* How long a frame whose lights are not simulated yet waits before it is tried again. */
@@ -214,7 +214,7 @@ static void frame_run(struct gpu_work *w, struct gpu *gpu)
 {
     (void)gpu;
     struct job_runner *r = w->user;
-    view_render_version(r->d.render, r->d.irradiance, r->d.store, r->version, &r->request,
+    render_request_version(r->d.render, r->d.irradiance, r->d.store, r->version, &r->request,
                         r->lights, &r->result, &r->irradiance, &w->err);
 }
 
@@ -306,7 +306,7 @@ static enum refract_code frame_version(struct job_runner *r, struct store_scene 
 static void frame_source(struct store_scene *v, const struct job_frame *f, const char *slot_id,
                          struct irradiance_source *out)
 {
-    view_irradiance_source(v, out);
+    render_request_irradiance_source(v, out);
     if (f->light_count > 0)
         out->scene_id = slot_id;
 }

@@ -23,7 +23,7 @@
 
 #include "../core/log.h"
 #include "view_internal.h"
-#include "view_source.h"
+#include "../request/render_request.h"
 
 #define PREVIEW_AFTER_MS 20.0  /* docs/views.md: previews only when full frames are slower */
 #define RETRY_BUSY_MS 200      /* a full GPU queue (BUSY) or a missed deadline: try again */
@@ -130,7 +130,7 @@ static void job_run(struct gpu_work *w, struct gpu *gpu)
     (void)gpu;
     struct view_job *job = w->user;
     const struct view_registry_desc *d = view_registry_settings(job->session->reg);
-    view_render_version(d->render, d->irradiance, d->store, job->version, &job->request,
+    render_request_version(d->render, d->irradiance, d->store, job->version, &job->request,
                         job->lights, &job->result, &job->irradiance, &w->err);
 }
 
@@ -172,7 +172,7 @@ static void job_start(struct view_registry *r, struct view_job *job)
     s->last_render = rq->settings;
     pthread_mutex_unlock(&s->mu);
     struct irradiance_source isrc;
-    view_irradiance_source(job->version, &isrc);
+    render_request_irradiance_source(job->version, &isrc);
     irradiance_cache_request(r->desc.irradiance, &isrc, false);
     job->work = (struct gpu_work){.priority = GPU_PRIORITY_INTERACTIVE,
                                   .deadline_ms = gpu_now_ms() + r->desc.request_timeout_ms,

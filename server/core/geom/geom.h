@@ -19,15 +19,9 @@
 #include "../vec3.h"
 #include "../xform.h"
 
-/* The kinds, numbered as the GPU's surface_params.kind.x (shaders/bindings.h). */
-enum geom_kind {
-    GEOM_SPHERE = 0,
-    GEOM_BOX = 1,
-    GEOM_CYLINDER = 2,
-    GEOM_PLANE = 3,
-    GEOM_LATHE = 4,
-    GEOM_MESH = 5,
-};
+/* The kinds are GEOM_SPHERE, GEOM_BOX, GEOM_CYLINDER, GEOM_PLANE, GEOM_LATHE and GEOM_MESH
+ * of bindings.h, the numbers the GPU's surface_params.kind.x holds. */
+#include "bindings.h"
 
 struct geom_hit {
     double t;
@@ -82,7 +76,7 @@ struct geom_mesh_ops {
 };
 
 struct geom_surface {
-    enum geom_kind kind;
+    int kind;        /* GEOM_* */
     struct xform xf; /* world_from_object (similarity) */
     vec3 center;     /* sphere, box, cylinder; plane: a point on it */
     double radius;   /* sphere, cylinder */

@@ -1,6 +1,6 @@
 /*
- * view_source.c - store versions as render and irradiance sources, and the render path
- * shared by POST .../render and the view sessions (view_source.h). Moved here from
+ * render_request.c - store versions as render and irradiance sources, and the render path
+ * shared by POST .../render and the view sessions (render_request.h). Moved here from
  * server/http/ so that the view scheduler, which must not depend on HTTP, renders exactly
  * as a single render does.
  */
@@ -8,9 +8,9 @@
 #include <string.h>
 
 #include "../store/store_mesh.h"
-#include "view_source.h"
+#include "../request/render_request.h"
 
-struct render_scene_source view_scene_source(struct store_scene *v)
+struct render_scene_source render_request_scene_source(struct store_scene *v)
 {
     return (struct render_scene_source){
         .id = v->id,
@@ -73,7 +73,7 @@ static uint64_t uploads_hash(const struct store_scene *v)
     return h;
 }
 
-void view_irradiance_source(struct store_scene *v, struct irradiance_source *out)
+void render_request_irradiance_source(struct store_scene *v, struct irradiance_source *out)
 {
     *out = (struct irradiance_source){.scene_id = v->id,
                                       .scene = v->scene,
@@ -96,15 +96,15 @@ static void note_build(struct store *store, const struct store_scene *v,
     store_gpu_status_set(store, v->id, &st);
 }
 
-enum refract_code view_render_version(struct render *r, struct irradiance_cache *c,
+enum refract_code render_request_version(struct render *r, struct irradiance_cache *c,
                                       struct store *store, struct store_scene *v,
                                       struct render_view_request *req, struct render_light *lights,
                                       struct render_view_result *out, const char **irradiance,
                                       struct err *e)
 {
-    struct render_scene_source src = view_scene_source(v);
+    struct render_scene_source src = render_request_scene_source(v);
     struct irradiance_source isrc;
-    view_irradiance_source(v, &isrc);
+    render_request_irradiance_source(v, &isrc);
     int count = 0;
     *irradiance = irradiance_cache_gather(c, &isrc, lights, &count);
     req->lights = lights;

@@ -1,14 +1,14 @@
 /*
- * view_source.h - a stored scene version as the renderer and the irradiance cache see it,
- * and the one render path that both single renders (POST /v1/scenes/{id}/render) and view
- * sessions use: gather the best irradiance volume of each light, render, record a build
+ * render_request.h - a stored scene version as the renderer and the irradiance cache see it,
+ * and the one render path that single renders (POST /v1/scenes/{id}/render), view
+ * sessions and batch jobs use (named after none of them): gather the best irradiance volume of each light, render, record a build
  * made on the way.
  *
  * Ownership: the sources borrow the version (and its uploads) for as long as the caller
- * keeps its reference; nothing here allocates except view_render_version's result.
+ * keeps its reference; nothing here allocates except render_request_version's result.
  */
-#ifndef REFRACT_VIEW_SOURCE_H
-#define REFRACT_VIEW_SOURCE_H
+#ifndef REFRACT_RENDER_REQUEST_H
+#define REFRACT_RENDER_REQUEST_H
 
 #include "../cache/irradiance_cache.h"
 #include "../render/render.h"
@@ -17,18 +17,18 @@
 /* The renderer's description of a version (render_scene_source.generation is the
  * version's data_generation: a lights change does not rebuild the scene's GPU data).
  * Any thread. */
-struct render_scene_source view_scene_source(struct store_scene *v);
+struct render_scene_source render_request_scene_source(struct store_scene *v);
 
 /* What the irradiance cache needs of a version (borrowed for as long as v; the cache
  * retains v itself while it builds fields). Any thread. */
-void view_irradiance_source(struct store_scene *v, struct irradiance_source *out);
+void render_request_irradiance_source(struct store_scene *v, struct irradiance_source *out);
 
 /* GPU thread: renders req (its lights are filled in here: lights has SCENE_MAX_LIGHTS
  * entries and must stay alive for the call) from the best irradiance the cache has, and
  * records a scene build made on the way in the store's GPU status like a background
  * build would. *irradiance (X-Refract-Irradiance) is "ready", "stale", "missing" or
  * "not-needed". out->rgba is new (caller frees). Errors are render_view's. */
-enum refract_code view_render_version(struct render *r, struct irradiance_cache *c,
+enum refract_code render_request_version(struct render *r, struct irradiance_cache *c,
                                       struct store *store, struct store_scene *v,
                                       struct render_view_request *req, struct render_light *lights,
                                       struct render_view_result *out, const char **irradiance,
