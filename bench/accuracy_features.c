@@ -26,7 +26,7 @@
  * ones, where early termination has: dark tinted glass (throughput down to 1e-8 through
  * the middle) and the same with emission. */
 static const char *const examples[] = {
-    "glass_sphere",          "gaussian_lens", "luneburg_lens",     "maxwell_fisheye",
+    "glass_sphere_voxels",   "gaussian_lens", "luneburg_lens",     "maxwell_fisheye",
     "bumpy_sphere",          "wine_glass",    "ball_lens_caustic", "rounded_cube_three_layers",
     "glass_block_lettering", "smoke_spot"};
 #define EXAMPLE_COUNT (int)(sizeof examples / sizeof examples[0])

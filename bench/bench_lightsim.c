@@ -3,14 +3,14 @@
  * (server/lightsim/gpu), for BENCHMARKS.md. Not a test: it asserts nothing and prints a
  * Markdown table.
  *
- *     build/refract-lightsim [--scenes glass_sphere,wine_glass,bumpy_sphere]
+ *     build/refract-lightsim [--scenes glass_sphere_voxels,wine_glass,bumpy_sphere]
  *                            [--resolutions 64,128,256] [--patches 32,64,128]
  *                            [--max-patches 262144] [--chunk 64] [--object-resolution 64]
  *
  * For every scene, light-grid resolution and initial patch count (patches per side of
  * the initial wavefront) it builds the light fields on the CPU (lightsim_fields_build;
  * time reported), then runs the simulation of the scene's first light (a directional
- * light (0.2, -1, 0.1) when the document has none, e.g. glass_sphere) on the GPU in chunks
+ * light (0.2, -1, 0.1) when the document has none, e.g. glass_sphere_voxels) on the GPU in chunks
  * of --chunk steps, timed from the first upload to glFinish after the last chunk, and
  * reports the run's peak GPU memory (lightsim_gpu_run_peak_bytes) and its statistics.
  * On a software renderer (llvmpipe) the process CPU time over the run is printed as well:
@@ -141,7 +141,7 @@ static void bench_case(struct gpu *gpu, const char *dir, const char *name, int r
 int main(int argc, char **argv)
 {
     struct list scenes, resolutions, patches;
-    split("glass_sphere,wine_glass,bumpy_sphere", &scenes);
+    split("glass_sphere_voxels,wine_glass,bumpy_sphere", &scenes);
     split("64,128,256", &resolutions);
     split("32,64,128", &patches);
     int max_patches = 262144, chunk = 64, obj_res = 64;

@@ -3,7 +3,7 @@
  * HTTP, no encoding), for BENCHMARKS.md. Not a test: it asserts nothing and prints a
  * Markdown table.
  *
- *     build/refract-bench [--scenes glass_sphere,luneburg_lens] [--resolutions 64,128,256]
+ *     build/refract-bench [--scenes glass_sphere_voxels,luneburg_lens] [--resolutions 64,128,256]
  *                         [--sizes 320x240,640x480,1280x720,1920x1080]
  *                         [--integrators rk4,euler] [--steps 0.5] [--budget-ms 3000]
  *
@@ -168,7 +168,7 @@ int main(int argc, char **argv)
 {
     struct options o = {.budget_ms = 3000, .examples_dir = "proto/examples"};
     split("0.5", &o.steps);
-    split("glass_sphere,luneburg_lens", &o.scenes);
+    split("glass_sphere_voxels,luneburg_lens", &o.scenes);
     split("64,128,256", &o.resolutions);
     split("320x240,640x480,1280x720,1920x1080", &o.sizes);
     split("rk4,euler", &o.integrators);

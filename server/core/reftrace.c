@@ -813,7 +813,9 @@ void reftrace_ray(const struct reftrace_object *objects, int count,
     int last_surface = -1;
     int64_t last_prim = -1;
     for (int pass = 0; m.running; pass++) {
-        if (pass >= MAX_PASSES + settings->max_steps) {
+        /* A surface event counts as a step (as on the GPU, where the pass cap grows by
+         * max_steps only in the surfaces variant). */
+        if (pass >= MAX_PASSES + (settings->surface_count > 0 ? settings->max_steps : 0)) {
             stop(&m, RAY_MAX_STEPS);
             break;
         }

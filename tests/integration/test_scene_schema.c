@@ -43,6 +43,15 @@ static const struct schema_case cases[] = {
     {"transform.rotate", {"/$defs/object/properties/transform/properties/rotate", NULL},
      OBJ_WITH("\"ior\": 1.5, \"transform\": {\"rotate\": {\"axis\": [0, 1, 0], \"angle_deg\": 5, "
               UNKNOWN "}}")},
+    {"sphere surface", {"/$defs/shape_sphere", "/$defs/surface", NULL},
+     "{\"surfaces\": [{\"shape\": \"sphere\", \"radius\": 0.5, \"medium\": {\"ior\": 1.5}, " UNKNOWN "}]}"},
+    {"lathe surface", {"/$defs/shape_lathe", "/$defs/surface", NULL},
+     "{\"surfaces\": [{\"shape\": \"lathe\", \"profile\": [[0, 0], [0.5, 0], [0.5, 0.5], [0, 0.5]], "
+     "\"medium\": {\"ior\": 1.5}, " UNKNOWN "}]}"},
+    {"plane surface", {"/$defs/shape_plane", "/$defs/surface", NULL},
+     "{\"surfaces\": [{\"shape\": \"plane\", \"normal\": [0, 1, 0], \"medium\": {\"ior\": 1.33}, " UNKNOWN "}]}"},
+    {"medium", {"/$defs/medium", NULL},
+     "{\"surfaces\": [{\"shape\": \"sphere\", \"radius\": 0.5, \"medium\": {\"ior\": 1.5, " UNKNOWN "}}]}"},
     {"sphere in ior", {"/$defs/shape_sphere", "/$defs/ior_shape_layer", NULL},
      OBJ_WITH("\"ior\": {\"shape\": \"sphere\", \"radius\": 0.5, \"inside\": 1.5, " UNKNOWN "}")},
     {"box in attenuation", {"/$defs/shape_box", "/$defs/attenuation_shape_layer", NULL},

@@ -184,10 +184,20 @@ static double ior_at(const struct scene *s, vec3 p)
 
 static void examples_hold_what_their_names_promise(const char *dir)
 {
-    struct scene *s = parse_file(dir, "glass_sphere.json");
+    struct scene *s = parse_file(dir, "glass_sphere_voxels.json");
     if (s != NULL) {
         CHECK_NEAR(ior_at(s, vec3_make(0.01, 0.01, 0.01)), 1.5, 1e-6);
         CHECK_NEAR(ior_at(s, vec3_make(0.95, 0.95, 0.95)), 1.0, 1e-6);
+        scene_destroy(s);
+    }
+    /* The same sphere as an exact surface. */
+    s = parse_file(dir, "glass_sphere.json");
+    if (s != NULL) {
+        CHECK_INT((int)s->object_count, 0);
+        CHECK_INT((int)s->surface_count, 1);
+        CHECK_INT(s->surfaces[0].shape.kind, SCENE_SHAPE_SPHERE);
+        CHECK_NEAR(s->surfaces[0].shape.radius, 0.8, 0);
+        CHECK_NEAR(s->surfaces[0].medium.ior, 1.5, 0);
         scene_destroy(s);
     }
     s = parse_file(dir, "luneburg_lens.json");
