@@ -621,6 +621,12 @@ void march_surface_event(inout march_state s, inout uint inside, int k, geom_hit
         return;
     }
     march_add_reflection(s, ev.R, ev.reflected);
+#if MARCH_RADIANCE && MARCH_LIGHTS
+    // The lights' reflected radiance (eq. 5.6/5.8) with the surface's BRDF, in its slot
+    // after the objects' (render.c fill_lights).
+    s.L += s.t_f * exp(-s.alpha) * march_basic_radiance(n_from) *
+           light_reflected(MAX_OBJECTS + k, s.x, s.d, h.shading, ev.R);
+#endif
     s.t_f *= 1.0 - ev.R;
     s.d = ev.refracted;
     inside = next;

@@ -182,8 +182,10 @@ struct march_lights {
     ivec4 count;                  /* x: lights; y: 1 = receiver enabled */
     vec4 receiver;                /* x: height (world y); y: half size */
     vec4 receiver_albedo;         /* rgb: Lambertian reflectance */
-    vec4 brdf[MAX_OBJECTS];       /* x: BRDF_*; y: GGX alpha (roughness^2); z: Phong exponent */
-    vec4 brdf_color[MAX_OBJECTS]; /* rgb: colour of the BRDF */
+    vec4 brdf[MAX_OBJECTS + MAX_SURFACES];       /* x: BRDF_*; y: GGX alpha (roughness^2);
+                                                    z: Phong exponent. Objects, then surfaces
+                                                    (slot MAX_OBJECTS + k) */
+    vec4 brdf_color[MAX_OBJECTS + MAX_SURFACES]; /* rgb: colour of the BRDF */
     light_params lights[MAX_LIGHTS];
 };
 /* ---- end of lights ---- */

@@ -782,6 +782,13 @@ static void surface_event(struct march *m, uint32_t *inside, int k, const struct
     }
     if (ev.R > 0.0)
         add_reflection(m, ev.R, ev.reflected);
+    if (m->set->lighting != NULL && m->set->lighting->count > 0) {
+        /* The lights' reflected radiance (eq. 5.6/5.8) with the surface's BRDF. */
+        vec3 Lr = reftrace_light_reflected(m->set->lighting, &m->set->surfaces[k].brdf, m->x, m->d,
+                                           h->shading, ev.R);
+        double w = m->t_f * basic_radiance(m, n_from);
+        m->L = vec3_add(m->L, vec3_mul(vec3_scale(exp_neg(m->alpha), w), Lr));
+    }
     m->t_f *= 1.0 - ev.R;
     m->d = ev.refracted;
     *inside = next;

@@ -107,6 +107,7 @@ struct reftrace_surface {
     double ior;            /* constant n of the medium inside */
     double attenuation[3]; /* sigma_a per world unit */
     double emission[3];    /* L_e per world unit */
+    struct brdf_params brdf; /* reflection of lights where it refracts; zero: none */
 };
 
 /* One surface event of a ray (the trace API's "events"). */

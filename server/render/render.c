@@ -54,7 +54,8 @@ _Static_assert(sizeof(struct trace_event_out) == 64, "trace_event_out layout");
 _Static_assert(RENDER_TRACE_MAX_EVENTS == TRACE_MAX_EVENTS, "events per traced ray");
 _Static_assert(sizeof(struct light_params) == 5 * 16, "light_params layout");
 _Static_assert(sizeof(struct march_lights) ==
-                   3 * 16 + 2 * MAX_OBJECTS * 16 + MAX_LIGHTS * sizeof(struct light_params),
+                   3 * 16 + 2 * (MAX_OBJECTS + MAX_SURFACES) * 16 +
+                       MAX_LIGHTS * sizeof(struct light_params),
                "march_lights layout");
 _Static_assert(MAX_LIGHTS == SCENE_MAX_LIGHTS, "one light slot per scene light");
 _Static_assert(UNIT_IRRADIANCE0 + MAX_LIGHTS <= UNIT_LIGHT_DIR0, "irradiance units overlap");
@@ -261,11 +262,16 @@ static void fill_lights(struct march_lights *ml, const struct scene *s,
     ml->receiver = (vec4){(float)s->receiver.height, (float)s->receiver.half_size, 0.0f, 0.0f};
     ml->receiver_albedo = (vec4){(float)s->receiver.albedo[0], (float)s->receiver.albedo[1],
                                  (float)s->receiver.albedo[2], 0.0f};
-    for (size_t i = 0; i < s->object_count && i < MAX_OBJECTS; i++) {
-        const struct scene_brdf *b = &s->objects[i].brdf;
-        ml->brdf[i] =
+    for (size_t i = 0; i < s->object_count + s->surface_count; i++) {
+        bool obj = i < s->object_count;
+        size_t slot = obj ? i : MAX_OBJECTS + (i - s->object_count);
+        if (slot >= MAX_OBJECTS + MAX_SURFACES || (obj && i >= MAX_OBJECTS))
+            continue;
+        const struct scene_brdf *b =
+            obj ? &s->objects[i].brdf : &s->surfaces[i - s->object_count].brdf;
+        ml->brdf[slot] =
             (vec4){(float)b->kind, (float)(b->roughness * b->roughness), (float)b->exponent, 0.0f};
-        ml->brdf_color[i] =
+        ml->brdf_color[slot] =
             (vec4){(float)b->color[0], (float)b->color[1], (float)b->color[2], 0.0f};
     }
     for (int j = 0; j < count; j++) {

@@ -249,6 +249,7 @@ struct scene_surface {
     struct xform world_from_object;
     int priority; /* nesting priority: the higher wins where solids overlap */
     struct scene_medium medium;
+    struct scene_brdf brdf; /* reflection of lights where the surface refracts (eq. 5.6) */
     int document_index; /* position in the document's "surfaces" (messages) */
 };
 

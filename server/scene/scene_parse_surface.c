@@ -92,8 +92,8 @@ static enum refract_code parse_shape(const cJSON *o, const char *path,
     enum scene_shape_kind kind = surface_shape_kinds[which];
     const char *allowed[16];
     size_t n = 0;
-    const char *common[] = {"name", "shape", "transform", "priority", "medium"};
-    for (size_t i = 0; i < 5; i++)
+    const char *common[] = {"name", "shape", "transform", "priority", "medium", "brdf"};
+    for (size_t i = 0; i < 6; i++)
         allowed[n++] = common[i];
     if (kind == SCENE_SHAPE_PLANE) {
         allowed[n++] = "point";
@@ -140,6 +140,8 @@ static enum refract_code parse_surface(const cJSON *o, const char *path, int ind
         rc = jr_int(o, path, "priority", false, index, 0, 1000000, &sf->priority, e);
     if (rc == REFRACT_E_OK)
         rc = parse_medium(o, path, &sf->medium, e);
+    if (rc == REFRACT_E_OK)
+        rc = scene_parse_brdf(o, path, &sf->brdf, e);
     return rc;
 }
 

@@ -225,6 +225,11 @@ enum refract_code scene_reference_build(const struct scene *s, enum scene_refere
         rs->ior = m->ior;
         memcpy(rs->attenuation, m->attenuation, sizeof rs->attenuation);
         memcpy(rs->emission, m->emission, sizeof rs->emission);
+        const struct scene_brdf *b = &s->surfaces[k].brdf; /* as render.c fills it */
+        rs->brdf.kind = (int)b->kind;
+        memcpy(rs->brdf.color, b->color, sizeof rs->brdf.color);
+        rs->brdf.alpha = b->roughness * b->roughness;
+        rs->brdf.exponent = b->exponent;
     }
     out->settings.surfaces = out->surfaces;
     out->settings.surface_count = (int)s->surface_count;
