@@ -13,9 +13,9 @@
 #include "cli_json.h"
 
 #define TRACE_USAGE                                                                                \
-    "usage: refract trace ID FILE|- [--step VOXELS] [--integrator NAME]\n"                         \
+    "usage: refract trace ID FILE|- [--step VOXELS] [--integrator NAME] [--events]\n"              \
     "       refract trace ID --origin X,Y,Z --direction X,Y,Z [--step VOXELS]\n"                   \
-    "                        [--integrator NAME]\n"                                                \
+    "                        [--integrator NAME] [--events]\n"                                     \
     "\n"                                                                                           \
     "Traces rays through scene ID and prints the JSON reply: for each ray its status,\n"           \
     "exit_origin, exit_direction, transmittance, optical_path_length and steps.\n"                 \
@@ -24,11 +24,14 @@
     "  --origin X,Y,Z      one ray's start, world space (instead of FILE)\n"                       \
     "  --direction X,Y,Z   that ray's direction of propagation, world space\n"                     \
     "  --step VOXELS       integration step in voxels (overrides FILE's \"step\")\n"               \
-    "  --integrator NAME   euler or rk4 (overrides FILE's \"integrator\")\n"                       \
+    "  --integrator NAME   euler, rk2, rk4 or adaptive (overrides FILE's \"integrator\")\n"         \
+    "  --events            list each ray's surface events (point, normal, media, n on\n"           \
+    "                      both sides, refracted or totally reflected, Fresnel R)\n"               \
     "\n"                                                                                           \
     "Examples:\n"                                                                                  \
     "  refract trace \"$ID\" rays.json\n"                                                          \
-    "  refract trace \"$ID\" --origin 0,0,4 --direction 0,0,-1 --step 0.25\n"
+    "  refract trace \"$ID\" --origin 0,0,4 --direction 0,0,-1 --step 0.25\n"                     \
+    "  refract trace glass_sphere --origin 0,0.5,-3 --direction 0,0,1 --events\n"
 
 static int run_trace(struct cli *cli, int argc, char **argv);
 
@@ -40,7 +43,7 @@ const struct cli_command cli_cmd_trace = {
     .run = run_trace,
 };
 
-enum trace_opt { OPT_ORIGIN, OPT_DIRECTION, OPT_STEP, OPT_INTEGRATOR, OPT_COUNT };
+enum trace_opt { OPT_ORIGIN, OPT_DIRECTION, OPT_STEP, OPT_INTEGRATOR, OPT_EVENTS, OPT_COUNT };
 
 /* Builds {"rays": [{"origin": [...], "direction": [...]}]} from the flags; *out is a new
  * tree the caller deletes. */
@@ -90,6 +93,8 @@ static int apply_overrides(cJSON *request, const struct cli_opt *opts)
     if (opts[OPT_INTEGRATOR].given &&
         !cli_json_set(request, "integrator", cJSON_CreateString(opts[OPT_INTEGRATOR].value)))
         return cli_fail(REFRACT_E_OUT_OF_MEMORY, "trace: out of memory");
+    if (opts[OPT_EVENTS].given && !cli_json_set(request, "events", cJSON_CreateTrue()))
+        return cli_fail(REFRACT_E_OUT_OF_MEMORY, "trace: out of memory");
     return REFRACT_E_OK;
 }
 
@@ -120,7 +125,7 @@ static int edited_request(const struct cli_parsed *p, const struct cli_opt *opts
 static int build_request(const struct cli_parsed *p, const struct cli_opt *opts, char **text)
 {
     bool one_ray = opts[OPT_ORIGIN].given || opts[OPT_DIRECTION].given;
-    bool overrides = opts[OPT_STEP].given || opts[OPT_INTEGRATOR].given;
+    bool overrides = opts[OPT_STEP].given || opts[OPT_INTEGRATOR].given || opts[OPT_EVENTS].given;
     size_t len;
 
     *text = NULL;
@@ -144,6 +149,7 @@ static int run_trace(struct cli *cli, int argc, char **argv)
         [OPT_DIRECTION] = {.name = "--direction", .takes_value = true},
         [OPT_STEP] = {.name = "--step", .takes_value = true},
         [OPT_INTEGRATOR] = {.name = "--integrator", .takes_value = true},
+        [OPT_EVENTS] = {.name = "--events"},
     };
     struct cli_parsed p;
     char *request = NULL;

@@ -155,6 +155,14 @@ int main(void)
     CHECK_CONTAINS(r.out, "\"status\":\"exited\"");
     CHECK_CONTAINS(r.out, "\"optical_path_length\"");
     cli_run_free(&r);
+    /* ... and with --events, where it crosses the sphere's exact surface */
+    r = run_cli(&d, NULL, NULL,
+                (const char *[]){"trace", id, "--origin", "0,0,-3", "--direction", "0,0,1",
+                                 "--events", NULL});
+    CHECK_INT(r.status, 0);
+    CHECK_CONTAINS(r.out, "\"event_count\":2");
+    CHECK_CONTAINS(r.out, "\"medium_after\":\"sphere\"");
+    cli_run_free(&r);
 
     /* volume upload: a 2x2x2 float32 file; then one of the wrong size is refused before
      * anything is sent (exit 17, invalid_volume) */
