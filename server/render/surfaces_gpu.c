@@ -54,9 +54,17 @@ static void pack(const struct scene_surface *sf, int first_point, surface_params
         sp->shape0 = v4(sh->center, 0.0);
         sp->shape1 = v4(sh->normal, 0.0);
         break;
-    case GEOM_LATHE:
+    case GEOM_LATHE: {
+        double r_max = 0.0, h_lo = INFINITY, h_hi = -INFINITY;
+        for (size_t i = 0; i < sh->profile_count; i++) {
+            r_max = fmax(r_max, sh->profile[i][0]);
+            h_lo = fmin(h_lo, sh->profile[i][1]);
+            h_hi = fmax(h_hi, sh->profile[i][1]);
+        }
         sp->shape0 = v4(sh->base, lathe_orientation(sh));
+        sp->shape1 = (vec4){(float)r_max, (float)h_lo, (float)h_hi, 0.0f};
         break;
+    }
     case GEOM_MESH:
         break;
     }

@@ -27,8 +27,48 @@ vec3 lathe_edge_normal(int axis, float x, float y, float n_r, float n_h)
     return normalize(n);
 }
 
-bool lathe_intersect(vec3 base, int axis, int first, int count, float orient, vec3 o, vec3 d,
-                     float tmin, float tmax, out geom_hit h)
+// The heights the ray spans inside the bounding cylinder (bounds: x r_max, y h_min,
+// z h_max), as lathe.c's lathe_span; false when it misses the cylinder.
+bool lathe_span(float ox, float oy, float oh, float dx, float dy, float dh, vec3 bounds,
+                float tmin, float tmax, out float span_lo, out float span_hi)
+{
+    float margin = 1e-5 * (bounds.x + abs(bounds.y) + abs(bounds.z));
+    float r = bounds.x + margin;
+    float t0 = tmin, t1 = tmax;
+    span_lo = bounds.y - margin;
+    span_hi = bounds.z + margin;
+    float A = dx * dx + dy * dy;
+    if (A > 0.0) {
+        float b = (ox * dx + oy * dy) / A;
+        float fx = ox - b * dx, fy = oy - b * dy;
+        float disc = (r * r - (fx * fx + fy * fy)) / A;
+        if (disc < 0.0)
+            return false;
+        float q = sqrt(disc);
+        t0 = max(t0, -b - q);
+        t1 = min(t1, -b + q);
+    } else if (ox * ox + oy * oy > r * r) {
+        return false;
+    }
+    if (dh != 0.0) {
+        float ta = (bounds.y - margin - oh) / dh, tb = (bounds.z + margin - oh) / dh;
+        t0 = max(t0, min(ta, tb));
+        t1 = min(t1, max(ta, tb));
+    } else if (oh < bounds.y - margin || oh > bounds.z + margin) {
+        return false;
+    }
+    if (t0 > t1)
+        return false;
+    float ha = oh + t0 * dh, hb = oh + t1 * dh;
+    if (abs(t0) < 1e29 && abs(t1) < 1e29) {
+        span_lo = min(ha, hb) - margin;
+        span_hi = max(ha, hb) + margin;
+    }
+    return true;
+}
+
+bool lathe_intersect(vec3 base, int axis, int first, int count, float orient, vec3 bounds,
+                     vec3 o, vec3 d, float tmin, float tmax, out geom_hit h)
 {
     h.t = 0.0;
     h.normal = vec3(0.0);
@@ -39,9 +79,14 @@ bool lathe_intersect(vec3 base, int axis, int first, int count, float orient, ve
     float ox = v[a1], oy = v[a2], oh = v[axis];
     float dx = d[a1], dy = d[a2], dh = d[axis];
     float best = tmax;
+    float span_lo, span_hi;
+    if (!lathe_span(ox, oy, oh, dx, dy, dh, bounds, tmin, tmax, span_lo, span_hi))
+        return false;
     for (int i = 0; i < count; i++) {
         vec2 p0 = lathe_points[first + i];
         vec2 p1 = lathe_points[first + (i + 1) % count];
+        if (max(p0.y, p1.y) < span_lo || min(p0.y, p1.y) > span_hi)
+            continue;
         float er = p1.x - p0.x, eh = p1.y - p0.y;
         float n_r = orient * eh, n_h = -orient * er;
         if (p0.x == 0.0 && p1.x == 0.0)

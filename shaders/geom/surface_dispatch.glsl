@@ -21,8 +21,8 @@ bool geom_surface_intersect(int k, vec3 o_world, vec3 d_world, float tmin, float
     else if (kind == GEOM_PLANE)
         hit = plane_intersect(sp.shape0.xyz, sp.shape1.xyz, o, d, t0, t1, h);
     else if (kind == GEOM_LATHE)
-        hit = lathe_intersect(sp.shape0.xyz, sp.kind.y, sp.kind.z, sp.kind.w, sp.shape0.w, o, d,
-                              t0, t1, h);
+        hit = lathe_intersect(sp.shape0.xyz, sp.kind.y, sp.kind.z, sp.kind.w, sp.shape0.w,
+                              sp.shape1.xyz, o, d, t0, t1, h);
 #if MARCH_MESHES
     else if (kind == GEOM_MESH) {
         float t;

@@ -54,6 +54,49 @@ static vec3 edge_normal(int axis, double x, double y, double n_r, double n_h)
     return vec3_normalize(n);
 }
 
+/* The heights h(t) = oh + t dh that the ray spans while inside the cylinder rho <= r_max,
+ * h_lo <= h <= h_hi and tmin < t < tmax, widened by a relative margin for rounding; false
+ * when the ray misses that cylinder. */
+static bool lathe_span(double ox, double oy, double oh, double dx, double dy, double dh,
+                       double r_max, double h_lo, double h_hi, double tmin, double tmax,
+                       double *span_lo, double *span_hi)
+{
+    double margin = 1e-9 * (r_max + fabs(h_lo) + fabs(h_hi));
+    double r = r_max + margin;
+    double t0 = tmin, t1 = tmax;
+    double A = dx * dx + dy * dy;
+    if (A > 0.0) {
+        double b = (ox * dx + oy * dy) / A;
+        double fx = ox - b * dx, fy = oy - b * dy;
+        double disc = (r * r - (fx * fx + fy * fy)) / A;
+        if (disc < 0.0)
+            return false;
+        double q = sqrt(disc);
+        t0 = fmax(t0, -b - q);
+        t1 = fmin(t1, -b + q);
+    } else if (ox * ox + oy * oy > r * r) {
+        return false;
+    }
+    if (dh != 0.0) {
+        double ta = (h_lo - margin - oh) / dh, tb = (h_hi + margin - oh) / dh;
+        t0 = fmax(t0, fmin(ta, tb));
+        t1 = fmin(t1, fmax(ta, tb));
+    } else if (oh < h_lo - margin || oh > h_hi + margin) {
+        return false;
+    }
+    if (t0 > t1)
+        return false;
+    double ha = oh + t0 * dh, hb = oh + t1 * dh;
+    if (!isfinite(ha) || !isfinite(hb)) { /* an unbounded t range along the axis */
+        *span_lo = h_lo - margin;
+        *span_hi = h_hi + margin;
+        return true;
+    }
+    *span_lo = fmin(ha, hb) - margin;
+    *span_hi = fmax(ha, hb) + margin;
+    return true;
+}
+
 bool lathe_intersect(vec3 base, int axis, const double (*pts)[2], size_t count, vec3 o, vec3 d,
                      double tmin, double tmax, struct geom_hit *h)
 {
@@ -63,9 +106,23 @@ bool lathe_intersect(vec3 base, int axis, const double (*pts)[2], size_t count, 
     double dx = vec3_get(d, a1), dy = vec3_get(d, a2), dh = vec3_get(d, axis);
     double sgn = orientation(pts, count);
     double best = tmax;
+    /* Cull: the part of the ray inside the bounding cylinder (radius r_max, heights
+     * h_min..h_max) and the heights it spans there; edges outside those heights cannot be
+     * met (the GLSL twin does the same with the bounds packed in surface_params). */
+    double r_max = 0.0, h_lo = INFINITY, h_hi = -INFINITY;
+    for (size_t i = 0; i < count; i++) {
+        r_max = fmax(r_max, pts[i][0]);
+        h_lo = fmin(h_lo, pts[i][1]);
+        h_hi = fmax(h_hi, pts[i][1]);
+    }
+    double span_lo, span_hi;
+    if (!lathe_span(ox, oy, oh, dx, dy, dh, r_max, h_lo, h_hi, tmin, tmax, &span_lo, &span_hi))
+        return false;
     for (size_t i = 0; i < count; i++) {
         const double *p0 = pts[i], *p1 = pts[(i + 1) % count];
         double r0 = p0[0], h0 = p0[1], r1 = p1[0], h1 = p1[1];
+        if (fmax(h0, h1) < span_lo || fmin(h0, h1) > span_hi)
+            continue;
         double er = r1 - r0, eh = h1 - h0;
         double n_r = sgn * eh, n_h = -sgn * er;
         if (r0 == 0.0 && r1 == 0.0)
