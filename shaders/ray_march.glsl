@@ -526,13 +526,18 @@ void march_through_object(inout march_state s, int obj, vec3 p, vec3 q)
             break;
         }
         if (leaving) {
+            // From the index the ray carries, |w| (= n along an exact ray, tevs2007 eq. 4.8),
+            // not the sampled n(p'), which is clamped in the half voxel before the face while
+            // grad n still changes w (docs/tracing.md "The rim"). Twin: march_object in
+            // server/core/reftrace.c.
             vec3 N = march_axis_normal(exit_axis, exit_sign);
-            if (march_face(s, obj, p, q, N, s0.a, ambient)) {
+            float n_w = length(w);
+            if (march_face(s, obj, p, q, N, n_w, ambient)) {
                 s.x = march_point_to_world(obj, p);
                 s.d = march_dir_to_world(obj, q);
                 return;
             }
-            w = s0.a * q; // totally reflected at the face: keep marching inside
+            w = s0.a * q; // totally reflected at the face: keep marching inside (as before)
         }
     }
     s.x = march_point_to_world(obj, p);

@@ -22,7 +22,9 @@
  * test_integrators_vs_ref (adaptive 5x, as there). Skip vs no skip: a jump is a whole
  * number of fixed steps, so the fixed-step march after it samples the same points: 1e-7 on
  * the CPU for the sphere (seen: 1e-10, and acos's 1.5e-8 in direction), 1e-6 for the GRIN
- * lens, whose tails below MACROCELL_GRAD_EPS a jump ignores (seen: 1.7e-7); the GPU's float
+ * lens, whose tails below MACROCELL_GRAD_EPS a jump ignores (seen: 1.7e-7), 1e-5 in its
+ * direction (seen: 3.3e-6: the exit face refracts from |w|, docs/tracing.md "The rim", and
+ * the ignored tails change |w| too); the GPU's float
  * rounding on the GPU (2e-4; seen: 1e-5). The
  * adaptive integrator restarts at its largest step after a jump and takes other steps
  * than without: 1e-3 (seen: 1.6e-4), the error its tolerance allows.
@@ -335,8 +337,9 @@ static void check_scene(struct gpu *gpu, const char *label, const struct scene *
      * accept or reject differently near the tolerance, with or without skipping). */
     CHECK_MSG(twin.steps_diff <= twin_plain.steps_diff + RAYS / 20, "%s: steps differ on %d rays",
               label, twin.steps_diff);
-    check_within(label, "CPU skip vs no skip", compare(&cpu_skip, &cpu_plain), cpu_bound, cpu_bound,
-                 cpu_bound);
+    /* Direction 10x the position's bound: the exit face refracts from |w| (see above). */
+    check_within(label, "CPU skip vs no skip", compare(&cpu_skip, &cpu_plain), cpu_bound,
+                 10.0 * cpu_bound, cpu_bound);
     check_within(label, "GPU skip vs no skip", compare(&gpu_skip, &gpu_plain), bound, bound, bound);
     CHECK_MSG(gs <= max_step_ratio * gp, "%s: %.1f steps with skipping, %.1f without", label, gs,
               gp);

@@ -226,8 +226,11 @@ static void grazing_rays_enter_a_block_and_keep_energy_bounded(void)
  * glass sphere (R = 0.8, 24^3 voxels: the interface is a ~3-voxel ramp). Near the rim the
  * ray meets the interface at grazing incidence, where Fresnel reflection -> 1 and the ray
  * equation bends it hardest. Bounded error against exact Snell refraction through a sphere
- * for the paraxial rays (deviation D = 2 (asin(b/R) - asin(b/(nR)))): 0.02 rad, measured
- * <= 0.006 (the smoothed, voxelised interface); at the rim only the invariants. */
+ * for the paraxial rays (deviation D = 2 (asin(b/R) - asin(b/(nR)))): 0.03 rad, measured
+ * 0.0026 (n = 1.5) and 0.022 (n = 2.42; the smoothed, voxelised interface, whose tail
+ * reaches the faces 2.4 voxels away). Before the exit face took its index from |w|
+ * (docs/tracing.md "The rim") they were 0.014 and 0.009: the clamped rim's error cancelled
+ * part of the diamond tail's. At the rim only the invariants. */
 static void grazing_rays_on_a_sphere_rim_stay_finite_and_bounded(const char *n_text, double n)
 {
     char json[512];
@@ -250,7 +253,7 @@ static void grazing_rays_on_a_sphere_rim_stay_finite_and_bounded(const char *n_t
             double D = 2.0 * (asin(si) - asin(si / n));
             double got = acos(fmin(1.0, r.exit_direction.z));
             worst = fmax(worst, fabs(got - D));
-            CHECK_NEAR(got, D, 0.02);
+            CHECK_NEAR(got, D, 0.03);
         }
     }
     printf("sphere rim n = %s: %d of %d rays exited (absorbed %d, max_steps %d, missed %d); "
@@ -372,14 +375,14 @@ static void thin_shells_keep_energy_bounded(void)
  * voxel centres, clamped to their values in the half voxel beyond):
  * dx = integral c / sqrt(n(y)^2 - c^2) dy, c = sin(incidence).
  *
- * Measured: the exit direction is off by up to 0.1 rad and the drift by up to 0.07 at
- * 60-75 degrees. The cause is the voxel model's rim, not the integrators (RK4 and the
- * adaptive one agree to 2e-3): in the half voxel between the outermost voxel centres and
- * the bounds face, n is clamped (constant) while grad n, sampled from the clamped
- * gradient volume, is still 1.9, so w = n dx/ds keeps growing there while n does not,
- * |w| departs from n, and the exit face's Snell step (which uses n(p')) turns the ray by
- * the difference (docs/tracing.md "Hard cases", known limitation). The bounds below are
- * the measurement with 1.5x headroom; they shrink with the voxel size. */
+ * Measured: the drift is off by up to 0.07 at 60-75 degrees: in the half voxel between the
+ * outermost voxel centres and the bounds face n is clamped (constant) while grad n, sampled
+ * from the clamped gradient volume, is still 1.9, so the path there bends more than the
+ * closed form's clamped ends say (docs/tracing.md "Hard cases", known limitation). The exit
+ * direction was off by up to 0.1 rad for the same reason until the exit face took its index
+ * from |w| instead of n(p') (docs/tracing.md "The rim"): now below 5e-4 rad, since the face keeps
+ * w's tangential part, which the stratified field conserves. The bounds below are the
+ * measurement with headroom; the drift's shrinks with the voxel size. */
 static double stratified_drift(double c, double n_lo, double n_hi, double h_half)
 {
     double g = 1.9;
@@ -407,7 +410,7 @@ static void steep_gradient_bends_rays_per_the_stratified_closed_form(void)
                 trace("steep GRIN", k * 3 + i, &c, &s, vec3_madd(entry, d, -1.0), d, false);
             CHECK_INT(r.status, RAY_EXITED);
             double ang = acos(fmin(1.0, vec3_dot(r.exit_direction, d)));
-            CHECK_MSG(ang <= 0.15, "steep ray %d: exit direction %.3f rad off", k, ang);
+            CHECK_MSG(ang <= 1e-3, "steep ray %d: exit direction %.3g rad off", k, ang);
             CHECK_NEAR(r.exit_origin.y, 1.0, 1e-9);
             double want = entry.x + stratified_drift(d.x, n_lo, n_hi, h / 2);
             worst = fmax(worst, fabs(r.exit_origin.x - want));
