@@ -385,6 +385,9 @@ void scene_surface_geom(const struct scene_surface *sf, struct geom_surface *g);
  * world point p: where a ray from p starts (core/interface.h). Mesh surfaces are not
  * tested here (see the callers). */
 uint32_t scene_surfaces_inside(const struct scene *s, vec3 p);
+/* A surface's world box (infinite components for planes); false for meshes, whose box
+ * is known only with the upload (scene_parse_surface.c). */
+bool scene_surface_world_bounds(const struct scene_surface *sf, vec3 *lo, vec3 *hi);
 
 /* Voxel size of an object in object-space units along each axis, and its smallest. */
 vec3 scene_object_voxel_size(const struct scene_object *obj);

@@ -48,9 +48,6 @@ enum refract_code scene_parse_transform(const cJSON *obj, const char *path, stru
  * checks the surfaces against. */
 enum refract_code scene_parse_surfaces(const cJSON *arr, const struct scene_limits *lim,
                                        struct scene *s, struct err *e);
-/* A surface's world box (infinite components for planes); false for meshes, whose box
- * is known only with the upload. */
-bool scene_surface_world_bounds(const struct scene_surface *sf, vec3 *lo, vec3 *hi);
 
 /* Frees what a field owns (layers, lathe profiles, text) and zeroes it. */
 void scene_field_fini(struct scene_field *f);

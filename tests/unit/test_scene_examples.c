@@ -7,6 +7,8 @@
  * The examples directory comes from REFRACT_SOURCE_DIR, which ctest sets.
  */
 #include <dirent.h>
+#include <math.h>
+#include <stdbool.h>
 #include <string.h>
 #include <time.h>
 
@@ -80,6 +82,8 @@ static void check_channels(const char *file, const struct scene *s, const struct
  * when changing scene_field.c). */
 static void print_full_resolution_time(const char *file, const struct scene *s)
 {
+    if (s->object_count == 0)
+        return; /* surfaces only: nothing to evaluate into voxels */
     const struct scene_object *o = &s->objects[0];
     size_t nv = (size_t)o->resolution[0] * o->resolution[1] * o->resolution[2];
     float *out = malloc(nv * 4 * sizeof *out);
@@ -100,11 +104,26 @@ static void print_full_resolution_time(const char *file, const struct scene *s)
  * fills depends on what the fields hold, so the upper end is left to the eye.) */
 static void check_framing(const char *file, const struct scene *s)
 {
-    const struct scene_object *o = &s->objects[0];
-    vec3 mid = vec3_scale(vec3_add(o->bounds_min, o->bounds_max), 0.5);
-    vec3 c = xform_point_to_world(&o->world_from_object, mid);
-    double radius =
-        0.5 * vec3_length(vec3_sub(o->bounds_max, o->bounds_min)) * o->world_from_object.scale;
+    vec3 c;
+    double radius;
+    if (s->object_count > 0) {
+        const struct scene_object *o = &s->objects[0];
+        vec3 mid = vec3_scale(vec3_add(o->bounds_min, o->bounds_max), 0.5);
+        c = xform_point_to_world(&o->world_from_object, mid);
+        radius =
+            0.5 * vec3_length(vec3_sub(o->bounds_max, o->bounds_min)) * o->world_from_object.scale;
+    } else {
+        /* A scene of surfaces: the first bounded surface's world box. */
+        vec3 lo = {0, 0, 0}, hi = {0, 0, 0};
+        bool found = false;
+        for (size_t k = 0; k < s->surface_count && !found; k++) {
+            found = scene_surface_world_bounds(&s->surfaces[k], &lo, &hi) && isfinite(lo.x) &&
+                    isfinite(hi.x) && isfinite(lo.y) && isfinite(hi.y);
+        }
+        CHECK_MSG(found, "%s: no object and no bounded surface to frame", file);
+        c = vec3_scale(vec3_add(lo, hi), 0.5);
+        radius = 0.5 * vec3_length(vec3_sub(hi, lo));
+    }
     vec3 view = vec3_sub(c, s->camera.eye);
     vec3 f = vec3_normalize(vec3_sub(s->camera.look_at, s->camera.eye));
     double off_axis_deg = acos(fmin(1.0, vec3_dot(f, vec3_normalize(view)))) * 180 / M_PI;
