@@ -2,6 +2,8 @@
 # test.sh - README command 2: install what is missing, build, and run every test with
 # ctest, twice: a normal build (build/) and an AddressSanitizer + UndefinedBehaviorSanitizer
 # build (build-asan/). GL runs on Mesa's software EGL device when there is no GPU.
+# Warnings are errors in both (REFRACT_WERROR=ON); a packager's plain Release build
+# leaves them warnings (CMakeLists.txt).
 #
 #   ./deploy/test.sh            # both builds
 #   ./deploy/test.sh --quick    # the normal build only
@@ -24,7 +26,7 @@ run_suite() {
     ctest --test-dir "$dir" --output-on-failure -j2
 }
 
-run_suite build -DCMAKE_BUILD_TYPE=RelWithDebInfo
+run_suite build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DREFRACT_WERROR=ON
 if [ "${1:-}" != "--quick" ]; then
-    run_suite build-asan -DCMAKE_BUILD_TYPE=Debug -DREFRACT_SANITIZE=ON
+    run_suite build-asan -DCMAKE_BUILD_TYPE=Debug -DREFRACT_SANITIZE=ON -DREFRACT_WERROR=ON
 fi
