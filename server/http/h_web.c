@@ -56,8 +56,6 @@ static enum MHD_Result respond_file(struct http_request *req, const struct http_
                              "no-cache",
                              "ETag",
                              f->etag,
-                             "X-Content-Type-Options",
-                             "nosniff",
                              "Content-Security-Policy",
                              content_security_policy,
                              "Referrer-Policy",
@@ -152,8 +150,6 @@ static enum MHD_Result respond_unknown_scene_html(struct http_request *req, cons
     log_info("http", "404 scene_not_found /viewer/{id}: no scene \"%s\" (HTML page)", id);
     const char *headers[] = {"Cache-Control",
                              "no-store",
-                             "X-Content-Type-Options",
-                             "nosniff",
                              "Content-Security-Policy",
                              content_security_policy,
                              NULL};

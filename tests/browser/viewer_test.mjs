@@ -295,7 +295,8 @@ async function runWithDaemon(d, chromium) {
     // 1b. A plain <img> of a second, small session's bare stream, checked in step 8 (it
     //     runs meanwhile so that its wait costs no time of its own).
     const plain = await (await fetch(`${d.url}/v1/scenes/${SCENE}/views`, {
-      method: 'POST', body: JSON.stringify({ width: 96, height: 72 }) })).json();
+      method: 'POST', headers: { 'Content-Type': 'application/json' },
+      body: JSON.stringify({ width: 96, height: 72 }) })).json();
     const p3 = await context.newPage();
     const plainOpened = Date.now();
     // Not until "load": that fires only once the first part is complete for the browser.
