@@ -329,6 +329,15 @@ static void a_token_guards_every_route_but_health(void)
     a = raw_http(&d, "GET /assets/viewer.js HTTP/1.1\r\nHost: 127.0.0.1\r\n", NULL);
     CHECK_INT(status_of(a), 200);
     free(a);
+    /* ...and do not tell who has no token which scene ids exist. */
+    char head[256];
+    snprintf(head, sizeof head, "GET /viewer/%s HTTP/1.1\r\nHost: 127.0.0.1\r\n", id);
+    a = raw_http(&d, head, NULL);
+    CHECK_INT(status_of(a), 200);
+    free(a);
+    a = raw_http(&d, "GET /viewer/no_such_scene HTTP/1.1\r\nHost: 127.0.0.1\r\n", NULL);
+    CHECK_INT(status_of(a), 200);
+    free(a);
     /* The token is not in the daemon's log. */
     char *log = cli_slurp(d.log_path);
     CHECK(log != NULL && strstr(log, TOKEN) == NULL);
