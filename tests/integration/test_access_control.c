@@ -384,6 +384,23 @@ static void refuses_to_start_exposed_or_with_a_bad_token(void)
     int fd = mkstemp(token_file);
     CHECK(fd >= 0);
     close(fd);
+    /* With a token, or --trusted-proxy, the guard lets a non-loopback --bind through: the
+     * start then fails only at listening on 192.0.2.1 (TEST-NET-1, on no machine). */
+    write_file(token_file, TOKEN "\n");
+    CHECK(test_run_refractd((const char *[]){"--bind", "192.0.2.1", "--port", "0",
+                                             "--token-file", token_file, NULL},
+                            &out) != 0);
+    CHECK(strstr(out, "reachable from other machines") == NULL);
+    CHECK_CONTAINS(out, "cannot listen on 192.0.2.1");
+    CHECK_CONTAINS(out, "clear text"); /* a token without TLS: warned */
+    free(out);
+    CHECK(test_run_refractd((const char *[]){"--bind", "192.0.2.1", "--port", "0",
+                                             "--trusted-proxy", NULL},
+                            &out) != 0);
+    CHECK(strstr(out, "reachable from other machines") == NULL);
+    CHECK_CONTAINS(out, "cannot listen on 192.0.2.1");
+    free(out);
+
     write_file(token_file, "short\n");
     CHECK_INT(test_run_refractd((const char *[]){"--token-file", token_file, NULL}, &out),
               REFRACT_E_USAGE);
