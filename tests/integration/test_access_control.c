@@ -243,6 +243,13 @@ static void write_file(const char *path, const char *text)
     }
 }
 
+static int one_frame(const struct refract_frame *frame, void *user)
+{
+    (void)frame;
+    ++*(int *)user;
+    return 1;
+}
+
 static void a_token_guards_every_route_but_health(void)
 {
     char token_file[512];
@@ -315,6 +322,13 @@ static void a_token_guards_every_route_but_health(void)
     CHECK_INT(test_request(&d, "GET", "/v1/scenes", NULL, &body), 200);
     CHECK_CONTAINS(body, id);
     free(body);
+    /* A streaming GET (librefract's other transport) sends the token too. */
+    struct refract_view v;
+    CHECK_INT(refract_view_create(d.client, id, "{\"width\": 32, \"height\": 24}", &v), 0);
+    int frames = 0;
+    CHECK_INT(refract_view_stream(d.client, v.id, one_frame, &frames), 0);
+    CHECK_INT(frames, 1);
+    refract_view_free(&v);
     CHECK_INT(refract_set_token(d.client, "has space"), REFRACT_E_USAGE);
     CHECK_INT(refract_set_token(d.client, "another-token-0123456789"), 0);
     CHECK_INT(test_request(&d, "GET", "/v1/scenes", NULL, &body), 401);
