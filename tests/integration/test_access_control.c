@@ -49,8 +49,8 @@ static char *raw_http(const struct test_daemon *d, const char *head, const char 
         return answer;
     }
     char req[4096];
-    int n = snprintf(req, sizeof req, "%sConnection: close\r\nContent-Length: %zu\r\n\r\n%s",
-                     head, body ? strlen(body) : 0, body ? body : "");
+    int n = snprintf(req, sizeof req, "%sConnection: close\r\nContent-Length: %zu\r\n\r\n%s", head,
+                     body ? strlen(body) : 0, body ? body : "");
     if (send(fd, req, (size_t)n, 0) == n) {
         size_t got = 0;
         ssize_t r;
@@ -73,7 +73,8 @@ static bool has_header(const char *answer, const char *name, const char *value_p
 {
     const char *end = strstr(answer, "\r\n\r\n");
     size_t name_len = strlen(name);
-    for (const char *p = strstr(answer, "\r\n"); p && (!end || p < end); p = strstr(p + 2, "\r\n")) {
+    for (const char *p = strstr(answer, "\r\n"); p && (!end || p < end);
+         p = strstr(p + 2, "\r\n")) {
         const char *line = p + 2;
         if (strncasecmp(line, name, name_len) == 0 && line[name_len] == ':') {
             const char *v = line + name_len + 1;
@@ -154,8 +155,8 @@ static void json_routes_want_json(struct test_daemon *d)
 
 static void every_answer_says_nosniff(struct test_daemon *d)
 {
-    static const char *const paths[] = {"/v1/health", "/v1/scenes", "/v1/nope", "/",
-                                        "/assets/viewer.js", "/v1/scenes/nope"};
+    static const char *const paths[] = {"/v1/health", "/v1/scenes",        "/v1/nope",
+                                        "/",          "/assets/viewer.js", "/v1/scenes/nope"};
     for (size_t i = 0; i < sizeof paths / sizeof paths[0]; i++) {
         char head[256];
         snprintf(head, sizeof head, "GET %s HTTP/1.1\r\nHost: localhost\r\n", paths[i]);
@@ -165,8 +166,8 @@ static void every_answer_says_nosniff(struct test_daemon *d)
                   paths[i]);
         /* Once, not twice (the viewer's pages set their own security headers). */
         const char *first = strstr(a, "X-Content-Type-Options");
-        CHECK_MSG(first && !strstr(first + 1, "X-Content-Type-Options"),
-                  "GET %s: nosniff twice", paths[i]);
+        CHECK_MSG(first && !strstr(first + 1, "X-Content-Type-Options"), "GET %s: nosniff twice",
+                  paths[i]);
         free(a);
     }
 }
@@ -179,8 +180,8 @@ static void foreign_hosts_are_misdirected(struct test_daemon *d)
     for (size_t i = 0; i < sizeof served / sizeof served[0]; i++) {
         for (int with_port = 0; with_port < 2; with_port++) {
             if (with_port)
-                snprintf(head, sizeof head, "GET /v1/scenes HTTP/1.1\r\nHost: %s:%d\r\n",
-                         served[i], d->port);
+                snprintf(head, sizeof head, "GET /v1/scenes HTTP/1.1\r\nHost: %s:%d\r\n", served[i],
+                         d->port);
             else
                 snprintf(head, sizeof head, "GET /v1/scenes HTTP/1.1\r\nHost: %s\r\n", served[i]);
             char *a = raw_http(d, head, NULL);
@@ -189,9 +190,13 @@ static void foreign_hosts_are_misdirected(struct test_daemon *d)
             free(a);
         }
     }
-    static const char *const foreign[] = {"evil.example", "evil.example:8750",
-                                          "127.0.0.1.evil.example", "localhost.evil.example",
-                                          "127.0.0.1:x", "[::1", "127.0.0.2"};
+    static const char *const foreign[] = {"evil.example",
+                                          "evil.example:8750",
+                                          "127.0.0.1.evil.example",
+                                          "localhost.evil.example",
+                                          "127.0.0.1:x",
+                                          "[::1",
+                                          "127.0.0.2"};
     for (size_t i = 0; i < sizeof foreign / sizeof foreign[0]; i++) {
         snprintf(head, sizeof head, "DELETE /v1/scenes/x HTTP/1.1\r\nHost: %s\r\n", foreign[i]);
         char *a = raw_http(d, head, NULL);
@@ -311,9 +316,9 @@ static void a_token_guards_every_route_but_health(void)
     CHECK(has_header(a, "WWW-Authenticate", "Bearer realm=\"refractd\", error=\"invalid_token\""));
     free(a);
     /* The right token, raw and through librefract (any case of the scheme). */
-    a = raw_http(&d, "GET /v1/scenes HTTP/1.1\r\nHost: 127.0.0.1\r\nAuthorization: bearer " TOKEN
-                     "\r\n",
-                 NULL);
+    a = raw_http(
+        &d, "GET /v1/scenes HTTP/1.1\r\nHost: 127.0.0.1\r\nAuthorization: bearer " TOKEN "\r\n",
+        NULL);
     CHECK_INT(status_of(a), 200);
     free(a);
     CHECK_INT(refract_set_token(d.client, TOKEN), 0);
@@ -368,7 +373,8 @@ static void a_token_guards_every_route_but_health(void)
     CHECK_INT(r.status, REFRACT_E_UNAUTHORIZED);
     CHECK_CONTAINS(r.err, "REFRACT_TOKEN");
     cli_run_free(&r);
-    r = cli_run(&d, NULL, NULL, (const char *[]){"scene", "list", "--token-file", token_file, NULL});
+    r = cli_run(&d, NULL, NULL,
+                (const char *[]){"scene", "list", "--token-file", token_file, NULL});
     CHECK_INT(r.status, 0);
     CHECK_CONTAINS(r.out, id);
     cli_run_free(&r);
@@ -401,16 +407,16 @@ static void refuses_to_start_exposed_or_with_a_bad_token(void)
     /* With a token, or --trusted-proxy, the guard lets a non-loopback --bind through: the
      * start then fails only at listening on 192.0.2.1 (TEST-NET-1, on no machine). */
     write_file(token_file, TOKEN "\n");
-    CHECK(test_run_refractd((const char *[]){"--bind", "192.0.2.1", "--port", "0",
-                                             "--token-file", token_file, NULL},
+    CHECK(test_run_refractd((const char *[]){"--bind", "192.0.2.1", "--port", "0", "--token-file",
+                                             token_file, NULL},
                             &out) != 0);
     CHECK(strstr(out, "reachable from other machines") == NULL);
     CHECK_CONTAINS(out, "cannot listen on 192.0.2.1");
     CHECK_CONTAINS(out, "clear text"); /* a token without TLS: warned */
     free(out);
-    CHECK(test_run_refractd((const char *[]){"--bind", "192.0.2.1", "--port", "0",
-                                             "--trusted-proxy", NULL},
-                            &out) != 0);
+    CHECK(test_run_refractd(
+              (const char *[]){"--bind", "192.0.2.1", "--port", "0", "--trusted-proxy", NULL},
+              &out) != 0);
     CHECK(strstr(out, "reachable from other machines") == NULL);
     CHECK_CONTAINS(out, "cannot listen on 192.0.2.1");
     free(out);

@@ -109,8 +109,8 @@ int main(void)
 
     /* The CLI: https URL, --cacert, REFRACT_TOKEN. */
     setenv("REFRACT_TOKEN", TOKEN, 1);
-    struct cli_run r = cli_run(&d, NULL, NULL, (const char *[]){"--cacert", cert, "scene", "list",
-                                                               NULL});
+    struct cli_run r =
+        cli_run(&d, NULL, NULL, (const char *[]){"--cacert", cert, "scene", "list", NULL});
     CHECK_INT(r.status, 0);
     CHECK_CONTAINS(r.out, id);
     cli_run_free(&r);
@@ -127,9 +127,8 @@ int main(void)
 
     /* A --tls-key that is not a private key stops the start. */
     char *out = NULL;
-    int status = test_run_refractd((const char *[]){"--port", "0", "--tls-cert", cert,
-                                                    "--tls-key", cert, NULL},
-                                   &out);
+    int status = test_run_refractd(
+        (const char *[]){"--port", "0", "--tls-cert", cert, "--tls-key", cert, NULL}, &out);
     CHECK(status != 0);
     CHECK_CONTAINS(out, "--tls-key");
     free(out);
