@@ -52,6 +52,20 @@ void refract_client_destroy(refract_client *c);
 /* Request timeout in milliseconds for later calls (default 120000; 0 = none). */
 void refract_set_timeout_ms(refract_client *c, long timeout_ms);
 
+/* The bearer token of a refractd started with --token-file, sent with every later request
+ * as "Authorization: Bearer TOKEN". refract_client_create() takes it from the environment
+ * variable REFRACT_TOKEN when that is set and valid; token NULL or "" sends none. Returns
+ * REFRACT_E_OK, REFRACT_E_USAGE (a token with spaces or control characters; c's message
+ * says so, never showing the token) or REFRACT_E_OUT_OF_MEMORY. */
+int refract_set_token(refract_client *c, const char *token);
+/* refract_set_token() with the first line of the file at path (as refractd reads its
+ * --token-file). REFRACT_E_IO when the file cannot be read. */
+int refract_set_token_file(refract_client *c, const char *path);
+/* A PEM file of CA certificates that verifies an https refractd's certificate instead of
+ * the system's store (libcurl's CURLOPT_CAINFO); NULL restores the system's. Returns
+ * REFRACT_E_OK, REFRACT_E_IO (the file cannot be read) or REFRACT_E_OUT_OF_MEMORY. */
+int refract_set_cacert(refract_client *c, const char *path);
+
 /* The message of the last failed call on c; valid until the next call on c. Never NULL. */
 const char *refract_errmsg(const refract_client *c);
 /* Static description of a code ("the request body is not valid JSON"). */

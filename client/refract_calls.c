@@ -137,6 +137,14 @@ int refract_take_reply(refract_client *c, const char *method, const char *path, 
     return REFRACT_E_OK;
 }
 
+/* refractd's JSON routes take POST, PUT and PATCH, and want Content-Type: application/json
+ * even with an empty body (docs/api.md "Security"). */
+static bool sends_json(const char *method)
+{
+    return strcmp(method, "POST") == 0 || strcmp(method, "PUT") == 0 ||
+           strcmp(method, "PATCH") == 0;
+}
+
 int refract_call_reply(refract_client *c, const char *method, const char *path, const char *body,
                        const char *what, refract_reply_reader reader, void *out, char **json_slot,
                        long *http_status)
@@ -144,7 +152,8 @@ int refract_call_reply(refract_client *c, const char *method, const char *path, 
     char *reply = NULL;
     int code =
         refract_call_json_status(c, method, path, body, body != NULL ? strlen(body) : 0,
-                                 body != NULL ? "application/json" : NULL, &reply, http_status);
+                                 body != NULL || sends_json(method) ? "application/json" : NULL,
+                                 &reply, http_status);
 
     if (code != REFRACT_E_OK) {
         free(reply);

@@ -186,6 +186,13 @@ void refract_http_set_common(refract_client *c, const char *url, struct curl_sli
     curl_easy_setopt(curl, CURLOPT_CONNECTTIMEOUT_MS, connect_ms);
     curl_easy_setopt(curl, CURLOPT_USERAGENT, "librefract/" REFRACT_VERSION);
     curl_easy_setopt(curl, CURLOPT_HTTPHEADER, headers);
+    if (c->token != NULL) {
+        /* Sent with the first request (the only method allowed), never in the URL. */
+        curl_easy_setopt(curl, CURLOPT_HTTPAUTH, (long)CURLAUTH_BEARER);
+        curl_easy_setopt(curl, CURLOPT_XOAUTH2_BEARER, c->token);
+    }
+    if (c->cacert != NULL)
+        curl_easy_setopt(curl, CURLOPT_CAINFO, c->cacert);
 }
 
 static void set_options(refract_client *c, const char *url, struct curl_slist *headers,

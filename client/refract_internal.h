@@ -47,6 +47,8 @@ struct refract_client {
     CURL *curl;                       /* owned; reused so the TCP connection stays open */
     char *base_url;                   /* owned; "http://host:port", no trailing '/' */
     long timeout_ms;                  /* whole request; 0 = none */
+    char *token;                      /* owned; bearer token, NULL = none (never logged) */
+    char *cacert;                     /* owned; CURLOPT_CAINFO, NULL = the system's */
     char curl_error[CURL_ERROR_SIZE]; /* CURLOPT_ERRORBUFFER of the current exchange */
     char errmsg[REFRACT_ERRMSG_SIZE]; /* what refract_errmsg() returns */
 };

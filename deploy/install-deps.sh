@@ -26,6 +26,8 @@ PACKAGES=(
     chromium
     # data directory metadata (SQLite, WAL) and NRRD gzip volumes (zlib)
     libsqlite3-dev zlib1g-dev
+    # the TLS test makes a self-signed certificate (tests/integration/test_tls.c)
+    openssl
 )
 
 missing=()

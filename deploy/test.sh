@@ -2,6 +2,8 @@
 # test.sh - README command 2: install what is missing, build, and run every test with
 # ctest, twice: a normal build (build/) and an AddressSanitizer + UndefinedBehaviorSanitizer
 # build (build-asan/). GL runs on Mesa's software EGL device when there is no GPU.
+# Warnings are errors in both (REFRACT_WERROR=ON); a packager's plain Release build
+# leaves them warnings (CMakeLists.txt).
 #
 #   ./deploy/test.sh            # both builds
 #   ./deploy/test.sh --quick    # the normal build only
@@ -24,7 +26,26 @@ run_suite() {
     ctest --test-dir "$dir" --output-on-failure -j2
 }
 
-run_suite build -DCMAKE_BUILD_TYPE=RelWithDebInfo
+# What a packager's Release build (-O3) warns about and the -O2 builds below do not (GCC's
+# -Warray-bounds and -Wformat-truncation need -O3's inlining): the client and CLI, and the
+# unit test that includes the CLI's files, compiled (not linked) at -O3 with -Werror. A
+# few seconds, instead of a third full build.
+release_warnings() {
+    echo "==> -O3 -Werror compile of the client, the CLI and tests/unit/test_cli_args.c"
+    local flags=(-std=c11 -D_DEFAULT_SOURCE -DREFRACT_VERSION='"check"' -O3 -DNDEBUG -Wall
+                 -Wextra -Wpedantic -Wshadow -Wvla -Wstrict-prototypes -Werror
+                 -Iclient -Iproto -Itests $(pkg-config --cflags libcurl libcjson))
+    local f
+    for f in client/*.c client/cli/*.c tests/unit/test_cli_args.c; do
+        cc "${flags[@]}" -c "$f" -o /dev/null || {
+            echo "test.sh: $f warns at -O3 (a Release build would show it)" >&2
+            exit 1
+        }
+    done
+}
+release_warnings
+
+run_suite build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DREFRACT_WERROR=ON
 if [ "${1:-}" != "--quick" ]; then
-    run_suite build-asan -DCMAKE_BUILD_TYPE=Debug -DREFRACT_SANITIZE=ON
+    run_suite build-asan -DCMAKE_BUILD_TYPE=Debug -DREFRACT_SANITIZE=ON -DREFRACT_WERROR=ON
 fi

@@ -52,7 +52,11 @@
     X(STORAGE, 25, 507, "storage_error",                                                           \
       "refractd could not read or write its data directory (disk full? permissions?)")          \
     X(INVALID_MESH, 26, 400, "invalid_mesh",                                                       \
-      "an uploaded mesh file is malformed (syntax, indices, values or header counts)")
+      "an uploaded mesh file is malformed (syntax, indices, values or header counts)")           \
+    X(UNAUTHORIZED, 27, 401, "unauthorized",                                                       \
+      "refractd requires a bearer token (--token-file) and the request lacks it or has another")   \
+    X(HOST_NOT_ALLOWED, 28, 421, "host_not_allowed",                                               \
+      "the Host header names a host refractd does not serve (--allow-host)")
 
 enum refract_code {
 #define REFRACT_X_ENUM(name, num, http, json, text) REFRACT_E_##name = num,

@@ -29,6 +29,16 @@ struct option_def {
 static const struct option_def options[] = {
     {"bind", OPT_STRING, 0, 0, "ADDR", "IPv4 address to listen on (default 127.0.0.1)"},
     {"port", OPT_INT, 0, 65535, "N", "TCP port (default 8750; 0 = any free port)"},
+    {"allow-host", OPT_STRING, 0, 0, "NAME",
+     "also serve requests whose Host is NAME (repeatable; loopback names and the --bind "
+     "address always; * = any)"},
+    {"token-file", OPT_STRING, 0, 0, "FILE",
+     "require \"Authorization: Bearer TOKEN\" (TOKEN: FILE's first line) on every route "
+     "but GET /v1/health and the viewer pages"},
+    {"trusted-proxy", OPT_FLAG, 0, 0, NULL,
+     "allow a non-loopback --bind without --token-file (a proxy in front authenticates)"},
+    {"tls-cert", OPT_STRING, 0, 0, "FILE", "serve https with this PEM certificate (chain)"},
+    {"tls-key", OPT_STRING, 0, 0, "FILE", "the PEM private key of --tls-cert"},
     {"port-file", OPT_STRING, 0, 0, "FILE", "write the bound port to FILE once listening"},
     {"data-dir", OPT_STRING, 0, 0, "DIR",
      "where scenes and uploads persist (default $XDG_STATE_HOME/refract)"},
@@ -244,6 +254,34 @@ static void store_int(struct config *c, const char *name, long long v)
 
 static enum refract_code config_parse_file(struct config *c, const char *path, struct err *e);
 
+/* --allow-host NAME: a host name, an IPv4 address, an [IPv6] address, or "*". */
+static enum refract_code add_allow_host(struct config *c, const char *value, struct err *e)
+{
+    size_t n = c->http.allow_host_count;
+    size_t len = strlen(value);
+    if (len == 0 || len >= sizeof c->allow_host_names[0] ||
+        strspn(value, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789.-_[]:*") !=
+            len ||
+        (strchr(value, '*') != NULL && strcmp(value, "*") != 0))
+        return err_set(e, REFRACT_E_USAGE,
+                       "--allow-host %.80s: expected a host name or address without port "
+                       "(example.org, 192.0.2.7, [2001:db8::1]) or * for any",
+                       value);
+    if (value[0] != '[' && strchr(value, ':') != NULL)
+        return err_set(e, REFRACT_E_USAGE,
+                       "--allow-host %.80s: give the name without a port (any port is served); "
+                       "write an IPv6 address in brackets ([2001:db8::1])",
+                       value);
+    if (n >= CONFIG_MAX_ALLOW_HOSTS)
+        return err_set(e, REFRACT_E_USAGE, "--allow-host: at most %d names",
+                       CONFIG_MAX_ALLOW_HOSTS);
+    copy_str(c->allow_host_names[n], sizeof c->allow_host_names[n], value);
+    c->allow_hosts[n] = c->allow_host_names[n];
+    c->http.allow_hosts = c->allow_hosts;
+    c->http.allow_host_count = n + 1;
+    return REFRACT_E_OK;
+}
+
 /* Applies one option; value may be NULL for flags. */
 static enum refract_code apply(struct config *c, const struct option_def *o, const char *value,
                                struct err *e)
@@ -252,6 +290,8 @@ static enum refract_code apply(struct config *c, const struct option_def *o, con
     case OPT_FLAG:
         if (!strcmp(o->name, "gl-debug"))
             c->gpu.context.debug = true;
+        else if (!strcmp(o->name, "trusted-proxy"))
+            c->trusted_proxy = true;
         else if (!strcmp(o->name, "help"))
             c->help = true;
         else
@@ -293,6 +333,14 @@ static enum refract_code apply(struct config *c, const struct option_def *o, con
             copy_str(c->shader_dir, sizeof c->shader_dir, value);
         } else if (!strcmp(o->name, "port-file")) {
             copy_str(c->port_file, sizeof c->port_file, value);
+        } else if (!strcmp(o->name, "token-file")) {
+            copy_str(c->token_file, sizeof c->token_file, value);
+        } else if (!strcmp(o->name, "tls-cert")) {
+            copy_str(c->tls_cert, sizeof c->tls_cert, value);
+        } else if (!strcmp(o->name, "tls-key")) {
+            copy_str(c->tls_key, sizeof c->tls_key, value);
+        } else if (!strcmp(o->name, "allow-host")) {
+            return add_allow_host(c, value, e);
         }
         return REFRACT_E_OK;
     case OPT_GPU: {
@@ -398,4 +446,106 @@ enum refract_code config_parse_args(struct config *c, int argc, char **argv, str
         return err_set(e, REFRACT_E_USAGE,
                        "REFRACT_GPU=%s: expected auto, hardware or software (or unset it)", env);
     return REFRACT_E_OK;
+}
+
+/* Reads a whole small file (at most max bytes) into a new NUL-terminated string. */
+static char *read_small_file(const char *flag, const char *path, size_t max, struct err *e)
+{
+    FILE *f = fopen(path, "rb");
+    if (f == NULL) {
+        err_set(e, REFRACT_E_USAGE, "--%s %s: %s", flag, path, strerror(errno));
+        return NULL;
+    }
+    char *buf = malloc(max + 1);
+    size_t got = buf ? fread(buf, 1, max + 1, f) : 0;
+    bool failed = ferror(f) != 0;
+    fclose(f);
+    if (buf == NULL || failed || got > max) {
+        err_set(e, REFRACT_E_USAGE, "--%s %s: %s", flag, path,
+                buf == NULL ? "out of memory"
+                : failed    ? "cannot read it"
+                            : "larger than expected: is it the right file?");
+        free(buf);
+        return NULL;
+    }
+    buf[got] = '\0';
+    return buf;
+}
+
+static bool is_loopback(const char *address)
+{
+    return strncmp(address, "127.", 4) == 0;
+}
+
+static enum refract_code load_token(struct config *c, struct err *e)
+{
+    char *text = read_small_file("token-file", c->token_file, 4096, e);
+    if (text == NULL)
+        return REFRACT_E_USAGE;
+    size_t len = strcspn(text, "\r\n"); /* the first line */
+    while (len > 0 && (text[len - 1] == ' ' || text[len - 1] == '\t'))
+        len--;
+    size_t start = strspn(text, " \t");
+    enum refract_code rc = REFRACT_E_OK;
+    if (start >= len || len - start < 16 || len - start >= sizeof c->token) {
+        rc = err_set(e, REFRACT_E_USAGE,
+                     "--token-file %s: the first line must hold a token of 16 to %zu "
+                     "characters (make one with: head -c 32 /dev/urandom | base64 > FILE)",
+                     c->token_file, sizeof c->token - 1);
+    } else {
+        for (size_t i = start; i < len && rc == REFRACT_E_OK; i++) {
+            if (text[i] <= 0x20 || text[i] >= 0x7f)
+                rc = err_set(e, REFRACT_E_USAGE,
+                             "--token-file %s: the token may hold only visible ASCII characters "
+                             "(no spaces; base64 or hex is fine)",
+                             c->token_file);
+        }
+    }
+    if (rc == REFRACT_E_OK) {
+        memcpy(c->token, text + start, len - start);
+        c->token[len - start] = '\0';
+        c->http.token = c->token;
+    }
+    memset(text, 0, strlen(text));
+    free(text);
+    return rc;
+}
+
+enum refract_code config_load_secrets(struct config *c, struct err *e)
+{
+    if (c->token_file[0] && load_token(c, e) != REFRACT_E_OK)
+        return REFRACT_E_USAGE;
+    if ((c->tls_cert[0] != '\0') != (c->tls_key[0] != '\0'))
+        return err_set(e, REFRACT_E_USAGE,
+                       "--tls-cert and --tls-key go together: give both (a PEM certificate and "
+                       "its private key) or neither");
+    if (c->tls_cert[0]) {
+        c->tls_cert_pem = read_small_file("tls-cert", c->tls_cert, 1 << 20, e);
+        if (c->tls_cert_pem == NULL)
+            return REFRACT_E_USAGE;
+        c->tls_key_pem = read_small_file("tls-key", c->tls_key, 1 << 20, e);
+        if (c->tls_key_pem == NULL)
+            return REFRACT_E_USAGE;
+        c->http.tls_cert_pem = c->tls_cert_pem;
+        c->http.tls_key_pem = c->tls_key_pem;
+    }
+    if (!is_loopback(c->http.bind_address) && c->token[0] == '\0' && !c->trusted_proxy)
+        return err_set(e, REFRACT_E_USAGE,
+                       "--bind %s is reachable from other machines, and without a token every "
+                       "route (deletes and uploads included) would be open to them. Give "
+                       "--token-file FILE (clients send the token as a bearer token), or "
+                       "--trusted-proxy when a proxy in front of refractd authenticates its "
+                       "clients; or bind 127.0.0.1",
+                       c->http.bind_address);
+    return REFRACT_E_OK;
+}
+
+void config_free(struct config *c)
+{
+    if (c->tls_key_pem)
+        memset(c->tls_key_pem, 0, strlen(c->tls_key_pem));
+    free(c->tls_cert_pem);
+    free(c->tls_key_pem);
+    c->tls_cert_pem = c->tls_key_pem = NULL;
+    memset(c->token, 0, sizeof c->token);
 }

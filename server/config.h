@@ -19,6 +19,8 @@
 #include "scene/scene.h"
 #include "view/view.h"
 
+#define CONFIG_MAX_ALLOW_HOSTS 16
+
 struct config {
     struct http_config http;
     struct gpu_desc gpu;
@@ -36,6 +38,14 @@ struct config {
     unsigned long long max_storage_bytes; /* 0 = unlimited */
     int log_level;
     bool help, version;
+    /* Access control (docs/api.md "Security"). The files are read by config_load_secrets. */
+    char token_file[512]; /* "" = no token */
+    char token[1025];     /* the token read from token_file */
+    char allow_host_names[CONFIG_MAX_ALLOW_HOSTS][256];
+    const char *allow_hosts[CONFIG_MAX_ALLOW_HOSTS]; /* -> allow_host_names; http.allow_hosts */
+    bool trusted_proxy;   /* a non-loopback --bind without a token is meant */
+    char tls_cert[512], tls_key[512]; /* PEM files; both or neither */
+    char *tls_cert_pem, *tls_key_pem; /* their text (config_load_secrets; config_free) */
 };
 
 /* Fills defaults (data dir: $XDG_STATE_HOME/refract, else ~/.local/state/refract). */
@@ -44,6 +54,14 @@ void config_defaults(struct config *c);
 /* Applies argv (and a --config file if named). REFRACT_E_USAGE with a message that names
  * the flag and what it accepts. */
 enum refract_code config_parse_args(struct config *c, int argc, char **argv, struct err *e);
+
+/* Reads the token file and the TLS files named by the flags into c (http.token,
+ * http.tls_*_pem), and refuses what would expose refractd unguarded: a --bind that is not
+ * loopback without a token, unless --trusted-proxy. REFRACT_E_USAGE with a message that
+ * says what to do. Call after config_parse_args. */
+enum refract_code config_load_secrets(struct config *c, struct err *e);
+/* Frees what config_load_secrets allocated. */
+void config_free(struct config *c);
 
 /* The --help text. */
 void config_print_usage(const char *argv0);

@@ -254,8 +254,9 @@ static int run(const struct config *cfg)
     int port = http_server_port(http);
     if (cfg->port_file[0])
         write_port_file(cfg->port_file, port);
-    log_info("main", "refractd %s listening on http://%s:%d (renderer: %s; data: %s)",
-             REFRACT_VERSION, cfg->http.bind_address, port, gpu_info(gpu)->renderer, cfg->data_dir);
+    log_info("main", "refractd %s listening on %s://%s:%d (renderer: %s; data: %s; token: %s)",
+             REFRACT_VERSION, cfg->tls_cert[0] ? "https" : "http", cfg->http.bind_address, port,
+             gpu_info(gpu)->renderer, cfg->data_dir, cfg->token[0] ? "required" : "none");
     prepare_all(&app);
 
     int sig = 0;
@@ -279,6 +280,11 @@ static int run(const struct config *cfg)
     return 0;
 }
 
+static bool is_loopback_bind(const char *address)
+{
+    return strncmp(address, "127.", 4) == 0;
+}
+
 int main(int argc, char **argv)
 {
     struct config cfg;
@@ -297,5 +303,18 @@ int main(int argc, char **argv)
         return 0;
     }
     log_set_level((enum log_level)cfg.log_level);
-    return run(&cfg);
+    if (config_load_secrets(&cfg, &e) != REFRACT_E_OK) {
+        fprintf(stderr, "refractd: %s\n", e.msg);
+        config_free(&cfg);
+        return REFRACT_E_USAGE;
+    }
+    if (!is_loopback_bind(cfg.http.bind_address) && cfg.token[0] && !cfg.tls_cert[0] &&
+        !cfg.trusted_proxy)
+        log_warn("main",
+                 "--bind %s without --tls-cert: the bearer token crosses the network in clear "
+                 "text; give --tls-cert and --tls-key, or put a TLS proxy in front",
+                 cfg.http.bind_address);
+    int rc = run(&cfg);
+    config_free(&cfg);
+    return rc;
 }

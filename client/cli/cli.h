@@ -23,6 +23,8 @@ struct cli {
     const char *url;        /* borrowed from argv or the environment */
     const char *url_source; /* where url came from, for messages: "--url", "REFRACT_URL" */
     long timeout_ms;        /* -1 = librefract's default */
+    const char *token_file; /* --token-file (borrowed; NULL: REFRACT_TOKEN, if set) */
+    const char *cacert;     /* --cacert (borrowed; NULL: the system's CA store) */
     refract_client *client; /* owned; made by cli_client() on first use */
 };
 

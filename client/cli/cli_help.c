@@ -49,7 +49,8 @@ static void print_exit_codes(FILE *f)
 
 void cli_print_help(FILE *f)
 {
-    fputs("usage: refract [--url URL] [--timeout SECONDS] COMMAND [ARGS...]\n"
+    fputs("usage: refract [--url URL] [--timeout SECONDS] [--token-file FILE] [--cacert FILE]\n"
+          "               COMMAND [ARGS...]\n"
           "\n"
           "refract talks to refractd, the Refract render daemon, through its HTTP API.\n"
           "\n"
@@ -65,6 +66,10 @@ void cli_print_help(FILE *f)
           "  --timeout SECONDS  give up on a request, or on light set's wait for an\n"
           "                     irradiance volume, after this long (default 120;\n"
           "                     0 = never)\n"
+          "  --token-file FILE  the bearer token of a refractd started with\n"
+          "                     --token-file (default: $REFRACT_TOKEN)\n"
+          "  --cacert FILE      PEM CA certificates that verify an https URL's\n"
+          "                     certificate (default: the system's)\n"
           "  -h, --help         show this help; after a command, that command's help\n"
           "  --version          show the versions of refract and libcurl\n"
           "\n",

@@ -11,8 +11,8 @@
 void cli_format_bytes(char *buf, size_t size, long long bytes)
 {
     static const char *const units[] = {"KiB", "MiB", "GiB", "TiB"};
-    double v = (double)bytes;
-    int u = -1;
+    double v;
+    int u = 0;
 
     if (bytes < 0) {
         snprintf(buf, size, "-");
@@ -22,6 +22,8 @@ void cli_format_bytes(char *buf, size_t size, long long bytes)
         snprintf(buf, size, "%lld B", bytes);
         return;
     }
+    /* At least 1 KiB here: u indexes units from 0 (KiB) up to 3 (TiB). */
+    v = (double)bytes / 1024.0;
     while (v >= 1024.0 && u < 3) {
         v /= 1024.0;
         u++;
@@ -38,9 +40,14 @@ void cli_format_ms(char *buf, size_t size, double ms)
     } else if (ms < 60000.0) {
         snprintf(buf, size, "%.1f s", ms / 1000.0);
     } else {
-        long s = (long)(ms / 1000.0);
+        /* Unsigned and capped at 999,999,999 s (31 years; an ETA beyond that means
+         * "forever"): the conversion is defined for any finite ms and the printed
+         * length is bounded (at most "16666666 min 39 s"). */
+        unsigned long long s =
+            ms / 1000.0 < 999999999.0 ? (unsigned long long)(ms / 1000.0) : 999999999ull;
+        unsigned min = (unsigned)(s / 60u), sec = (unsigned)(s % 60u);
 
-        snprintf(buf, size, "%ld min %02ld s", s / 60, s % 60);
+        snprintf(buf, size, "%u min %02u s", min, sec);
     }
 }
 

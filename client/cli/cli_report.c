@@ -86,6 +86,10 @@ int cli_connect(struct cli *cli)
                         cli->url);
     if (cli->timeout_ms >= 0)
         refract_set_timeout_ms(cli->client, cli->timeout_ms);
+    if (cli->token_file != NULL && refract_set_token_file(cli->client, cli->token_file) != 0)
+        return cli_fail(REFRACT_E_USAGE, "--token-file: %s", refract_errmsg(cli->client));
+    if (cli->cacert != NULL && refract_set_cacert(cli->client, cli->cacert) != 0)
+        return cli_fail(REFRACT_E_USAGE, "--cacert: %s", refract_errmsg(cli->client));
     return REFRACT_E_OK;
 }
 

@@ -1,9 +1,9 @@
 /*
  * main.c - the refract command-line tool: global options, then dispatch to a command.
  *
- *   refract [--url URL] [--timeout SECONDS] COMMAND [ARGS...]
+ *   refract [--url URL] [--timeout SECONDS] [--token-file FILE] [--cacert FILE] COMMAND ...
  *
- * --url and --timeout may also follow the command (until a "--"), so they can be added
+ * The global options may also follow the command (until a "--"), so they can be added
  * to the end of any command line. -h/--help before the command is the program's help;
  * after it, the command's. The exit status is a code number of proto/refract_errors.h.
  * This file knows no command's arguments; the cmd_*.c files do.
@@ -23,6 +23,8 @@
 struct globals {
     const char *url;
     const char *timeout;
+    const char *token_file;
+    const char *cacert;
     bool help;
     bool version;
     const char *command; /* NULL when none was given */
@@ -30,14 +32,15 @@ struct globals {
     char **argv;         /* owned array of borrowed strings */
 };
 
-/* If argv[*i] is --url or --timeout (either "--x V" or "--x=V"), stores its value, steps
- * past it and returns 1; returns 0 when it is not one; -1 when its value is missing. */
+/* If argv[*i] is a global option with a value (either "--x V" or "--x=V"), stores its
+ * value, steps past it and returns 1; returns 0 when it is not one; -1 when its value is
+ * missing. */
 static int take_global(int argc, char **argv, int *i, struct globals *g)
 {
-    static const char *const names[2] = {"--url", "--timeout"};
-    const char **slots[2] = {&g->url, &g->timeout};
+    static const char *const names[4] = {"--url", "--timeout", "--token-file", "--cacert"};
+    const char **slots[4] = {&g->url, &g->timeout, &g->token_file, &g->cacert};
 
-    for (int k = 0; k < 2; k++) {
+    for (int k = 0; k < 4; k++) {
         size_t len = strlen(names[k]);
 
         if (strncmp(argv[*i], names[k], len) != 0)
@@ -90,7 +93,8 @@ static int scan_globals(int argc, char **argv, struct globals *g)
     return REFRACT_E_OK;
 }
 
-/* Fills cli->url and cli->timeout_ms from the options and REFRACT_URL. The URL is
+/* Fills cli->url, cli->timeout_ms, token file and CA file from the options and REFRACT_URL
+ * (REFRACT_TOKEN is librefract's own). The URL is
  * checked when a command first needs it (cli_connect), so help works with any. */
 static int resolve_connection(const struct globals *g, struct cli *cli)
 {
@@ -107,6 +111,8 @@ static int resolve_connection(const struct globals *g, struct cli *cli)
         cli->url = REFRACT_DEFAULT_URL;
         cli->url_source = "the default address";
     }
+    cli->token_file = g->token_file;
+    cli->cacert = g->cacert;
     cli->timeout_ms = -1;
     if (g->timeout != NULL && !cli_parse_timeout(g->timeout, &cli->timeout_ms, why, sizeof(why)))
         return cli_fail(REFRACT_E_USAGE, "--timeout: %s", why);

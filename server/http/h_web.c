@@ -2,7 +2,8 @@
  * h_web.c - the web viewer's pages and assets (docs/views.md, "The web viewer"):
  *
  *     GET /                  index.html: the scene list
- *     GET /viewer/{id}       viewer.html, for a scene that exists (404 otherwise)
+ *     GET /viewer/{id}       viewer.html, for a scene that exists (404 otherwise; with a
+ *                            --token-file, for any id: the page asks for the token)
  *     GET /assets/{file}     the viewer's scripts, styles and icon
  *
  * The files are compiled into refractd (tools/embed_files.c -> web_files.h); nothing is
@@ -56,8 +57,6 @@ static enum MHD_Result respond_file(struct http_request *req, const struct http_
                              "no-cache",
                              "ETag",
                              f->etag,
-                             "X-Content-Type-Options",
-                             "nosniff",
                              "Content-Security-Policy",
                              content_security_policy,
                              "Referrer-Policy",
@@ -152,8 +151,6 @@ static enum MHD_Result respond_unknown_scene_html(struct http_request *req, cons
     log_info("http", "404 scene_not_found /viewer/{id}: no scene \"%s\" (HTML page)", id);
     const char *headers[] = {"Cache-Control",
                              "no-store",
-                             "X-Content-Type-Options",
-                             "nosniff",
                              "Content-Security-Policy",
                              content_security_policy,
                              NULL};
@@ -184,6 +181,10 @@ enum MHD_Result http_handle_web_index(struct http_request *req)
 enum MHD_Result http_handle_web_viewer(struct http_request *req)
 {
     const char *id = req->params[0];
+    /* With a token the page is served without it (access.c), so it must not tell who has
+     * no token which scene ids exist: the page's own API calls, with the token, say so. */
+    if (req->cfg->token != NULL && req->cfg->token[0] != '\0')
+        return respond_page(req, "viewer.html");
     struct store_scene *v = store_scene_get(req->app->store, id);
     if (v == NULL) {
         if (wants_html(req))

@@ -36,6 +36,16 @@ struct http_config {
     long long max_image_pixels; /* width * height of a render; 0 = 4096 * 4096 */
     int request_timeout_ms;     /* deadline of queued GPU work; 0 = 120000 */
     struct scene_limits limits;
+    /* Access control (access.c; docs/api.md "Security"). All borrowed for the server's
+     * life. token: the bearer token every route except GET /v1/health and the viewer's
+     * static pages requires; NULL or "" = none. allow_hosts: Host names served besides
+     * the loopback names and bind_address ("*" = any). */
+    const char *token;
+    const char *const *allow_hosts;
+    size_t allow_host_count;
+    /* TLS (PEM text, not paths): both set = https only; both NULL = plain http. */
+    const char *tls_cert_pem;
+    const char *tls_key_pem;
 };
 
 struct http_server;

@@ -81,6 +81,10 @@ struct http_request {
 
 /* ---- responses (respond.c) ---- */
 
+/* The headers every response carries (X-Content-Type-Options: nosniff); respond.c adds
+ * them to its own, a handler that builds an MHD_Response itself calls this. */
+void http_response_common_headers(struct MHD_Response *resp);
+
 /* {"error": {"code", "message"}} with the code's HTTP status. */
 enum MHD_Result http_respond_error(struct http_request *req, enum refract_code code,
                                    const char *fmt, ...) __attribute__((format(printf, 3, 4)));

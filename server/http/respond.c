@@ -11,6 +11,13 @@
 #include "../core/log.h"
 #include "http_internal.h"
 
+void http_response_common_headers(struct MHD_Response *resp)
+{
+    /* Browsers must take every answer as the type it says (an error's JSON never runs as
+     * a script or renders as a page). */
+    MHD_add_response_header(resp, "X-Content-Type-Options", "nosniff");
+}
+
 static enum MHD_Result queue(struct http_request *req, unsigned status, void *bytes, size_t len,
                              const char *content_type, const char *const *headers)
 {
@@ -22,6 +29,7 @@ static enum MHD_Result queue(struct http_request *req, unsigned status, void *by
     }
     if (content_type)
         MHD_add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE, content_type);
+    http_response_common_headers(resp);
     for (size_t i = 0; headers && headers[i] && headers[i + 1]; i += 2)
         MHD_add_response_header(resp, headers[i], headers[i + 1]);
     enum MHD_Result r = MHD_queue_response(req->conn, status, resp);

@@ -24,6 +24,7 @@
 #include <unistd.h>
 
 #include "../core/log.h"
+#include "access.h"
 #include "http_internal.h"
 #include "routes.h"
 #include "stream.h"
@@ -229,6 +230,48 @@ static enum MHD_Result answer_too_large(struct http_request *req, unsigned long 
                               body_limit_flag(req->route->body));
 }
 
+/* The Host allow-list (421) and the bearer token (401), before the route is answered
+ * (access.c). Returns true when it answered (*answer holds the result). */
+static bool answer_access(struct http_request *req, const char *method, enum MHD_Result *answer)
+{
+    const struct http_config *cfg = req->cfg;
+    const char *host =
+        MHD_lookup_connection_value(req->conn, MHD_HEADER_KIND, MHD_HTTP_HEADER_HOST);
+    if (!http_access_host_allowed(cfg, host)) {
+        char message[ERR_MSG_MAX];
+        http_access_host_message(host, message, sizeof message);
+        *answer = http_respond_error(req, REFRACT_E_HOST_NOT_ALLOWED, "%s", message);
+        return true;
+    }
+    if (req->route != NULL && http_access_token_exempt(method, req->route->pattern))
+        return false;
+    const char *auth =
+        MHD_lookup_connection_value(req->conn, MHD_HEADER_KIND, MHD_HTTP_HEADER_AUTHORIZATION);
+    enum http_token_verdict v = http_access_token_check(cfg, auth);
+    if (v == HTTP_TOKEN_OK)
+        return false;
+    const char *headers[] = {MHD_HTTP_HEADER_WWW_AUTHENTICATE,
+                             v == HTTP_TOKEN_WRONG
+                                 ? "Bearer realm=\"refractd\", error=\"invalid_token\""
+                                 : "Bearer realm=\"refractd\"",
+                             NULL};
+    static const char how[] =
+        "send the header \"Authorization: Bearer TOKEN\" with the token in the file refractd's "
+        "--token-file names (refract: set REFRACT_TOKEN or pass --token-file FILE)";
+    if (v == HTTP_TOKEN_MISSING)
+        *answer = http_respond_error_with(req, headers, REFRACT_E_UNAUTHORIZED,
+                                          "refractd requires a bearer token; %s", how);
+    else if (v == HTTP_TOKEN_NOT_BEARER)
+        *answer = http_respond_error_with(req, headers, REFRACT_E_UNAUTHORIZED,
+                                          "the Authorization header is not a bearer token; %s",
+                                          how);
+    else
+        *answer = http_respond_error_with(req, headers, REFRACT_E_UNAUTHORIZED,
+                                          "the bearer token is not the one refractd was given; %s",
+                                          how);
+    return true;
+}
+
 static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, const char *url,
                                       const char *method, const char *version,
                                       const char *upload_data, size_t *upload_data_size,
@@ -246,8 +289,21 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
             return http_respond_error(req, REFRACT_E_SHUTTING_DOWN,
                                       "refractd is shutting down; retry %s %s once it is back",
                                       method, url);
+        enum MHD_Result answer;
+        if (answer_access(req, method, &answer))
+            return answer;
         if (req->route == NULL)
             return answer_no_route(req, url, method);
+        if (req->route->body == HTTP_BODY_JSON) {
+            const char *type = MHD_lookup_connection_value(conn, MHD_HEADER_KIND,
+                                                           MHD_HTTP_HEADER_CONTENT_TYPE);
+            if (!http_access_json_type(type)) {
+                char message[ERR_MSG_MAX];
+                http_access_type_message(method, req->route->pattern, type, message,
+                                         sizeof message);
+                return http_respond_error(req, REFRACT_E_UNSUPPORTED_MEDIA_TYPE, "%s", message);
+            }
+        }
         const char *cl =
             MHD_lookup_connection_value(conn, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_LENGTH);
         unsigned long long announced = cl ? strtoull(cl, NULL, 10) : 0;
@@ -404,16 +460,45 @@ struct http_server *http_server_start(const struct http_config *cfg, const struc
     }
     unsigned flags = MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_EPOLL | MHD_ALLOW_SUSPEND_RESUME |
                      MHD_USE_ERROR_LOG;
+    /* TLS (GnuTLS inside libmicrohttpd): the certificate and key as PEM text. */
+    struct MHD_OptionItem tls[] = {{MHD_OPTION_END, 0, NULL},
+                                   {MHD_OPTION_END, 0, NULL},
+                                   {MHD_OPTION_END, 0, NULL}};
+    bool use_tls = srv->cfg.tls_cert_pem != NULL && srv->cfg.tls_key_pem != NULL;
+    if (use_tls) {
+        if (MHD_is_feature_supported(MHD_FEATURE_TLS) != MHD_YES) {
+            err_set(e, REFRACT_E_USAGE,
+                    "--tls-cert/--tls-key: this libmicrohttpd was built without TLS; put a "
+                    "TLS-terminating proxy in front of refractd instead (--trusted-proxy)");
+            http_sse_destroy(srv->sse);
+            http_stream_set_destroy(srv->streams);
+            free(srv);
+            return NULL;
+        }
+        flags |= MHD_USE_TLS;
+        tls[0] = (struct MHD_OptionItem){MHD_OPTION_HTTPS_MEM_CERT, 0,
+                                         (void *)srv->cfg.tls_cert_pem};
+        tls[1] = (struct MHD_OptionItem){MHD_OPTION_HTTPS_MEM_KEY, 0,
+                                         (void *)srv->cfg.tls_key_pem};
+    }
     srv->daemon = MHD_start_daemon(
         flags, 0, NULL, NULL, access_handler, srv, MHD_OPTION_EXTERNAL_LOGGER, mhd_log, srv,
         MHD_OPTION_SOCK_ADDR, &addr, MHD_OPTION_THREAD_POOL_SIZE, (unsigned)srv->cfg.threads,
         MHD_OPTION_NOTIFY_COMPLETED, on_completed, srv, MHD_OPTION_CONNECTION_TIMEOUT,
-        (unsigned)300, MHD_OPTION_UNESCAPE_CALLBACK, unescape_keep_nul, NULL, MHD_OPTION_END);
+        (unsigned)300, MHD_OPTION_UNESCAPE_CALLBACK, unescape_keep_nul, NULL, MHD_OPTION_ARRAY,
+        tls, MHD_OPTION_END);
     if (srv->daemon == NULL) {
-        err_set(e, REFRACT_E_IO,
-                "cannot listen on %s:%d (is the port taken by another process? pick another "
-                "with --port, or --port 0 for any free port)",
-                srv->cfg.bind_address, cfg->port);
+        if (use_tls)
+            err_set(e, REFRACT_E_IO,
+                    "cannot listen with TLS on %s:%d: is the port taken, or are --tls-cert and "
+                    "--tls-key not a matching PEM certificate and private key? (the log above "
+                    "may say which)",
+                    srv->cfg.bind_address, cfg->port);
+        else
+            err_set(e, REFRACT_E_IO,
+                    "cannot listen on %s:%d (is the port taken by another process? pick another "
+                    "with --port, or --port 0 for any free port)",
+                    srv->cfg.bind_address, cfg->port);
         http_sse_destroy(srv->sse);
         http_stream_set_destroy(srv->streams);
         free(srv);

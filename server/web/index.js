@@ -12,7 +12,7 @@
   const $ = (id) => document.getElementById(id);
 
   async function getJSON(path) {
-    const res = await fetch(path);
+    const res = await window.refractAuth.fetch(path);
     const json = await res.json().catch(() => null);
     if (!res.ok) throw new Error(json && json.error ? json.error.message : `HTTP ${res.status}`);
     return json;
@@ -35,7 +35,7 @@
     rendering = true;
     const { id, box } = queue.shift();
     try {
-      const res = await fetch(`/v1/scenes/${encodeURIComponent(id)}/render`, {
+      const res = await window.refractAuth.fetch(`/v1/scenes/${encodeURIComponent(id)}/render`, {
         method: 'POST',
         headers: { 'Content-Type': 'application/json' },
         body: JSON.stringify(THUMB),

@@ -81,7 +81,7 @@ window.RefractMjpeg = (function () {
   // kind, renderMs, irradiance}) for each part. Resolves when the stream ends; rejects
   // with an Error (with .status for an HTTP error answer) when it cannot be read.
   async function read(url, { signal, onFrame }) {
-    const res = await fetch(url, { signal, cache: 'no-store' });
+    const res = await window.refractAuth.fetch(url, { signal, cache: 'no-store' });
     if (!res.ok) {
       let message = `${url}: HTTP ${res.status}`;
       try { message = (await res.json()).error.message; } catch (e) { /* not JSON */ }

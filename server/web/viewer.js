@@ -55,7 +55,7 @@
       init.headers['Content-Type'] = 'application/json';
       init.body = JSON.stringify(body);
     }
-    const res = await fetch(path, init);
+    const res = await window.refractAuth.fetch(path, init);
     if (res.status === 204) return { status: 204, json: null };
     const text = await res.text();
     let json = null;
@@ -686,8 +686,8 @@
   // ---- the scene's events (Server-Sent Events) ----------------------------------------
 
   function listenEvents() {
-    if (typeof EventSource === 'undefined') return;
-    const es = new EventSource(`/v1/scenes/${encodeURIComponent(sceneId)}/events`);
+    // EventSource, or a fetch reader when a token is needed (auth.js says why).
+    const es = window.refractAuth.events(`/v1/scenes/${encodeURIComponent(sceneId)}/events`);
     state.events = es;
     const data = (e) => { try { return JSON.parse(e.data); } catch (err) { return null; } };
     const mine = (d) => d && state.light && d.light === state.light.name;
@@ -721,7 +721,7 @@
     if (state.events) state.events.close();
     stopSession();
     if (state.view && state.ownView) {
-      fetch(`/v1/views/${state.view}`, { method: 'DELETE', keepalive: true }).catch(() => {});
+      window.refractAuth.fetch(`/v1/views/${state.view}`, { method: 'DELETE', keepalive: true }).catch(() => {});
       state.view = null;
     }
   });

@@ -13,7 +13,10 @@
 //   - the wheel zooms (eye along the view direction) and shift-drag pans (eye and
 //     look_at together), as refractd's answers to the PATCHes show;
 //   - closing the page ends the session it made (DELETE on pagehide);
-//   - an unknown scene's viewer answers a 404 page; the scene list links to the viewer.
+//   - an unknown scene's viewer answers a 404 page; the scene list links to the viewer;
+//   - against a refractd with --token-file (docs/api.md "Security"): the viewer asks for
+//     the token once, shows frames, keeps the token out of the URL, and reads events with
+//     its fetch reader (EventSource cannot send the header).
 //
 // It FAILS (exit 1), never skips, when Chromium or playwright-core is missing: both are
 // installed by deploy/install-deps.sh. Screenshots go to $REFRACT_BROWSER_ARTIFACTS.
@@ -81,7 +84,7 @@ async function waitFor(what, timeoutMs, probe) {
 
 // ---- the daemon --------------------------------------------------------------------------
 
-async function startDaemon(dir) {
+async function startDaemon(dir, extraArgs = []) {
   if (!REFRACTD || !fs.existsSync(REFRACTD))
     setupFailed(`$REFRACTD (${REFRACTD}) is not a refractd binary; ctest sets it (build first)`);
   const portFile = path.join(dir, 'port');
@@ -90,6 +93,7 @@ async function startDaemon(dir) {
   const child = spawn(REFRACTD, [
     '--port', '0', '--bind', '127.0.0.1', '--port-file', portFile,
     '--data-dir', path.join(dir, 'data'), '--scene-dir', path.join(SOURCE, 'proto/examples'),
+    ...extraArgs,
   ], { stdio: ['ignore', log, log] });
   fs.closeSync(log);
   const exited = new Promise((resolve) => child.on('exit', (code, signal) => resolve({ code, signal })));
@@ -258,6 +262,75 @@ async function run(dir) {
     note(`refractd stopped (exit status ${code})`);
     if (!check(code === 0, `refractd exits cleanly on SIGTERM (exit status ${code})`)) printLog(d);
   }
+
+  const tokenDir = path.join(dir, 'token');
+  fs.mkdirSync(tokenDir);
+  fs.writeFileSync(path.join(tokenDir, 'token'), TOKEN + '\n', { mode: 0o600 });
+  const t = await startDaemon(tokenDir, ['--token-file', path.join(tokenDir, 'token')]);
+  try {
+    await runWithToken(t, chromium);
+  } catch (err) {
+    printLog(t);
+    throw err;
+  } finally {
+    const code = await stopDaemon(t);
+    if (!check(code === 0, `the token refractd exits cleanly on SIGTERM (exit status ${code})`)) printLog(t);
+  }
+}
+
+const TOKEN = 'browser-test-token-0123456789';
+
+// The viewer against a refractd that wants a bearer token: one prompt, then frames.
+async function runWithToken(d, chromium) {
+  await waitFor('GET /v1/health (token daemon)', 30000, () => getJSON(d, '/v1/health').catch(() => null));
+  const denied = await fetch(`${d.url}/v1/scenes`);
+  await denied.arrayBuffer();
+  check(denied.status === 401, `without the token GET /v1/scenes answers 401 (got ${denied.status})`);
+  const browser = await chromium.launch({ executablePath: CHROMIUM, headless: true,
+                                          args: ['--no-sandbox', '--disable-dev-shm-usage'] });
+  try {
+    const context = await browser.newContext({ viewport: VIEWPORT, deviceScaleFactor: 1 });
+    const page = await context.newPage();
+    const pageErrors = [];
+    page.on('pageerror', (err) => pageErrors.push(err.message));
+    const asked = [];
+    page.on('dialog', (dlg) => { asked.push(dlg.message()); dlg.accept(TOKEN); });
+    const res = await page.goto(`${d.url}/viewer/${SCENE}?quality=draft`);
+    check(res && res.status() === 200, `with a token set, GET /viewer/${SCENE} still answers 200`);
+    const first = await waitFor('the first frame with a token', 40000, () => settled(page, 0));
+    check(first.natural > 0, 'with a token, the viewer shows a frame');
+    check(asked.length === 1, `the viewer asked for the token once (${asked.length}: ${asked.join(' | ')})`);
+    check(!page.url().includes(TOKEN), 'the token is not in the page URL');
+    check(await page.evaluate(() => sessionStorage.getItem('refract.token')) === TOKEN,
+          'the token is kept in the tab\'s sessionStorage');
+    // Events through the fetch reader: a scene created with the token shows up.
+    await page.evaluate(() => {
+      window.seenEvents = [];
+      const es = window.refractAuth.events('/v1/events');
+      window.tokenEvents = es;
+      es.addEventListener('scene.created', (e) => window.seenEvents.push(JSON.parse(e.data).scene));
+    });
+    check(await page.evaluate(() => typeof EventSource !== 'undefined' &&
+                                    !(window.tokenEvents instanceof EventSource)),
+          'with a token the events are read by fetch, not EventSource');
+    await sleep(500);
+    const made = await fetch(`${d.url}/v1/scenes`, {
+      method: 'POST',
+      headers: { 'Content-Type': 'application/json', Authorization: `Bearer ${TOKEN}` },
+      body: JSON.stringify({ objects: [{ bounds: { min: [-1, -1, -1], max: [1, 1, 1] }, resolution: 8, ior: 1.2 }] }),
+    });
+    const madeId = (await made.json()).id;
+    check(made.status === 201, `POST /v1/scenes with the token answers 201 (got ${made.status})`);
+    const seen = await waitFor('scene.created through the fetch event reader', 15000, async () =>
+      (await page.evaluate(() => window.seenEvents)).includes(madeId) || null).catch(() => false);
+    check(seen === true, 'the fetch event reader delivered scene.created');
+    await page.evaluate(() => window.tokenEvents.close());
+    check(pageErrors.length === 0, `no uncaught errors in the token page: ${pageErrors.join('; ')}`);
+    await page.close({ runBeforeUnload: true });
+    note('the viewer with a token checked');
+  } finally {
+    await browser.close();
+  }
 }
 
 async function runWithDaemon(d, chromium) {
@@ -295,7 +368,8 @@ async function runWithDaemon(d, chromium) {
     // 1b. A plain <img> of a second, small session's bare stream, checked in step 8 (it
     //     runs meanwhile so that its wait costs no time of its own).
     const plain = await (await fetch(`${d.url}/v1/scenes/${SCENE}/views`, {
-      method: 'POST', body: JSON.stringify({ width: 96, height: 72 }) })).json();
+      method: 'POST', headers: { 'Content-Type': 'application/json' },
+      body: JSON.stringify({ width: 96, height: 72 }) })).json();
     const p3 = await context.newPage();
     const plainOpened = Date.now();
     // Not until "load": that fires only once the first part is complete for the browser.

@@ -33,7 +33,8 @@ struct test_daemon {
 };
 
 /* Starts refractd with `extra_args` (NULL-terminated, may be NULL) and waits until
- * /v1/health answers. On failure returns false with d->why filled. If data_dir is not
+ * /v1/health answers. With "--tls-cert CERT" among them the URL is https and the client
+ * verifies the daemon with CERT as its CA (a self-signed certificate). On failure returns false with d->why filled. If data_dir is not
  * NULL it is reused (restart tests); otherwise a new temporary directory is made. */
 bool test_daemon_start_in(struct test_daemon *d, const char *data_dir,
                           const char *const *extra_args);

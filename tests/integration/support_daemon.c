@@ -134,8 +134,20 @@ bool test_daemon_start_in(struct test_daemon *d, const char *data_dir,
         test_daemon_stop(d);
         return false;
     }
-    snprintf(d->url, sizeof d->url, "http://127.0.0.1:%d", d->port);
+    /* With --tls-cert CERT the daemon speaks https; the test's self-signed CERT is also
+     * the CA that verifies it. */
+    const char *tls_cert = NULL;
+    for (int i = 0; extra_args && extra_args[i]; i++) {
+        if (strcmp(extra_args[i], "--tls-cert") == 0 && extra_args[i + 1])
+            tls_cert = extra_args[i + 1];
+    }
+    snprintf(d->url, sizeof d->url, "%s://127.0.0.1:%d", tls_cert ? "https" : "http", d->port);
     d->client = refract_client_create(d->url);
+    if (d->client && tls_cert && refract_set_cacert(d->client, tls_cert) != REFRACT_E_OK) {
+        snprintf(d->why, sizeof d->why, "refract_set_cacert: %s", refract_errmsg(d->client));
+        test_daemon_stop(d);
+        return false;
+    }
     char *health = NULL;
     if (d->client == NULL || refract_health(d->client, &health) != REFRACT_E_OK) {
         print_log(d);

@@ -613,12 +613,12 @@ static void raw_exchange(const struct test_daemon *d, const char *bytes, size_t 
 
 static void broken_http_leaves_the_daemon_serving(struct test_daemon *d, const char *id)
 {
-    static const char cut_short[] = "POST /v1/scenes HTTP/1.1\r\nHost: x\r\nContent-Type: "
+    static const char cut_short[] = "POST /v1/scenes HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: "
                                     "application/json\r\nContent-Length: 100\r\n\r\n{\"na";
     static const char garbage[] = "GARBAGE\r\n\r\n";
-    static const char bad_chunk[] = "POST /v1/scenes HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: "
+    static const char bad_chunk[] = "POST /v1/scenes HTTP/1.1\r\nHost: 127.0.0.1\r\nTransfer-Encoding: "
                                     "chunked\r\n\r\nzz\r\nabc\r\n0\r\n\r\n";
-    static const char bad_length[] = "POST /v1/scenes HTTP/1.1\r\nHost: x\r\nContent-Length: "
+    static const char bad_length[] = "POST /v1/scenes HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: "
                                      "abc\r\n\r\n{}";
     raw_exchange(d, cut_short, sizeof cut_short - 1, false);
     raw_exchange(d, cut_short, sizeof cut_short - 1, true);
@@ -629,7 +629,7 @@ static void broken_http_leaves_the_daemon_serving(struct test_daemon *d, const c
     char leave[512];
     const char *json = "{\"width\": 64, \"height\": 64, \"step\": 0.05, \"max_steps\": 2000}";
     int n = snprintf(leave, sizeof leave,
-                     "POST /v1/scenes/%s/render HTTP/1.1\r\nHost: x\r\nContent-Type: "
+                     "POST /v1/scenes/%s/render HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: "
                      "application/json\r\nContent-Length: %zu\r\n\r\n%s",
                      id, strlen(json), json);
     for (int i = 0; i < 6; i++)

@@ -46,7 +46,10 @@ static void every_option_is_in_the_shipped_config(void)
         options++;
         /* Flags without a value (gl-debug) and per-run paths appear commented out. */
         bool commented = !strcmp(name, "gl-debug") || !strcmp(name, "port-file") ||
-                         !strcmp(name, "scene-dir") || !strcmp(name, "shader-dir");
+                         !strcmp(name, "scene-dir") || !strcmp(name, "shader-dir") ||
+                         !strcmp(name, "token-file") || !strcmp(name, "allow-host") ||
+                         !strcmp(name, "trusted-proxy") || !strcmp(name, "tls-cert") ||
+                         !strcmp(name, "tls-key");
         char commented_line[80];
         snprintf(commented_line, sizeof commented_line, "# %s", name);
         if (commented ? strstr(conf, commented_line) == NULL : !conf_has_key(conf, name)) {

@@ -122,7 +122,7 @@ static int slow_sender_half(struct test_daemon *d, const char *id, long long *tm
         return -1;
     char head[512];
     int n = snprintf(head, sizeof head,
-                     "PUT /v1/scenes/%s/volumes/big?dims=%d,%d,%d HTTP/1.1\r\nHost: t\r\n"
+                     "PUT /v1/scenes/%s/volumes/big?dims=%d,%d,%d HTTP/1.1\r\nHost: 127.0.0.1\r\n"
                      "Content-Type: application/octet-stream\r\nContent-Length: %zu\r\n\r\n",
                      id, BIG_SIDE, BIG_SIDE, BIG_SIDE, total);
     CHECK(send(fd, head, (size_t)n, 0) == n);

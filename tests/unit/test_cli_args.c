@@ -644,6 +644,13 @@ static void sizes_and_times_read_like_people_write_them(void)
     CHECK_STR(b, "12.4 s");
     cli_format_ms(b, sizeof(b), 185000);
     CHECK_STR(b, "3 min 05 s");
+    /* An absurd ETA is capped (31 years), never undefined or cut short. */
+    cli_format_ms(b, sizeof(b), 1e300);
+    CHECK_STR(b, "16666666 min 39 s");
+    cli_format_bytes(b, sizeof(b), 1024);
+    CHECK_STR(b, "1.0 KiB");
+    cli_format_bytes(b, sizeof(b), 5LL << 40);
+    CHECK_STR(b, "5.00 TiB");
 }
 
 static void progress_is_the_mean_over_lights_that_need_a_volume(void)

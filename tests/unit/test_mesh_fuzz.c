@@ -74,15 +74,17 @@ static void mutated_files_are_handled(const struct test_buf *files, int n)
 
 static void random_bodies_behind_a_header_are_handled(void)
 {
+    /* One header per element, each spanning lines: parenthesised, so the concatenation
+     * reads (to people and clang's -Wstring-concatenation) as meant, not a lost comma. */
     static const char *const headers[] = {
-        "ply\nformat binary_little_endian 1.0\nelement vertex 20\nproperty float x\nproperty "
-        "float y\nproperty float z\nelement face 30\nproperty list uchar int "
-        "vertex_indices\nend_header\n",
-        "ply\nformat binary_big_endian 1.0\nelement vertex 10\nproperty double x\nproperty "
-        "double y\nproperty double z\nelement face 10\nproperty list int uint "
-        "vertex_indices\nend_header\n",
-        "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty "
-        "float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n",
+        ("ply\nformat binary_little_endian 1.0\nelement vertex 20\nproperty float x\nproperty "
+         "float y\nproperty float z\nelement face 30\nproperty list uchar int "
+         "vertex_indices\nend_header\n"),
+        ("ply\nformat binary_big_endian 1.0\nelement vertex 10\nproperty double x\nproperty "
+         "double y\nproperty double z\nelement face 10\nproperty list int uint "
+         "vertex_indices\nend_header\n"),
+        ("ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty "
+         "float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n"),
     };
     char buf[2048];
     for (int iter = 0; iter < 3000; iter++) {
