@@ -2,20 +2,23 @@
  * mesh_rt_build.c - the ray-tracing hierarchy of a mesh (mesh_rt.h states the layout and
  * the invariants): binned SAH, flattened into the GPU's node, triangle and vertex arrays.
  *
- * Build: top down over an array of per-triangle records (float box rounded outward,
- * centroid, index) that is partitioned in place, so each node's triangles are one
- * contiguous run and the passes stream through memory instead of chasing indices (1M
- * triangles in well under the 2 s budget, BENCHMARKS.md). Each node: one pass for its box
- * and its centroids' box, one pass binning the centroids along all three axes, a sweep
- * over the MESH_RT_BINS - 1 candidate planes per axis choosing the least
+ * Build: top down over an array of 28-byte per-triangle records (the float box rounded
+ * outward, the index) that is partitioned in place, so each node's triangles are one
+ * contiguous run and the passes stream through memory instead of chasing indices. A
+ * triangle is binned by its box's centre (as common, e.g. Wald 2007, "On fast
+ * construction of SAH-based bounding volume hierarchies"): no centroid to store. Per node
+ * two passes: one bins the centres along all three axes at once (MESH_RT_BINS bins over
+ * the centres' extent), a sweep over the bins picks the plane with the least
  * area_left * count_left + area_right * count_right (the constant traversal and
- * intersection costs of the full SAH do not change which plane wins), one partition. A
+ * intersection costs of the full SAH do not change which plane wins), and one partition
+ * moves the triangles, gathering each side's centre bounds as it goes; the children's
+ * boxes come from the sweep. 1M triangles build in about a second (BENCHMARKS.md). A
  * node of MESH_RT_LEAF_MAX triangles or fewer is always a leaf and a larger one is always
- * split: leaves are then 1..4 triangles (about 2.5 on average), which keeps the GPU arrays
- * near 50 bytes a triangle (the budget is 64).
+ * split: leaves are then 1..4 triangles (about 3 on average), which keeps the GPU arrays
+ * near 45 bytes a triangle (the budget is 64).
  *
  * Depth bound: SAH may peel one triangle off a node at a time (a fan of slivers), so below
- * MESH_RT_SAH_DEPTH nodes are split at their median centroid instead. That halves a node,
+ * MESH_RT_SAH_DEPTH nodes are split at their median centre instead. That halves a node,
  * and 2^31 triangles need at most 30 halvings to reach 4, so no path is longer than
  * 32 + 30 = 62 < MESH_RT_MAX_DEPTH nodes.
  *
@@ -38,8 +41,12 @@ _Static_assert(MESH_RT_SAH_DEPTH + 30 <= MESH_RT_MAX_DEPTH, "the depth bound (fi
 
 struct prim {
     float lo[3], hi[3]; /* the triangle's box, rounded outward */
-    float c[3];         /* its centroid (only orders the binning; precision is irrelevant) */
     uint32_t index;     /* the triangle's index in struct mesh.triangles */
+};
+
+/* A box, or the bounds of the prims' keys. */
+struct bounds {
+    float lo[3], hi[3];
 };
 
 struct build {
@@ -48,6 +55,61 @@ struct build {
     size_t count;
     int depth;
 };
+
+/* Plain comparisons rather than fminf/fmaxf: no NaN reaches here (mesh_create validated
+ * the vertices), and these compile to one instruction (the build's inner loops are
+ * mostly these). */
+static inline float minf(float a, float b)
+{
+    return a < b ? a : b;
+}
+static inline float maxf(float a, float b)
+{
+    return a > b ? a : b;
+}
+
+static void bounds_empty(struct bounds *b)
+{
+    for (int k = 0; k < 3; k++) {
+        b->lo[k] = INFINITY;
+        b->hi[k] = -INFINITY;
+    }
+}
+
+static inline void bounds_grow(struct bounds *b, const float lo[3], const float hi[3])
+{
+    for (int k = 0; k < 3; k++) {
+        b->lo[k] = minf(b->lo[k], lo[k]);
+        b->hi[k] = maxf(b->hi[k], hi[k]);
+    }
+}
+
+/* A prim's position for binning: twice its box's centre (the factor 2 changes no order,
+ * and the box centre needs no more memory than the box). */
+static inline float key(const struct prim *p, int axis)
+{
+    return p->lo[axis] + p->hi[axis];
+}
+
+static inline void bounds_grow_key(struct bounds *b, const struct prim *p)
+{
+    for (int k = 0; k < 3; k++) {
+        float c = key(p, k);
+        b->lo[k] = minf(b->lo[k], c);
+        b->hi[k] = maxf(b->hi[k], c);
+    }
+}
+
+/* The box and key bounds of p[0 .. n). */
+static void bounds_of(const struct prim *p, uint32_t n, struct bounds *box, struct bounds *keys)
+{
+    bounds_empty(box);
+    bounds_empty(keys);
+    for (uint32_t i = 0; i < n; i++) {
+        bounds_grow(box, p[i].lo, p[i].hi);
+        bounds_grow_key(keys, &p[i]);
+    }
+}
 
 static float round_down(double v)
 {
@@ -61,85 +123,73 @@ static float round_up(double v)
     return (double)f < v ? nextafterf(f, INFINITY) : f;
 }
 
-static double half_area(const float lo[3], const float hi[3])
+static double half_area(const struct bounds *b)
 {
-    double dx = (double)hi[0] - lo[0], dy = (double)hi[1] - lo[1], dz = (double)hi[2] - lo[2];
+    double dx = (double)b->hi[0] - b->lo[0], dy = (double)b->hi[1] - b->lo[1],
+           dz = (double)b->hi[2] - b->lo[2];
     return dx * dy + dy * dz + dz * dx;
 }
 
-struct bin {
-    float lo[3], hi[3];
-    uint32_t n;
-};
-
-static void bin_reset(struct bin *b)
-{
-    for (int k = 0; k < 3; k++) {
-        b->lo[k] = INFINITY;
-        b->hi[k] = -INFINITY;
-    }
-    b->n = 0;
-}
-
-static void bin_grow(struct bin *b, const float lo[3], const float hi[3])
-{
-    for (int k = 0; k < 3; k++) {
-        b->lo[k] = fminf(b->lo[k], lo[k]);
-        b->hi[k] = fmaxf(b->hi[k], hi[k]);
-    }
-}
-
-/* The bin of a centroid coordinate; the one expression both binning and partitioning use,
- * so they agree on every triangle. */
-static int bin_of(float c, float cmin, float scale)
+/* The bin of a key; the one expression binning and partitioning share, so they agree on
+ * every triangle. */
+static inline int bin_of(float c, float cmin, float scale)
 {
     int k = (int)((c - cmin) * scale);
     return k < 0 ? 0 : (k >= MESH_RT_BINS ? MESH_RT_BINS - 1 : k);
 }
 
-/* Best SAH plane of p[0 .. n): *axis and *split (triangles of bin < split go left).
- * False when no axis has extent. */
-static bool sah_plane(const struct prim *p, uint32_t n, const float cmin[3], const float cmax[3],
-                      int *axis, int *split, float *scale_out)
+struct split {
+    int axis, bin;      /* triangles whose bin along axis is below `bin` go left */
+    float cmin, scale;  /* of bin_of */
+    struct bounds left, right; /* the children's boxes */
+};
+
+/* The best SAH plane for p[0 .. n), whose keys lie in kb: one pass bins all three axes,
+ * then a sweep per axis. False when no axis has extent. */
+static bool sah_split(const struct prim *p, uint32_t n, const struct bounds *kb, struct split *out)
 {
+    float scale[3];
+    for (int a = 0; a < 3; a++) {
+        float ext = kb->hi[a] - kb->lo[a];
+        scale[a] = ext > 0.0f ? (float)MESH_RT_BINS * 0.99999f / ext : 0.0f;
+    }
+    struct bounds box[3][MESH_RT_BINS];
+    uint32_t count[3][MESH_RT_BINS] = {{0}};
+    for (int a = 0; a < 3; a++)
+        for (int i = 0; i < MESH_RT_BINS; i++)
+            bounds_empty(&box[a][i]);
+    for (uint32_t i = 0; i < n; i++) {
+        for (int a = 0; a < 3; a++) {
+            int k = bin_of(key(&p[i], a), kb->lo[a], scale[a]);
+            bounds_grow(&box[a][k], p[i].lo, p[i].hi);
+            count[a][k]++;
+        }
+    }
     double best = INFINITY;
     for (int a = 0; a < 3; a++) {
-        if (!(cmax[a] > cmin[a]))
+        if (scale[a] == 0.0f)
             continue;
-        float scale = (float)MESH_RT_BINS * 0.99999f / (cmax[a] - cmin[a]);
-        struct bin bins[MESH_RT_BINS];
-        for (int i = 0; i < MESH_RT_BINS; i++)
-            bin_reset(&bins[i]);
-        for (uint32_t i = 0; i < n; i++) {
-            struct bin *b = &bins[bin_of(p[i].c[a], cmin[a], scale)];
-            bin_grow(b, p[i].lo, p[i].hi);
-            b->n++;
-        }
-        /* right_cost[s]: area * count of bins s .. BINS-1 */
-        double right_cost[MESH_RT_BINS];
-        uint32_t right_n[MESH_RT_BINS];
-        struct bin acc;
-        bin_reset(&acc);
+        /* right[s]: bins s .. BINS-1 */
+        struct bounds right[MESH_RT_BINS], acc;
+        uint32_t right_n[MESH_RT_BINS], acc_n = 0;
+        bounds_empty(&acc);
         for (int s = MESH_RT_BINS - 1; s > 0; s--) {
-            if (bins[s].n)
-                bin_grow(&acc, bins[s].lo, bins[s].hi);
-            acc.n += bins[s].n;
-            right_n[s] = acc.n;
-            right_cost[s] = acc.n ? half_area(acc.lo, acc.hi) * acc.n : 0.0;
+            bounds_grow(&acc, box[a][s].lo, box[a][s].hi);
+            acc_n += count[a][s];
+            right[s] = acc;
+            right_n[s] = acc_n;
         }
-        bin_reset(&acc);
+        bounds_empty(&acc);
+        acc_n = 0;
         for (int s = 1; s < MESH_RT_BINS; s++) {
-            if (bins[s - 1].n)
-                bin_grow(&acc, bins[s - 1].lo, bins[s - 1].hi);
-            acc.n += bins[s - 1].n;
-            if (acc.n == 0 || right_n[s] == 0)
+            bounds_grow(&acc, box[a][s - 1].lo, box[a][s - 1].hi);
+            acc_n += count[a][s - 1];
+            if (acc_n == 0 || right_n[s] == 0)
                 continue;
-            double cost = half_area(acc.lo, acc.hi) * acc.n + right_cost[s];
+            double cost = half_area(&acc) * acc_n + half_area(&right[s]) * right_n[s];
             if (cost < best) {
                 best = cost;
-                *axis = a;
-                *split = s;
-                *scale_out = scale;
+                *out = (struct split){a, s, kb->lo[a], scale[a], acc, right[s]};
             }
         }
     }
@@ -153,32 +203,39 @@ static void swap_prim(struct prim *a, struct prim *b)
     *b = t;
 }
 
-/* Moves the triangles whose bin is below split to the front; returns how many. */
-static uint32_t partition_bins(struct prim *p, uint32_t n, int axis, int split, float cmin,
-                               float scale)
+/* Moves the triangles that go left to the front and returns how many, gathering each
+ * side's key bounds as it classifies each triangle (exactly once). */
+static uint32_t partition(struct prim *p, uint32_t n, const struct split *s, struct bounds *lk,
+                          struct bounds *rk)
 {
+    bounds_empty(lk);
+    bounds_empty(rk);
     uint32_t i = 0, j = n;
     while (i < j) {
-        if (bin_of(p[i].c[axis], cmin, scale) < split)
+        if (bin_of(key(&p[i], s->axis), s->cmin, s->scale) < s->bin) {
+            bounds_grow_key(lk, &p[i]);
             i++;
-        else
+        } else {
+            bounds_grow_key(rk, &p[i]);
             swap_prim(&p[i], &p[--j]);
+        }
     }
     return i;
 }
 
-/* Partially sorts p[0 .. n) along axis so that p[k] is in its sorted place (quickselect
- * with Hoare partitions around the middle element; signed indices as j may pass 0). */
+/* Partially sorts p[0 .. n) by key along axis so that p[k] is in its sorted place
+ * (quickselect with Hoare partitions around the middle element; signed indices as j may
+ * pass 0). */
 static void select_kth(struct prim *p, uint32_t n, uint32_t k, int axis)
 {
     long long l = 0, r = (long long)n - 1;
     while (l < r) {
-        float x = p[(l + r) / 2].c[axis];
+        float x = key(&p[(l + r) / 2], axis);
         long long i = l, j = r;
         do {
-            while (p[i].c[axis] < x)
+            while (key(&p[i], axis) < x)
                 i++;
-            while (x < p[j].c[axis])
+            while (x < key(&p[j], axis))
                 j--;
             if (i <= j) {
                 swap_prim(&p[i], &p[j]);
@@ -193,23 +250,15 @@ static void select_kth(struct prim *p, uint32_t n, uint32_t k, int axis)
     }
 }
 
-/* Fills nodes[slot] with p[first .. first + n) and recurses (depth: slot's, root = 1). */
-static void fill(struct build *b, size_t slot, uint32_t first, uint32_t n, int depth)
+/* Fills nodes[slot] with p[first .. first + n), whose box and key bounds are given, and
+ * recurses (depth: slot's, the root's is 1). */
+static void fill(struct build *b, size_t slot, uint32_t first, uint32_t n, int depth,
+                 const struct bounds *box, const struct bounds *keys)
 {
     struct prim *p = b->p + first;
-    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    float cmin[3] = {INFINITY, INFINITY, INFINITY}, cmax[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (uint32_t i = 0; i < n; i++) {
-        for (int k = 0; k < 3; k++) {
-            lo[k] = fminf(lo[k], p[i].lo[k]);
-            hi[k] = fmaxf(hi[k], p[i].hi[k]);
-            cmin[k] = fminf(cmin[k], p[i].c[k]);
-            cmax[k] = fmaxf(cmax[k], p[i].c[k]);
-        }
-    }
     struct mesh_rt_node *nd = &b->nodes[slot];
-    memcpy(nd->lo, lo, sizeof lo);
-    memcpy(nd->hi, hi, sizeof hi);
+    memcpy(nd->lo, box->lo, sizeof nd->lo);
+    memcpy(nd->hi, box->hi, sizeof nd->hi);
     if (depth > b->depth)
         b->depth = depth;
     if (n <= MESH_RT_LEAF_MAX) {
@@ -217,23 +266,29 @@ static void fill(struct build *b, size_t slot, uint32_t first, uint32_t n, int d
         nd->count = n;
         return;
     }
-    int axis = 0, split = 0;
-    float scale = 0.0f;
+    struct split s;
+    struct bounds lbox, rbox, lk, rk;
     uint32_t mid = 0;
-    if (depth < MESH_RT_SAH_DEPTH && sah_plane(p, n, cmin, cmax, &axis, &split, &scale))
-        mid = partition_bins(p, n, axis, split, cmin[axis], scale);
-    if (mid == 0 || mid == n) { /* deep, or every centroid in one point: the median */
+    if (depth < MESH_RT_SAH_DEPTH && sah_split(p, n, keys, &s)) {
+        mid = partition(p, n, &s, &lk, &rk);
+        lbox = s.left;
+        rbox = s.right;
+    }
+    if (mid == 0 || mid == n) { /* deep, or every key in one point: the median */
+        int axis = 0;
         for (int k = 1; k < 3; k++)
-            axis = cmax[k] - cmin[k] > cmax[axis] - cmin[axis] ? k : axis;
+            axis = keys->hi[k] - keys->lo[k] > keys->hi[axis] - keys->lo[axis] ? k : axis;
         mid = n / 2;
         select_kth(p, n, mid, axis);
+        bounds_of(p, mid, &lbox, &lk);
+        bounds_of(p + mid, n - mid, &rbox, &rk);
     }
     size_t left = b->count;
     b->count += 2;
     nd->left_or_first = (uint32_t)left;
     nd->count = 0;
-    fill(b, left, first, mid, depth + 1);
-    fill(b, left + 1, first + mid, n - mid, depth + 1);
+    fill(b, left, first, mid, depth + 1, &lbox, &lk);
+    fill(b, left + 1, first + mid, n - mid, depth + 1, &rbox, &rk);
 }
 
 /* ---- octahedral normals (Cigolle et al. 2014, "A Survey of Efficient Representations
@@ -347,19 +402,24 @@ enum refract_code mesh_rt_build(const struct mesh *m, struct mesh_rt **out, stru
                        "out of memory for the ray-tracing hierarchy of a mesh of %zu triangles",
                        n);
     }
+    struct bounds box, keys;
+    bounds_empty(&box);
+    bounds_empty(&keys);
     for (size_t t = 0; t < n; t++) {
         struct prim *p = &b.p[t];
         for (int k = 0; k < 3; k++) {
             double v0 = m->vertices[m->triangles[t][0]][k], v1 = m->vertices[m->triangles[t][1]][k],
                    v2 = m->vertices[m->triangles[t][2]][k];
-            p->lo[k] = round_down(fmin(v0, fmin(v1, v2)));
-            p->hi[k] = round_up(fmax(v0, fmax(v1, v2)));
-            p->c[k] = (float)((v0 + v1 + v2) / 3.0);
+            double lo = v0 < v1 ? v0 : v1, hi = v0 < v1 ? v1 : v0;
+            p->lo[k] = round_down(v2 < lo ? v2 : lo);
+            p->hi[k] = round_up(v2 > hi ? v2 : hi);
         }
         p->index = (uint32_t)t;
+        bounds_grow(&box, p->lo, p->hi);
+        bounds_grow_key(&keys, p);
     }
     b.count = 1;
-    fill(&b, 0, 0, (uint32_t)n, 1);
+    fill(&b, 0, 0, (uint32_t)n, 1, &box, &keys);
     for (size_t i = 0; i < n; i++) {
         uint32_t t = b.p[i].index;
         memcpy(rt->tris[i].v, m->triangles[t], sizeof rt->tris[i].v);
