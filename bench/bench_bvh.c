@@ -199,8 +199,8 @@ static void bench(const char *name, struct mesh *m, double create_ms, int runs, 
     }
     double trace_ms = clock_ms(CLOCK_PROCESS_CPUTIME_ID) - t0;
     printf("| %s | %zu | %.0f | %.0f | %.0f | %zu | %d | %.2f | %.1f | %.1f | %.2f |\n", name,
-           m->triangle_count, wall[runs / 2], cpu[runs / 2], create_ms, rt->node_count,
-           rt->depth, mean_leaf, sah, (double)g.total_bytes / (double)m->triangle_count,
+           m->triangle_count, wall[runs / 2], cpu[runs / 2], create_ms, rt->node_count, rt->depth,
+           mean_leaf, sah, (double)g.total_bytes / (double)m->triangle_count,
            rays / trace_ms * 1e-3);
     (void)hits;
 }

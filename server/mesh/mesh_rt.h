@@ -47,8 +47,8 @@
 #include "bindings.h" /* MESH_RT_MAX_DEPTH, shared with the GLSL traversal's stack */
 #include "mesh.h"
 
-#define MESH_RT_BINS 16     /* SAH bins per axis */
-#define MESH_RT_LEAF_MAX 4  /* triangles in a leaf: 1..4 */
+#define MESH_RT_BINS 16      /* SAH bins per axis */
+#define MESH_RT_LEAF_MAX 4   /* triangles in a leaf: 1..4 */
 #define MESH_RT_SAH_DEPTH 32 /* deeper nodes split at the median (see the depth bound) */
 
 /* GPU records; the C layout is the std430 one (static asserts in mesh_rt_build.c). */
@@ -74,9 +74,9 @@ struct mesh_rt {
     size_t tri_count;
     struct mesh_rt_vertex *verts; /* owned; one per mesh vertex */
     size_t vertex_count;
-    double (*normals)[3];            /* owned; unit shading normal per vertex (0 if unused) */
-    const double (*positions)[3];    /* borrowed: struct mesh.vertices */
-    int depth;                       /* nodes on the longest root-to-leaf path */
+    double (*normals)[3];         /* owned; unit shading normal per vertex (0 if unused) */
+    const double (*positions)[3]; /* borrowed: struct mesh.vertices */
+    int depth;                    /* nodes on the longest root-to-leaf path */
 };
 
 struct mesh_rt_hit {

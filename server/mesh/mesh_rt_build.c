@@ -2,20 +2,20 @@
  * mesh_rt_build.c - the ray-tracing hierarchy of a mesh (mesh_rt.h states the layout and
  * the invariants): binned SAH, flattened into the GPU's node, triangle and vertex arrays.
  *
- * Build: top down over an array of 28-byte per-triangle records (the float box rounded
- * outward, the index) that is partitioned in place, so each node's triangles are one
- * contiguous run and the passes stream through memory instead of chasing indices. A
- * triangle is binned by its box's centre (as common, e.g. Wald 2007, "On fast
- * construction of SAH-based bounding volume hierarchies"): no centroid to store. Per node
- * two passes: one bins the centres along all three axes at once (MESH_RT_BINS bins over
- * the centres' extent), a sweep over the bins picks the plane with the least
- * area_left * count_left + area_right * count_right (the constant traversal and
- * intersection costs of the full SAH do not change which plane wins), and one partition
- * moves the triangles, gathering each side's centre bounds as it goes; the children's
- * boxes come from the sweep. 1M triangles build in about a second (BENCHMARKS.md). A
- * node of MESH_RT_LEAF_MAX triangles or fewer is always a leaf and a larger one is always
- * split: leaves are then 1..4 triangles (about 3 on average), which keeps the GPU arrays
- * near 45 bytes a triangle (the budget is 64).
+ * Build: top down over an array of 32-byte per-triangle records (the float box rounded
+ * outward, in four lanes so min/max compile to vector instructions) partitioned in place,
+ * the triangle indices alongside, so each node's triangles are one contiguous run and the
+ * passes stream through memory instead of chasing indices. A triangle is binned by its
+ * box's centre (as is common, e.g. Wald 2007, "On fast construction of SAH-based bounding
+ * volume hierarchies"): no centroid to store. Per node two passes: one bins the centres
+ * along all three axes at once (MESH_RT_BINS bins over the centres' extent), a sweep over
+ * the bins picks the plane with the least area_left * count_left + area_right *
+ * count_right (the constant traversal and intersection costs of the full SAH do not change
+ * which plane wins), and one partition moves the triangles, gathering each side's centre
+ * bounds as it goes; the children's boxes come from the sweep. 1M triangles build in under
+ * a second of CPU (BENCHMARKS.md). A node of MESH_RT_LEAF_MAX triangles or fewer is always
+ * a leaf and a larger one is always split: leaves are then 1..4 triangles (about 3 on
+ * average), which keeps the GPU arrays near 45 bytes a triangle (the budget is 64).
  *
  * Depth bound: SAH may peel one triangle off a node at a time (a fan of slivers), so below
  * MESH_RT_SAH_DEPTH nodes are split at their median centre instead. That halves a node,
@@ -39,18 +39,20 @@ _Static_assert(sizeof(struct mesh_rt_tri) == 16, "triangle: one uvec4 (std430)")
 _Static_assert(sizeof(struct mesh_rt_vertex) == 16, "vertex: one vec4 (std430)");
 _Static_assert(MESH_RT_SAH_DEPTH + 30 <= MESH_RT_MAX_DEPTH, "the depth bound (file comment)");
 
+/* A triangle's box, rounded outward; four lanes (the fourth 0) so that the compiler
+ * turns the min/max loops over them into single vector instructions. */
 struct prim {
-    float lo[3], hi[3]; /* the triangle's box, rounded outward */
-    uint32_t index;     /* the triangle's index in struct mesh.triangles */
+    float lo[4], hi[4];
 };
 
-/* A box, or the bounds of the prims' keys. */
+/* A box, or the bounds of the prims' keys (lane 3 unused). */
 struct bounds {
-    float lo[3], hi[3];
+    float lo[4], hi[4];
 };
 
 struct build {
     struct prim *p;
+    uint32_t *index;            /* the triangle of each prim, permuted with them */
     struct mesh_rt_node *nodes; /* 2n - 1 slots: a binary tree of n nonempty leaves */
     size_t count;
     int depth;
@@ -70,15 +72,15 @@ static inline float maxf(float a, float b)
 
 static void bounds_empty(struct bounds *b)
 {
-    for (int k = 0; k < 3; k++) {
+    for (int k = 0; k < 4; k++) {
         b->lo[k] = INFINITY;
         b->hi[k] = -INFINITY;
     }
 }
 
-static inline void bounds_grow(struct bounds *b, const float lo[3], const float hi[3])
+static inline void bounds_grow(struct bounds *b, const float lo[4], const float hi[4])
 {
-    for (int k = 0; k < 3; k++) {
+    for (int k = 0; k < 4; k++) {
         b->lo[k] = minf(b->lo[k], lo[k]);
         b->hi[k] = maxf(b->hi[k], hi[k]);
     }
@@ -93,7 +95,7 @@ static inline float key(const struct prim *p, int axis)
 
 static inline void bounds_grow_key(struct bounds *b, const struct prim *p)
 {
-    for (int k = 0; k < 3; k++) {
+    for (int k = 0; k < 4; k++) {
         float c = key(p, k);
         b->lo[k] = minf(b->lo[k], c);
         b->hi[k] = maxf(b->hi[k], c);
@@ -139,8 +141,8 @@ static inline int bin_of(float c, float cmin, float scale)
 }
 
 struct split {
-    int axis, bin;      /* triangles whose bin along axis is below `bin` go left */
-    float cmin, scale;  /* of bin_of */
+    int axis, bin;             /* triangles whose bin along axis is below `bin` go left */
+    float cmin, scale;         /* of bin_of */
     struct bounds left, right; /* the children's boxes */
 };
 
@@ -196,17 +198,20 @@ static bool sah_split(const struct prim *p, uint32_t n, const struct bounds *kb,
     return best < INFINITY;
 }
 
-static void swap_prim(struct prim *a, struct prim *b)
+static inline void swap_prim(struct prim *p, uint32_t *index, size_t i, size_t j)
 {
-    struct prim t = *a;
-    *a = *b;
-    *b = t;
+    struct prim t = p[i];
+    p[i] = p[j];
+    p[j] = t;
+    uint32_t u = index[i];
+    index[i] = index[j];
+    index[j] = u;
 }
 
 /* Moves the triangles that go left to the front and returns how many, gathering each
  * side's key bounds as it classifies each triangle (exactly once). */
-static uint32_t partition(struct prim *p, uint32_t n, const struct split *s, struct bounds *lk,
-                          struct bounds *rk)
+static uint32_t partition(struct prim *p, uint32_t *index, uint32_t n, const struct split *s,
+                          struct bounds *lk, struct bounds *rk)
 {
     bounds_empty(lk);
     bounds_empty(rk);
@@ -217,7 +222,7 @@ static uint32_t partition(struct prim *p, uint32_t n, const struct split *s, str
             i++;
         } else {
             bounds_grow_key(rk, &p[i]);
-            swap_prim(&p[i], &p[--j]);
+            swap_prim(p, index, i, --j);
         }
     }
     return i;
@@ -226,7 +231,7 @@ static uint32_t partition(struct prim *p, uint32_t n, const struct split *s, str
 /* Partially sorts p[0 .. n) by key along axis so that p[k] is in its sorted place
  * (quickselect with Hoare partitions around the middle element; signed indices as j may
  * pass 0). */
-static void select_kth(struct prim *p, uint32_t n, uint32_t k, int axis)
+static void select_kth(struct prim *p, uint32_t *index, uint32_t n, uint32_t k, int axis)
 {
     long long l = 0, r = (long long)n - 1;
     while (l < r) {
@@ -238,7 +243,7 @@ static void select_kth(struct prim *p, uint32_t n, uint32_t k, int axis)
             while (x < key(&p[j], axis))
                 j--;
             if (i <= j) {
-                swap_prim(&p[i], &p[j]);
+                swap_prim(p, index, (size_t)i, (size_t)j);
                 i++;
                 j--;
             }
@@ -256,6 +261,7 @@ static void fill(struct build *b, size_t slot, uint32_t first, uint32_t n, int d
                  const struct bounds *box, const struct bounds *keys)
 {
     struct prim *p = b->p + first;
+    uint32_t *index = b->index + first;
     struct mesh_rt_node *nd = &b->nodes[slot];
     memcpy(nd->lo, box->lo, sizeof nd->lo);
     memcpy(nd->hi, box->hi, sizeof nd->hi);
@@ -270,7 +276,7 @@ static void fill(struct build *b, size_t slot, uint32_t first, uint32_t n, int d
     struct bounds lbox, rbox, lk, rk;
     uint32_t mid = 0;
     if (depth < MESH_RT_SAH_DEPTH && sah_split(p, n, keys, &s)) {
-        mid = partition(p, n, &s, &lk, &rk);
+        mid = partition(p, index, n, &s, &lk, &rk);
         lbox = s.left;
         rbox = s.right;
     }
@@ -279,7 +285,7 @@ static void fill(struct build *b, size_t slot, uint32_t first, uint32_t n, int d
         for (int k = 1; k < 3; k++)
             axis = keys->hi[k] - keys->lo[k] > keys->hi[axis] - keys->lo[axis] ? k : axis;
         mid = n / 2;
-        select_kth(p, n, mid, axis);
+        select_kth(p, index, n, mid, axis);
         bounds_of(p, mid, &lbox, &lk);
         bounds_of(p + mid, n - mid, &rbox, &rk);
     }
@@ -387,20 +393,22 @@ enum refract_code mesh_rt_build(const struct mesh *m, struct mesh_rt **out, stru
     *out = NULL;
     size_t n = m->triangle_count;
     struct mesh_rt *rt = calloc(1, sizeof *rt);
-    struct build b = {.p = malloc(n * sizeof *b.p), .nodes = malloc((2 * n - 1) * sizeof *b.nodes)};
+    struct build b = {.p = malloc(n * sizeof *b.p),
+                      .index = malloc(n * sizeof *b.index),
+                      .nodes = malloc((2 * n - 1) * sizeof *b.nodes)};
     if (rt != NULL) {
         rt->tris = malloc(n * sizeof *rt->tris);
         rt->verts = malloc(m->vertex_count * sizeof *rt->verts);
         rt->normals = malloc(m->vertex_count * sizeof *rt->normals);
     }
-    if (rt == NULL || b.p == NULL || b.nodes == NULL || rt->tris == NULL || rt->verts == NULL ||
-        rt->normals == NULL) {
+    if (rt == NULL || b.p == NULL || b.index == NULL || b.nodes == NULL || rt->tris == NULL ||
+        rt->verts == NULL || rt->normals == NULL) {
         free(b.p);
+        free(b.index);
         free(b.nodes);
         mesh_rt_destroy(rt);
         return err_set(e, REFRACT_E_OUT_OF_MEMORY,
-                       "out of memory for the ray-tracing hierarchy of a mesh of %zu triangles",
-                       n);
+                       "out of memory for the ray-tracing hierarchy of a mesh of %zu triangles", n);
     }
     struct bounds box, keys;
     bounds_empty(&box);
@@ -414,18 +422,20 @@ enum refract_code mesh_rt_build(const struct mesh *m, struct mesh_rt **out, stru
             p->lo[k] = round_down(v2 < lo ? v2 : lo);
             p->hi[k] = round_up(v2 > hi ? v2 : hi);
         }
-        p->index = (uint32_t)t;
+        p->lo[3] = p->hi[3] = 0.0f;
+        b.index[t] = (uint32_t)t;
         bounds_grow(&box, p->lo, p->hi);
         bounds_grow_key(&keys, p);
     }
     b.count = 1;
     fill(&b, 0, 0, (uint32_t)n, 1, &box, &keys);
     for (size_t i = 0; i < n; i++) {
-        uint32_t t = b.p[i].index;
+        uint32_t t = b.index[i];
         memcpy(rt->tris[i].v, m->triangles[t], sizeof rt->tris[i].v);
         rt->tris[i].orig = t;
     }
     free(b.p);
+    free(b.index);
     struct mesh_rt_node *shrunk = realloc(b.nodes, b.count * sizeof *b.nodes);
     rt->nodes = shrunk != NULL ? shrunk : b.nodes;
     rt->node_count = b.count;

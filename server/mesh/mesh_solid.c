@@ -35,9 +35,9 @@ double mesh_signed_volume(const struct mesh *m)
 }
 
 struct edge_use {
-    uint64_t key;   /* min << 32 | max */
-    uint32_t tri;   /* the triangle using it */
-    uint32_t a, b;  /* its direction in that triangle: a -> b */
+    uint64_t key;  /* min << 32 | max */
+    uint32_t tri;  /* the triangle using it */
+    uint32_t a, b; /* its direction in that triangle: a -> b */
 };
 
 static int compare_uses(const void *x, const void *y)

@@ -45,7 +45,7 @@ struct cpu_ray {
     vec3 o, d;
     double tmin;
     int64_t skip;
-    int mesh; /* 0 or 1 */
+    int mesh;      /* 0 or 1 */
     bool must_hit; /* aimed at a vertex through the interior */
 };
 
@@ -83,11 +83,11 @@ static void rays_run(struct gpu_work *w, struct gpu *gpu)
     struct ray_rec *in = calloc((size_t)rw->n, sizeof *in);
     for (int i = 0; i < rw->n; i++) {
         const struct cpu_ray *r = &rw->rays[i];
-        in[i] = (struct ray_rec){
-            {(float)r->o.x, (float)r->o.y, (float)r->o.z, (float)r->tmin},
-            {(float)r->d.x, (float)r->d.y, (float)r->d.z, INFINITY},
-            {r->mesh ? (int32_t)g[0].node_count : 0, r->mesh ? (int32_t)g[0].tri_count : 0,
-             r->mesh ? (int32_t)g[0].vertex_count : 0, (int32_t)r->skip}};
+        in[i] = (struct ray_rec){{(float)r->o.x, (float)r->o.y, (float)r->o.z, (float)r->tmin},
+                                 {(float)r->d.x, (float)r->d.y, (float)r->d.z, INFINITY},
+                                 {r->mesh ? (int32_t)g[0].node_count : 0,
+                                  r->mesh ? (int32_t)g[0].tri_count : 0,
+                                  r->mesh ? (int32_t)g[0].vertex_count : 0, (int32_t)r->skip}};
     }
     struct gpu_buffer bn = {0}, bt = {0}, bv = {0}, bi = {0}, bo = {0};
     size_t out_bytes = (size_t)rw->n * sizeof *rw->out;
@@ -233,8 +233,8 @@ int main(void)
         }
         cont.must_hit = false;
         rays[n + i] = cont;
-        ref_hit[n + i] = mesh_rt_intersect(m->rt, cont.o, cont.d, cont.tmin, INFINITY, cont.skip,
-                                           &ref[n + i]);
+        ref_hit[n + i] =
+            mesh_rt_intersect(m->rt, cont.o, cont.d, cont.tmin, INFINITY, cont.skip, &ref[n + i]);
     }
     struct rays_work rw = {.meshes = {meshes[0], meshes[1]}, .rays = rays, .n = n_all};
     rw.out = calloc((size_t)n_all, sizeof *rw.out);
@@ -261,8 +261,8 @@ int main(void)
             hit_miss++;
             uint32_t t = ref_hit[i] ? ref[i].tri : (uint32_t)gtri;
             /* near an edge, or grazing (a silhouette: the ray touches the surface) */
-            if (t >= m->triangle_count || (fabs(bary_margin(m, t, r->o, r->d)) > 1e-4 &&
-                                           grazing_cos(m, t, r->d) > 0.01))
+            if (t >= m->triangle_count ||
+                (fabs(bary_margin(m, t, r->o, r->d)) > 1e-4 && grazing_cos(m, t, r->d) > 0.01))
                 hit_miss_unexplained++;
             continue;
         }
@@ -305,8 +305,8 @@ int main(void)
            "%.2e rad, shading normal %.2e rad (times the interpolated length %.2e, %.2e "
            "where |cos| >= 0.01); %d other triangle (%d unexplained), %d hit/miss "
            "(%d unexplained); %d vertex rays, %d leaked\n",
-           n_all, n, hits, worst_t, worst_ng, worst_ns, worst_ns_scaled, worst_ns_steep, tri_diff, tri_unexplained, hit_miss,
-           hit_miss_unexplained, vertex_rays, vertex_leaks);
+           n_all, n, hits, worst_t, worst_ng, worst_ns, worst_ns_scaled, worst_ns_steep, tri_diff,
+           tri_unexplained, hit_miss, hit_miss_unexplained, vertex_rays, vertex_leaks);
     printf("GPU bytes per triangle: icosphere %.1f, bumpy %.1f (nodes + triangles + vertices)\n",
            bpt, bpt1);
     CHECK(hits > n_all / 4);

@@ -96,9 +96,9 @@ static void check_invariants(const char *name, const struct mesh *m, bool check_
     printf("%-18s %8zu triangles: %8zu nodes, depth %2d, %.1f GPU bytes/triangle\n", name,
            m->triangle_count, rt->node_count, rt->depth, bpt);
     CHECK_INT(rt->tri_count, m->triangle_count);
-    CHECK_INT(once, rt->tri_count);            /* every slot in exactly one leaf */
-    CHECK_INT(orig_once, m->triangle_count);   /* every triangle exactly once */
-    CHECK_INT(w.reached, rt->node_count);      /* no unreachable nodes */
+    CHECK_INT(once, rt->tri_count);          /* every slot in exactly one leaf */
+    CHECK_INT(orig_once, m->triangle_count); /* every triangle exactly once */
+    CHECK_INT(w.reached, rt->node_count);    /* no unreachable nodes */
     CHECK_INT(w.bad_box, 0);
     CHECK_INT(w.bad_leaf, 0);
     CHECK_INT(w.max_depth, rt->depth);
@@ -185,8 +185,9 @@ static void oct_coding_error(void)
     }
     const vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     for (int i = 0; i < 6; i++)
-        worst = fmax(worst, acos(fmin(1.0, vec3_dot(axes[i], mesh_rt_oct_decode(
-                                                                  mesh_rt_oct_encode(axes[i]))))));
+        worst = fmax(
+            worst,
+            acos(fmin(1.0, vec3_dot(axes[i], mesh_rt_oct_decode(mesh_rt_oct_encode(axes[i]))))));
     printf("octahedral snorm16 normals: worst error %.2e rad\n", worst);
     /* a grid of step 1/32767 over the octahedron's square, stretched up to about twice
      * onto the sphere: half a cell's diagonal, sqrt(2) / 32767 ~ 4.3e-5 rad, at worst */
@@ -217,8 +218,8 @@ static void icosphere_counts(void)
          * (2.2e-3 of it at s = 4) */
         CHECK(vol > 0.0 && vol < sphere);
         if (s >= 4)
-            CHECK_MSG(sphere - vol < 2.5e-3 * pow(0.25, s - 4) * sphere,
-                      "s = %d: volume %g of %g", s, vol, sphere);
+            CHECK_MSG(sphere - vol < 2.5e-3 * pow(0.25, s - 4) * sphere, "s = %d: volume %g of %g",
+                      s, vol, sphere);
         if (s == 7)
             CHECK_INT(m->triangle_count, 327680);
         if (s == 7)

@@ -86,9 +86,9 @@ static void compare(const char *name, const struct mesh *m, int rays, uint64_t s
         vec3 o = vec3_madd(c, rt_unit(&r), scale * (0.6 + rt_uniform(&r)));
         if (i % 5 == 0) /* some start inside the bounds */
             o = vec3_madd(c, rt_unit(&r), 0.3 * scale * rt_uniform(&r));
-        vec3 target = vec3_add(c, vec3_make((rt_uniform(&r) - 0.5) * ext.x,
-                                            (rt_uniform(&r) - 0.5) * ext.y,
-                                            (rt_uniform(&r) - 0.5) * ext.z));
+        vec3 target =
+            vec3_add(c, vec3_make((rt_uniform(&r) - 0.5) * ext.x, (rt_uniform(&r) - 0.5) * ext.y,
+                                  (rt_uniform(&r) - 0.5) * ext.z));
         vec3 d = vec3_sub(target, o);
         if (i % 3 == 0)
             d = vec3_scale(vec3_normalize(d), 0.1 + 10.0 * rt_uniform(&r)); /* t's unit */

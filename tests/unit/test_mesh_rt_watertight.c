@@ -55,9 +55,9 @@ static void icosphere_rays(long n, struct leaks *l)
     double r_in = 1.0;
     for (size_t t = 0; t < m->triangle_count; t++) { /* distance of each face plane */
         const double *a = m->vertices[m->triangles[t][0]];
-        vec3 nrm = vec3_normalize(vec3_cross(
-            vec3_sub(rt_v3(m->vertices[m->triangles[t][1]]), rt_v3(a)),
-            vec3_sub(rt_v3(m->vertices[m->triangles[t][2]]), rt_v3(a))));
+        vec3 nrm =
+            vec3_normalize(vec3_cross(vec3_sub(rt_v3(m->vertices[m->triangles[t][1]]), rt_v3(a)),
+                                      vec3_sub(rt_v3(m->vertices[m->triangles[t][2]]), rt_v3(a))));
         r_in = fmin(r_in, vec3_dot(nrm, rt_v3(a)));
     }
     struct rt_rng r = {2024};

@@ -31,29 +31,27 @@ static void refusals(void)
 {
     const uint32_t open[3][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}};
     /* triangle 0's edge 2->1 had face 3 (1, 2, 3) on its other side */
-    expect_refused("open", open, 3,
-                   (const char *const[]){"edge 2-1 of triangle 0", "open", NULL});
+    expect_refused("open", open, 3, (const char *const[]){"edge 2-1 of triangle 0", "open", NULL});
 
     const uint32_t nonmanifold[5][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {1, 2, 4}};
-    expect_refused("non-manifold", nonmanifold, 5,
-                   (const char *const[]){"edge 2-1 is shared by 3 triangles (0, 3, 4)",
-                                         "non-manifold", NULL});
+    expect_refused(
+        "non-manifold", nonmanifold, 5,
+        (const char *const[]){"edge 2-1 is shared by 3 triangles (0, 3, 4)", "non-manifold", NULL});
 
     const uint32_t repeated[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 2}};
-    expect_refused("repeated", repeated, 4,
-                   (const char *const[]){"triangle 3 (vertices 1, 2, 2)", "zero area",
-                                         "repeated", NULL});
+    expect_refused(
+        "repeated", repeated, 4,
+        (const char *const[]){"triangle 3 (vertices 1, 2, 2)", "zero area", "repeated", NULL});
 
     /* vertex 4 = (2, 0, 0) lies on the line through vertices 0 and 1 */
     const uint32_t collinear[5][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {0, 1, 4}};
-    expect_refused("collinear", collinear, 5,
-                   (const char *const[]){"triangle 4 (vertices 0, 1, 4)", "zero area",
-                                         "collinear", NULL});
+    expect_refused(
+        "collinear", collinear, 5,
+        (const char *const[]){"triangle 4 (vertices 0, 1, 4)", "zero area", "collinear", NULL});
 
     const uint32_t inconsistent[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 3, 2}};
     expect_refused("inconsistent", inconsistent, 4,
-                   (const char *const[]){"edge 2-1", "triangles 0 and 3", "same direction",
-                                         NULL});
+                   (const char *const[]){"edge 2-1", "triangles 0 and 3", "same direction", NULL});
 
     const uint32_t flat[2][3] = {{0, 1, 2}, {0, 2, 1}};
     expect_refused("no volume", flat, 2, (const char *const[]){"encloses no volume", NULL});
@@ -109,8 +107,8 @@ static void inside_out_icosphere(void)
         t[i][1] = ico->triangles[i][2];
         t[i][2] = ico->triangles[i][1];
     }
-    m = rt_mesh_from((const double(*)[3])ico->vertices, ico->vertex_count,
-                     (const uint32_t(*)[3])t, ico->triangle_count, &e);
+    m = rt_mesh_from((const double(*)[3])ico->vertices, ico->vertex_count, (const uint32_t(*)[3])t,
+                     ico->triangle_count, &e);
     free(t);
     mesh_destroy(ico);
     CHECK(m != NULL);
