@@ -11,7 +11,8 @@
  * (Jacobson et al. 2013), not from ray parity.
  *
  * Ownership: mesh_parse and mesh_create return a new mesh; the caller destroys it with
- * mesh_destroy(). A mesh is immutable after creation, so any thread may query it.
+ * mesh_destroy(). A mesh is immutable after creation (except mesh_check_solid, mesh_rt.h,
+ * which may flip its winding before it is shared), so any thread may query it.
  * This module never touches the GPU, HTTP or files (it parses bytes it is given).
  */
 #ifndef REFRACT_MESH_H
