@@ -21,6 +21,13 @@
 // recomputed sign is the exact one (better than the C version's long double). Doubles are
 // only touched on exact zeros, which are rare, so a GPU with slow fp64 pays nothing.
 //
+// mesh_rt_intersect: the nearest hit with t in (tmin, tmax) (t in units of |d|; d need not
+// be unit; both faces count), ignoring the triangle whose original index is skip_tri (-1:
+// none). Out: t, the unit geometric normal (v1 - v0) x (v2 - v0), the unit interpolated
+// shading normal, tri = the original index of the triangle within its mesh. On a miss it
+// returns false with t = tmax, normals 0 and tri = -1. Direction components below 1e-30
+// in magnitude are taken as +-1e-30 for the box slopes only (no 0 * inf).
+//
 // The stack holds MESH_RT_MAX_DEPTH entries (bindings.h); the builder guarantees no path
 // is longer (mesh_rt_build.c), so it cannot overflow.
 #include "bindings.h"
