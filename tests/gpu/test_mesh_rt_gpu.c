@@ -18,6 +18,7 @@
  * Also reports and bounds the GPU bytes per triangle (<= 64).
  */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -55,7 +56,8 @@ struct rays_work {
     const struct cpu_ray *rays;
     int n;
     struct hit_rec *out;
-    size_t gpu_bytes[2]; /* node + triangle + vertex bytes of each mesh as uploaded */
+    size_t gpu_bytes[2];   /* node + triangle + vertex bytes of each mesh as uploaded */
+    int compiled_from_dir; /* 1: compiled from $REFRACT_SOURCE_DIR/shaders, -1: failed */
 };
 
 static void rays_run(struct gpu_work *w, struct gpu *gpu)
@@ -66,6 +68,19 @@ static void rays_run(struct gpu_work *w, struct gpu *gpu)
     GLuint prog = gpu_program_create(&desc, NULL, &w->err);
     if (prog == 0)
         return;
+    /* the same kernel read from shaders/ (refractd --shader-dir): "geom/mesh.glsl" resolves
+     * there as in the embedded table */
+    const char *src = getenv("REFRACT_SOURCE_DIR");
+    if (src != NULL) {
+        char dir[1024];
+        snprintf(dir, sizeof dir, "%s/shaders", src);
+        struct err e2 = {0};
+        GLuint from_dir = gpu_program_create(&desc, dir, &e2);
+        rw->compiled_from_dir = from_dir != 0 ? 1 : -1;
+        if (from_dir == 0)
+            fprintf(stderr, "from %s: %s\n", dir, e2.msg);
+        glDeleteProgram(from_dir);
+    }
     struct mesh_rt_gpu g[2] = {mesh_rt_gpu_arrays(rw->meshes[0]->rt),
                                mesh_rt_gpu_arrays(rw->meshes[1]->rt)};
     /* concatenated: mesh 1's records follow mesh 0's in each buffer */
@@ -319,6 +334,7 @@ int main(void)
     CHECK(vertex_rays > AT_VERTICES / 2);
     CHECK_INT(vertex_leaks, 0);
     CHECK(bpt <= 64.0 && bpt1 <= 64.0);
+    CHECK(rw.compiled_from_dir >= 0); /* 0 when run by hand without ctest's environment */
     free(rays);
     free(ref);
     free(ref_hit);
