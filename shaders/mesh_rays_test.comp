@@ -5,6 +5,9 @@
 // like the others because tests compile only embedded shaders; it costs a few KiB.
 #include "bindings.h"
 #include "geom/mesh.glsl"
+// The bare name finds the same file and adds nothing (shader_source.h): kernels written
+// before shaders had folders include their geom/ files so.
+#include "mesh.glsl"
 
 layout(local_size_x = TRACE_LOCAL_X) in;
 

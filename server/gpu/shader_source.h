@@ -8,7 +8,9 @@
  * Expansion: `#include "name.glsl"` lines are replaced by the named file, once per
  * file (include guards are not needed), recursively. A name is a path below shaders/
  * ("geom/mesh.glsl"), whichever file includes it: a file in geom/ still includes
- * "bindings.h", not "../bindings.h". Each file gets a source-string
+ * "bindings.h", not "../bindings.h". A bare name that only a file in a subfolder has
+ * ("mesh.glsl") finds it too, and a file is included once under either spelling (a test
+ * kernel includes both). Each file gets a source-string
  * number and `#line` directives, so a driver message "3:41(7): error ..." maps back to
  * the file number 3's line 41; shader_source_file_name() names the file for a number.
  */
