@@ -18,6 +18,8 @@
 
 /* ---- fixed limits ---- */
 #define MAX_OBJECTS 8 /* objects per scene the renderer handles in one pass */
+#define MESH_RT_MAX_DEPTH 64 /* nodes on a mesh BVH's root-to-leaf path (the builder
+                                guarantees it); the GLSL traversal's stack size */
 
 /* ---- ray statuses (server/core/ray_status.h gives their names) ---- */
 #define RAY_STATUS_EXITED 0
@@ -48,6 +50,11 @@
 #define BIND_SSBO_FIELD_OUT 4 /* smooth_ior: float per voxel */
 #define BIND_SSBO_SKIP_CELLS 19 /* render_view, trace_rays: uint per macro cell, 1 = empty
                                    (after the light simulator's 5..18) */
+/* Triangle meshes (shaders/geom/mesh.glsl, server/mesh/mesh_rt.h gives the records):
+ * several meshes concatenated, each addressed by its first node, triangle and vertex. */
+#define BIND_SSBO_MESH_NODES 20 /* vec4 x 2 per BVH node: lo + left/first, hi + count */
+#define BIND_SSBO_MESH_TRIS 21  /* uvec4 per triangle: v0, v1, v2, original index */
+#define BIND_SSBO_MESH_VERTS 22 /* vec4 per vertex: position, octahedral shading normal */
 
 /* ---- exact surfaces (docs/tracing.md "Surfaces"; server/core/geom, shaders/geom) ---- */
 #define MAX_SURFACES 32 /* = INTERFACE_MAX_SURFACES: a ray's inside set is 32 bits */

@@ -43,6 +43,26 @@ static bool buf_printf(struct text_buf *b, const char *fmt, int a, int c)
     return n > 0 && buf_append(b, line, (size_t)n);
 }
 
+/* The name a shader file is known by: its path below shaders/ ("geom/mesh.glsl"). A bare
+ * name that only a file in a subfolder has ("mesh.glsl") means that file, so both
+ * spellings find it and it is included once whichever is used. The embedded table lists
+ * every file, so it also maps names for a --shader-dir folder. */
+static const char *canonical_name(const char *name)
+{
+    for (int i = 0; i < gpu_embedded_shader_count; i++) {
+        if (strcmp(gpu_embedded_shaders[i].name, name) == 0)
+            return gpu_embedded_shaders[i].name;
+    }
+    if (strchr(name, '/') == NULL) {
+        for (int i = 0; i < gpu_embedded_shader_count; i++) {
+            const char *base = strrchr(gpu_embedded_shaders[i].name, '/');
+            if (base != NULL && strcmp(base + 1, name) == 0)
+                return gpu_embedded_shaders[i].name;
+        }
+    }
+    return name;
+}
+
 /* Returns the text of `name` (new string the caller frees), or NULL. */
 static char *load_text(const char *name, const char *shader_dir)
 {
@@ -124,8 +144,9 @@ static enum refract_code expand_text(struct shader_source *s, struct text_buf *o
         char inc[128];
         bool is_version = depth == 0 && line_no == 1 && strncmp(p, "#version", 8) == 0;
         if (parse_include(p, len, inc, sizeof inc)) {
-            if (find_file(s, inc) < 0) {
-                enum refract_code rc = expand_file(s, out, inc, shader_dir, NULL, depth + 1, e);
+            const char *name = canonical_name(inc);
+            if (find_file(s, name) < 0) {
+                enum refract_code rc = expand_file(s, out, name, shader_dir, NULL, depth + 1, e);
                 if (rc != REFRACT_E_OK)
                     return rc;
             }

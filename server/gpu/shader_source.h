@@ -6,7 +6,11 @@
  * flag makes refractd read the same names from a folder instead (development).
  *
  * Expansion: `#include "name.glsl"` lines are replaced by the named file, once per
- * file (include guards are not needed), recursively. Each file gets a source-string
+ * file (include guards are not needed), recursively. A name is a path below shaders/
+ * ("geom/mesh.glsl"), whichever file includes it: a file in geom/ still includes
+ * "bindings.h", not "../bindings.h". A bare name that only a file in a subfolder has
+ * ("mesh.glsl") finds it too, and a file is included once under either spelling (a test
+ * kernel includes both). Each file gets a source-string
  * number and `#line` directives, so a driver message "3:41(7): error ..." maps back to
  * the file number 3's line 41; shader_source_file_name() names the file for a number.
  */
@@ -18,7 +22,7 @@
 #include "../core/err.h"
 
 struct gpu_embedded_shader {
-    const char *name; /* base name, e.g. "render_view.comp" */
+    const char *name; /* path below shaders/, e.g. "render_view.comp", "geom/mesh.glsl" */
     const char *text; /* NUL-terminated GLSL */
 };
 

@@ -3,10 +3,11 @@
  * source (a parser or arrays), the parsers' growable arrays, format sniffing and the
  * parse dispatch.
  *
- * Not here: the file formats (mesh_obj.c, mesh_ply.c), the BVH (mesh_bvh.c), queries
- * (mesh_winding.c) and voxelization (mesh_voxelize.c).
+ * Not here: the file formats (mesh_obj.c, mesh_ply.c), the BVHs (mesh_bvh.c,
+ * mesh_rt_build.c), queries (mesh_winding.c) and voxelization (mesh_voxelize.c).
  */
 #include "mesh_internal.h"
+#include "mesh_rt.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -107,6 +108,7 @@ void mesh_destroy(struct mesh *m)
     if (m == NULL)
         return;
     mesh_bvh_destroy(m->bvh);
+    mesh_rt_destroy(m->rt);
     mesh_memo_destroy(m->memo);
     free(m->vertices);
     free(m->triangles);
@@ -228,6 +230,8 @@ enum refract_code mesh_create(double (*vertices)[3], size_t vertex_count, uint32
     }
     m->closed = is_closed(m);
     rc = mesh_bvh_build(m, e);
+    if (rc == REFRACT_E_OK)
+        rc = mesh_rt_build(m, &m->rt, e);
     if (rc != REFRACT_E_OK) {
         mesh_destroy(m);
         return rc;

@@ -5,12 +5,14 @@
  * A mesh is an indexed triangle list in its own "mesh space", validated completely when
  * it is made (finite coordinates, indices in range, at least one triangle, at most
  * mesh_limits.max_triangles), with a bounding volume hierarchy built over it at once, so
- * that every mesh that exists can be queried. Meshes need not be closed, manifold or
+ * that every mesh that exists can be queried, and a second one for ray tracing (mesh_rt.h),
+ * so that every mesh can be traced. Meshes need not be closed, manifold or
  * consistently wound: inside/outside comes from the generalized winding number
  * (Jacobson et al. 2013), not from ray parity.
  *
  * Ownership: mesh_parse and mesh_create return a new mesh; the caller destroys it with
- * mesh_destroy(). A mesh is immutable after creation, so any thread may query it.
+ * mesh_destroy(). A mesh is immutable after creation (except mesh_check_solid, mesh_rt.h,
+ * which may flip its winding before it is shared), so any thread may query it.
  * This module never touches the GPU, HTTP or files (it parses bytes it is given).
  */
 #ifndef REFRACT_MESH_H
@@ -36,6 +38,7 @@ struct mesh_limits {
 
 struct mesh_bvh;  /* mesh_bvh.c */
 struct mesh_memo; /* mesh_memo.c */
+struct mesh_rt;   /* mesh_rt.h: ray tracing */
 
 struct mesh {
     double (*vertices)[3]; /* mesh space; owned */
@@ -49,6 +52,7 @@ struct mesh {
     struct mesh_bvh *bvh;   /* owned */
     struct mesh_memo *memo; /* owned: the last voxelization (mesh_voxelize_memo); NULL when
                                it could not be allocated (then nothing is remembered) */
+    struct mesh_rt *rt;     /* owned: the ray-tracing hierarchy and GPU arrays (mesh_rt.h) */
 };
 
 #define MESH_DEFAULT_MAX_TRIANGLES 2000000

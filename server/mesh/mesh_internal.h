@@ -60,6 +60,11 @@ struct mesh_bvh {
 };
 
 #define MESH_BVH_LEAF_SIZE 8
+
+/* mesh_rt_build.c: rewrites the GPU vertex records (float positions, packed normals) from
+ * rt->positions and rt->normals; mesh_check_solid calls it after flipping a mesh. */
+struct mesh_rt;
+void mesh_rt_pack_vertices(struct mesh_rt *rt);
 #define MESH_BVH_MAX_DEPTH 64
 
 /* Builds m->bvh (median splits along the longest axis of the centroids). */
