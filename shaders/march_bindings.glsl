@@ -35,7 +35,7 @@
 #define MARCH_SURFACES 1 // exact surfaces (docs/tracing.md "Surfaces")
 #endif
 #ifndef MARCH_MESHES
-#define MARCH_MESHES 0 // triangle-mesh surfaces (shaders/geom/mesh.glsl)
+#define MARCH_MESHES MARCH_SURFACES // triangle-mesh surfaces (shaders/geom/mesh.glsl)
 #endif
 
 layout(std140, binding = BIND_UBO_RENDER) uniform march_params_block

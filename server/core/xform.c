@@ -36,6 +36,21 @@ struct xform xform_make(vec3 translate, vec3 axis, double angle_deg, double scal
     return x;
 }
 
+static vec3 rotate(const double r[3][3], vec3 v);
+
+struct xform xform_compose(const struct xform *a, const struct xform *b)
+{
+    /* a(b(p)) = a.t + a.s a.R (b.t + b.s b.R p) = (a.t + a.s a.R b.t) + a.s b.s (a.R b.R) p */
+    struct xform x;
+    x.scale = a->scale * b->scale;
+    x.translate = vec3_add(a->translate, vec3_scale(rotate(a->rot, b->translate), a->scale));
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            x.rot[i][j] = a->rot[i][0] * b->rot[0][j] + a->rot[i][1] * b->rot[1][j] +
+                          a->rot[i][2] * b->rot[2][j];
+    return x;
+}
+
 static vec3 rotate(const double r[3][3], vec3 v)
 {
     return (vec3){r[0][0] * v.x + r[0][1] * v.y + r[0][2] * v.z,

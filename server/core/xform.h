@@ -26,6 +26,8 @@ struct xform {
 struct xform xform_identity(void);
 /* Rotation of angle_deg about axis (any length > 0), then uniform scale, then translate. */
 struct xform xform_make(vec3 translate, vec3 axis, double angle_deg, double scale);
+/* a after b: (a o b)(p) = a(b(p)), again a similarity transform. */
+struct xform xform_compose(const struct xform *a, const struct xform *b);
 /* Point / direction / gradient maps. */
 vec3 xform_point_to_world(const struct xform *x, vec3 p_object);
 vec3 xform_point_to_object(const struct xform *x, vec3 p_world);

@@ -10,6 +10,7 @@
 #include "mesh_rt.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -236,6 +237,14 @@ enum refract_code mesh_create(double (*vertices)[3], size_t vertex_count, uint32
         mesh_destroy(m);
         return rc;
     }
+    /* Whether it can bound a medium as an exact surface (not a condition of being a mesh:
+     * an open mesh still voxelizes by its winding number). An inside-out solid is fine as
+     * it is: the march toggles media at each crossing whatever the winding. */
+    struct err se = {0};
+    bool inside_out = false;
+    m->solid = mesh_solid_status(m, &inside_out, &se) == REFRACT_E_OK;
+    if (!m->solid)
+        snprintf(m->solid_error, sizeof m->solid_error, "%s", se.msg);
     *out = m;
     return REFRACT_E_OK;
 }

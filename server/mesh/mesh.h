@@ -53,6 +53,9 @@ struct mesh {
     struct mesh_memo *memo; /* owned: the last voxelization (mesh_voxelize_memo); NULL when
                                it could not be allocated (then nothing is remembered) */
     struct mesh_rt *rt;     /* owned: the ray-tracing hierarchy and GPU arrays (mesh_rt.h) */
+    bool solid;             /* it can bound a medium (mesh_solid_status at creation): closed,
+                               manifold, consistently wound, no degenerate triangle */
+    char solid_error[512];  /* when not solid: why, naming the first offending element */
 };
 
 #define MESH_DEFAULT_MAX_TRIANGLES 2000000

@@ -130,6 +130,9 @@ vec3 mesh_rt_oct_decode(uint32_t bits);
  * triangles, m->rt and m->bvh follow) and *flipped set; otherwise *flipped is false.
  * Not thread-safe: call it before the mesh is shared. */
 enum refract_code mesh_check_solid(struct mesh *m, bool *flipped, struct err *e);
+/* The same checks without changing the mesh: OK (with *inside_out for a negative signed
+ * volume) or the refusal mesh_check_solid would give. Any thread. */
+enum refract_code mesh_solid_status(const struct mesh *m, bool *inside_out, struct err *e);
 
 /* Signed volume enclosed by the triangles (positive when wound counter-clockwise seen
  * from outside); meaningful for closed meshes. */

@@ -146,7 +146,19 @@ static void flip(struct mesh *m)
 
 enum refract_code mesh_check_solid(struct mesh *m, bool *flipped, struct err *e)
 {
+    bool inside_out = false;
     *flipped = false;
+    enum refract_code rc = mesh_solid_status(m, &inside_out, e);
+    if (rc == REFRACT_E_OK && inside_out) {
+        flip(m);
+        *flipped = true;
+    }
+    return rc;
+}
+
+enum refract_code mesh_solid_status(const struct mesh *m, bool *inside_out, struct err *e)
+{
+    *inside_out = false;
     enum refract_code rc = degenerate_error(m, e);
     if (rc != REFRACT_E_OK)
         return rc;
@@ -177,9 +189,6 @@ enum refract_code mesh_check_solid(struct mesh *m, bool *flipped, struct err *e)
                        "%g): its faces cancel out (coincident or self-intersecting shells); "
                        "upload a mesh that bounds a solid",
                        vol, scale);
-    if (vol < 0.0) {
-        flip(m);
-        *flipped = true;
-    }
+    *inside_out = vol < 0.0;
     return REFRACT_E_OK;
 }

@@ -357,6 +357,9 @@ static void bind_scene(struct render *r, const struct scene_gpu *sg, const struc
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_SURFACES, sg->surfaces.buf);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_SURFACE_PROFILES,
                      sg->surface_profiles.buf);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_MESH_NODES, sg->mesh_nodes.buf);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_MESH_TRIS, sg->mesh_tris.buf);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_MESH_VERTS, sg->mesh_verts.buf);
 }
 
 enum refract_code render_view(struct render *r, const struct render_scene_source *src,
@@ -378,7 +381,8 @@ enum refract_code render_view(struct render *r, const struct render_scene_source
     fill_objects(&mp, src->scene, sg);
     fill_settings(&mp, src->scene, &req->settings);
     fill_camera(&mp, &req->camera);
-    mp.surfaces.y = (int)scene_surfaces_inside(src->scene, req->camera.eye);
+    mp.surfaces.y =
+        (int)scene_surfaces_inside(src->scene, src->lookup, src->lookup_ctx, req->camera.eye);
     struct gpu_buffer image;
     enum refract_code rc = gpu_buffer_create("render image", bytes, NULL, &image, e);
     if (rc != REFRACT_E_OK) {
@@ -474,7 +478,8 @@ enum refract_code render_trace_events(struct render *r, const struct render_scen
     for (size_t i = 0; i < count; i++) {
         vec3 o = {rays[i].origin[0], rays[i].origin[1], rays[i].origin[2]};
         in[i].origin = (vec4){(float)o.x, (float)o.y, (float)o.z,
-                              set_bits(scene_surfaces_inside(src->scene, o))};
+                              set_bits(scene_surfaces_inside(src->scene, src->lookup,
+                                                             src->lookup_ctx, o))};
         in[i].direction = (vec4){(float)rays[i].direction[0], (float)rays[i].direction[1],
                                  (float)rays[i].direction[2], 0.0f};
     }

@@ -499,7 +499,7 @@ static enum refract_code build_all(struct build_ctx *b, struct err *e)
             "skip cells", b->cell_count ? b->cell_count * sizeof(uint32_t) : sizeof none,
             b->cell_count ? (const void *)b->cells : &none, &b->sg->skip_cells, e);
     if (rc == REFRACT_E_OK)
-        rc = surfaces_gpu_build(s, &b->sg->surfaces, &b->sg->surface_profiles, e);
+        rc = surfaces_gpu_build(b->src, b->sg, e);
     b->sg->surface_count = s->surface_count;
     if (rc == REFRACT_E_OK)
         rc = build_environment(b, e);
@@ -545,7 +545,8 @@ struct scene_gpu *scene_gpu_build_cells(struct gpu *gpu, const struct render_sce
     }
     sg->bytes = sg->ior_grad.bytes + sg->attenuation.bytes + sg->emission.bytes + sg->opaque.bytes +
                 sg->scattering.bytes + sg->environment.bytes + sg->skip_cells.bytes +
-                sg->surfaces.bytes + sg->surface_profiles.bytes;
+                sg->surfaces.bytes + sg->surface_profiles.bytes + sg->mesh_nodes.bytes +
+                sg->mesh_tris.bytes + sg->mesh_verts.bytes;
     sg->build_ms = gpu_time_ms() - t0;
     log_info("render",
              "built scene %s (generation %llu): %zu objects, atlas %dx%dx%d, %.1f MiB, "
@@ -569,5 +570,8 @@ void scene_gpu_destroy(struct scene_gpu *sg)
     gpu_buffer_destroy(&sg->skip_cells);
     gpu_buffer_destroy(&sg->surfaces);
     gpu_buffer_destroy(&sg->surface_profiles);
+    gpu_buffer_destroy(&sg->mesh_nodes);
+    gpu_buffer_destroy(&sg->mesh_tris);
+    gpu_buffer_destroy(&sg->mesh_verts);
     free(sg);
 }

@@ -45,6 +45,9 @@ struct scene_gpu {
     size_t empty_cells;            /* over all objects: 0 means no skipping to do */
     struct gpu_buffer surfaces;    /* surface_params per exact surface, by priority */
     struct gpu_buffer surface_profiles; /* the lathes' (r, h) points */
+    struct gpu_buffer mesh_nodes;       /* the mesh surfaces' hierarchies, concatenated */
+    struct gpu_buffer mesh_tris;        /* ... their triangles (mesh_rt.h records) */
+    struct gpu_buffer mesh_verts;       /* ... their vertices and shading normals */
     size_t surface_count;
     int atlas_size[3];
     size_t object_count;
@@ -65,9 +68,11 @@ struct scene_gpu *scene_gpu_build_cells(struct gpu *gpu, const struct render_sce
                                         size_t max_bytes, int skip_cell_voxels, struct err *e);
 void scene_gpu_destroy(struct scene_gpu *sg);
 
-/* surfaces_gpu.c: packs s's surfaces (shared_types.h surface_params) and the lathes'
- * profile points into two new storage buffers (a stand-in element when empty). */
-enum refract_code surfaces_gpu_build(const struct scene *s, struct gpu_buffer *records,
-                                     struct gpu_buffer *profiles, struct err *e);
+/* surfaces_gpu.c: packs src's surfaces (shared_types.h surface_params), the lathes'
+ * profile points and the mesh surfaces' arrays (mesh_rt.h) into sg's storage buffers (a
+ * stand-in element where empty). CONFLICT for a mesh that was not uploaded,
+ * INVALID_MESH for one that cannot bound a medium (open, non-manifold, ...). */
+enum refract_code surfaces_gpu_build(const struct render_scene_source *src,
+                                     struct scene_gpu *sg, struct err *e);
 
 #endif

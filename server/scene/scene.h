@@ -381,10 +381,18 @@ struct geom_surface; /* core/geom/geom.h */
 /* The surface as core/geom describes it. A mesh surface gets kind GEOM_MESH and its
  * transform; the caller attaches the mesh. */
 void scene_surface_geom(const struct scene_surface *sf, struct geom_surface *g);
+/* A mesh surface with its mesh m: object space is mesh space (the surface's transform
+ * after the shape's placement), crossings by mesh_rt, inside by the winding number. */
+void scene_surface_geom_mesh(const struct scene_surface *sf, const struct mesh *m,
+                             struct geom_surface *g);
+/* Either of the two; a mesh surface finds its mesh through lookup ("mesh:" names, as
+ * mesh layers do). false when the mesh is missing (g then describes nothing). */
+bool scene_surface_geom_lookup(const struct scene_surface *sf, scene_volume_lookup_fn lookup,
+                               void *ctx, struct geom_surface *g);
 /* The set of surfaces (bit k: s->surfaces[k], in priority order) whose solids contain the
- * world point p: where a ray from p starts (core/interface.h). Mesh surfaces are not
- * tested here (see the callers). */
-uint32_t scene_surfaces_inside(const struct scene *s, vec3 p);
+ * world point p: where a ray from p starts (core/interface.h). */
+uint32_t scene_surfaces_inside(const struct scene *s, scene_volume_lookup_fn lookup, void *ctx,
+                               vec3 p);
 /* A surface's world box (infinite components for planes); false for meshes, whose box
  * is known only with the upload (scene_parse_surface.c). */
 bool scene_surface_world_bounds(const struct scene_surface *sf, vec3 *lo, vec3 *hi);

@@ -221,7 +221,13 @@ enum refract_code scene_reference_build(const struct scene *s, enum scene_refere
     for (size_t k = 0; k < s->surface_count && k < SCENE_MAX_SURFACES; k++) {
         struct reftrace_surface *rs = &out->surfaces[k];
         const struct scene_medium *m = &s->surfaces[k].medium;
-        scene_surface_geom(&s->surfaces[k], &rs->geom);
+        if (!scene_surface_geom_lookup(&s->surfaces[k], lookup, ctx, &rs->geom) &&
+            rc == REFRACT_E_OK)
+            rc = err_set(e, REFRACT_E_CONFLICT,
+                         "surfaces[%d] (\"%s\"): mesh \"%s\" was not uploaded; upload it with "
+                         "POST /v1/scenes/{id}/meshes/%s",
+                         s->surfaces[k].document_index, s->surfaces[k].name,
+                         s->surfaces[k].shape.mesh, s->surfaces[k].shape.mesh);
         rs->ior = m->ior;
         memcpy(rs->attenuation, m->attenuation, sizeof rs->attenuation);
         memcpy(rs->emission, m->emission, sizeof rs->emission);

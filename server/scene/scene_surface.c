@@ -7,6 +7,8 @@
 
 #include "../core/geom/geom.h"
 #include "../core/interface.h"
+#include "../mesh/mesh.h"
+#include "../mesh/mesh_rt.h"
 #include "scene.h"
 
 void scene_surface_geom(const struct scene_surface *sf, struct geom_surface *g)
@@ -47,13 +49,69 @@ void scene_surface_geom(const struct scene_surface *sf, struct geom_surface *g)
     }
 }
 
-uint32_t scene_surfaces_inside(const struct scene *s, vec3 p)
+/* ---- mesh surfaces: mesh_rt for the crossings, the winding number for inside ---- */
+
+static bool mesh_intersect_op(const void *mesh, vec3 o, vec3 d, double tmin, double tmax,
+                              int64_t skip_prim, struct geom_hit *h)
+{
+    const struct mesh *m = mesh;
+    struct mesh_rt_hit r;
+    if (!mesh_rt_intersect(m->rt, o, d, tmin, tmax, skip_prim, &r))
+        return false;
+    h->t = r.t;
+    h->normal = r.n_geom;
+    h->shading = r.n_shade;
+    h->prim = (int64_t)r.tri;
+    return true;
+}
+
+/* |w| >= 1/2: inside whichever way the mesh is wound (mesh.h). */
+static bool mesh_inside_op(const void *mesh, vec3 p)
+{
+    return fabs(mesh_winding_number(mesh, p)) >= 0.5;
+}
+
+static const struct geom_mesh_ops scene_mesh_ops = {.intersect = mesh_intersect_op,
+                                                    .inside = mesh_inside_op};
+
+void scene_surface_geom_mesh(const struct scene_surface *sf, const struct mesh *m,
+                             struct geom_surface *g)
+{
+    scene_surface_geom(sf, g);
+    g->kind = GEOM_MESH;
+    /* The surface's object space is the mesh's own: its placement (centre, scale, rotate)
+     * composed into the transform. */
+    g->xf = xform_compose(&sf->world_from_object, &sf->shape.object_from_mesh);
+    g->mesh = m;
+    g->mesh_ops = &scene_mesh_ops;
+    g->mesh_lo = m->lo;
+    g->mesh_hi = m->hi;
+}
+
+bool scene_surface_geom_lookup(const struct scene_surface *sf, scene_volume_lookup_fn lookup,
+                               void *ctx, struct geom_surface *g)
+{
+    if (sf->shape.kind != SCENE_SHAPE_MESH) {
+        scene_surface_geom(sf, g);
+        return true;
+    }
+    const struct mesh *m = lookup ? scene_mesh_lookup(lookup, ctx, sf->shape.mesh) : NULL;
+    if (m == NULL) {
+        scene_surface_geom(sf, g); /* traced as nothing (mesh_ops NULL) */
+        return false;
+    }
+    scene_surface_geom_mesh(sf, m, g);
+    return true;
+}
+
+uint32_t scene_surfaces_inside(const struct scene *s, scene_volume_lookup_fn lookup, void *ctx,
+                               vec3 p)
 {
     uint32_t set = 0;
     for (size_t k = 0; k < s->surface_count && k < INTERFACE_MAX_SURFACES; k++) {
         struct geom_surface g;
-        scene_surface_geom(&s->surfaces[k], &g);
-        if (geom_surface_inside(&g, p))
+        if (scene_surface_geom_lookup(&s->surfaces[k], lookup, ctx, &g) &&
+            geom_surface_inside(&g, p))
             set |= 1u << k;
     }
     return set;
