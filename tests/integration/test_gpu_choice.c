@@ -81,6 +81,7 @@ static void shader_dir(void)
     test_temp_template(dir, sizeof dir, "refract-shaders");
     CHECK(mkdtemp(dir) != NULL);
     char cmd[1024];
+    /* recursive: shaders/ has folders (geom/), read by their paths below it */
     snprintf(cmd, sizeof cmd, "cp -r '%s'/shaders/. '%s'/", getenv("REFRACT_SOURCE_DIR"), dir);
     CHECK_INT(system(cmd), 0);
     char *ok = health_of((const char *[]){"--shader-dir", dir, NULL});
