@@ -52,6 +52,9 @@
                                    (after the light simulator's 5..18) */
 /* Triangle meshes (shaders/geom/mesh.glsl, server/mesh/mesh_rt.h gives the records):
  * several meshes concatenated, each addressed by its first node, triangle and vertex. */
+#define MESH_RT_NO_NORMAL 0x80008000u /* a vertex record's normal bits when the vertex has
+                                         no smooth normal (a crease): never a packSnorm2x16
+                                         result (-32768 is outside its range) */
 #define BIND_SSBO_MESH_NODES 20 /* vec4 x 2 per BVH node: lo + left/first, hi + count */
 #define BIND_SSBO_MESH_TRIS 21  /* uvec4 per triangle: v0, v1, v2, original index */
 #define BIND_SSBO_MESH_VERTS 22 /* vec4 per vertex: position, octahedral shading normal */

@@ -50,6 +50,8 @@
 #define MESH_RT_BINS 16      /* SAH bins per axis */
 #define MESH_RT_LEAF_MAX 4   /* triangles in a leaf: 1..4 */
 #define MESH_RT_SAH_DEPTH 32 /* deeper nodes split at the median (see the depth bound) */
+#define MESH_RT_CREASE_DEG 30.0 /* a vertex whose faces turn further from its averaged normal
+                                   has none: its triangles shade flat (mesh_rt_build.c) */
 
 /* GPU records; the C layout is the std430 one (static asserts in mesh_rt_build.c). */
 struct mesh_rt_node {

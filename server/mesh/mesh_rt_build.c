@@ -333,7 +333,7 @@ uint32_t mesh_rt_oct_encode(vec3 n)
 {
     double l1 = fabs(n.x) + fabs(n.y) + fabs(n.z);
     if (!(l1 > 0.0))
-        return 0; /* decodes to +z; only for vertices no triangle with area uses */
+        return MESH_RT_NO_NORMAL; /* a crease vertex, or one no triangle with area uses */
     double x = n.x / l1, y = n.y / l1;
     if (n.z < 0.0) {
         double px = x;
@@ -392,6 +392,24 @@ static void vertex_normals(const struct mesh *m, double (*nrm)[3])
         nrm[v][0] = u.x;
         nrm[v][1] = u.y;
         nrm[v][2] = u.z;
+    }
+    /* Creases: a vertex shared by faces that turn by more than MESH_RT_CREASE_DEG from its
+     * averaged normal (a cube's corner: 54.7 degrees) has no smooth normal; a triangle with
+     * such a corner shades with its own flat normal. Otherwise a cube's interpolated
+     * normals would make its faces refract like a blob. */
+    double cos_crease = cos(MESH_RT_CREASE_DEG * M_PI / 180.0);
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        const uint32_t *tri = m->triangles[t];
+        const double *a = m->vertices[tri[0]], *b = m->vertices[tri[1]], *c = m->vertices[tri[2]];
+        vec3 f = vec3_normalize(vec3_cross(vec3_make(b[0] - a[0], b[1] - a[1], b[2] - a[2]),
+                                           vec3_make(c[0] - a[0], c[1] - a[1], c[2] - a[2])));
+        if (!(vec3_length(f) > 0.5))
+            continue;
+        for (int k = 0; k < 3; k++) {
+            double *n = nrm[tri[k]];
+            if (n[0] * f.x + n[1] * f.y + n[2] * f.z < cos_crease)
+                n[0] = n[1] = n[2] = 0.0; /* marked: MESH_RT_NO_NORMAL on the GPU */
+        }
     }
 }
 

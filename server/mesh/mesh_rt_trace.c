@@ -170,10 +170,13 @@ bool mesh_rt_intersect(const struct mesh_rt *rt, vec3 o, vec3 d, double tmin, do
     vec3 ng = vec3_normalize(vec3_cross(vec3_make(b[0] - a[0], b[1] - a[1], b[2] - a[2]),
                                         vec3_make(c[0] - a[0], c[1] - a[1], c[2] - a[2])));
     double b1 = best.v / best.det, b2 = best.w / best.det, b0 = best.u / best.det;
-    vec3 ns = vec3_add(vec3_add(vec3_scale(vertex_normal(rt, tr->v[0]), b0),
-                                vec3_scale(vertex_normal(rt, tr->v[1]), b1)),
-                       vec3_scale(vertex_normal(rt, tr->v[2]), b2));
+    vec3 n0 = vertex_normal(rt, tr->v[0]), n1 = vertex_normal(rt, tr->v[1]),
+         n2 = vertex_normal(rt, tr->v[2]);
+    vec3 ns = vec3_add(vec3_add(vec3_scale(n0, b0), vec3_scale(n1, b1)), vec3_scale(n2, b2));
     double ls = vec3_length(ns);
+    /* A corner on a crease (no smooth normal, mesh_rt_build.c): the flat normal. */
+    if (vec3_length(n0) == 0.0 || vec3_length(n1) == 0.0 || vec3_length(n2) == 0.0)
+        ls = 0.0;
     *hit = (struct mesh_rt_hit){
         .t = best.t,
         .n_geom = ng,

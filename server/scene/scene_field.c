@@ -160,10 +160,43 @@ static bool mesh_found(scene_volume_lookup_fn lookup, void *ctx, const char *nam
     return scene_mesh_lookup(lookup, ctx, name) != NULL;
 }
 
+/* Whether the comma-separated list holds name. */
+static bool listed(const char *list, const char *name)
+{
+    size_t n = strlen(name);
+    for (const char *p = list; p != NULL && *p;) {
+        const char *end = strchr(p, ',');
+        size_t len = end ? (size_t)(end - p) : strlen(p);
+        if (len == n && strncmp(p, name, n) == 0)
+            return true;
+        p = end ? end + 1 : NULL;
+    }
+    return false;
+}
+
 int scene_missing_meshes(const struct scene *s, scene_volume_lookup_fn lookup, void *ctx, char *buf,
                          size_t buf_size)
 {
-    return missing_names(s, mesh_at, mesh_found, lookup, ctx, buf, buf_size);
+    int missing = missing_names(s, mesh_at, mesh_found, lookup, ctx, buf, buf_size);
+    /* ... and the meshes of mesh surfaces, each name once. */
+    size_t used = buf != NULL ? strlen(buf) : 0;
+    for (size_t k = 0; k < s->surface_count; k++) {
+        const struct scene_shape *sh = &s->surfaces[k].shape;
+        if (sh->kind != SCENE_SHAPE_MESH || mesh_found(lookup, ctx, sh->mesh))
+            continue;
+        bool dup = false;
+        for (size_t j = 0; j < k && !dup; j++)
+            dup = s->surfaces[j].shape.kind == SCENE_SHAPE_MESH &&
+                  strcmp(s->surfaces[j].shape.mesh, sh->mesh) == 0;
+        if (dup || (buf != NULL && listed(buf, sh->mesh)))
+            continue;
+        if (buf != NULL && used < buf_size) {
+            int n = snprintf(buf + used, buf_size - used, "%s%s", missing ? "," : "", sh->mesh);
+            used += n > 0 ? (size_t)n : 0;
+        }
+        missing++;
+    }
+    return missing;
 }
 
 /* ---- evaluation ---- */

@@ -173,10 +173,12 @@ bool mesh_rt_intersect(ivec4 mesh, vec3 o, vec3 d, float tmin, float tmax, int s
          p2 = mesh_verts[mesh.z + int(tr.z)];
     vec3 bary = best.xyz / best.w;
     n_geom = normalize(cross(p1.xyz - p0.xyz, p2.xyz - p0.xyz));
-    vec3 ns = bary.x * mesh_rt_oct_decode(floatBitsToUint(p0.w)) +
-              bary.y * mesh_rt_oct_decode(floatBitsToUint(p1.w)) +
-              bary.z * mesh_rt_oct_decode(floatBitsToUint(p2.w));
-    n_shade = length(ns) > 1e-6 ? normalize(ns) : n_geom;
+    uint b0 = floatBitsToUint(p0.w), b1 = floatBitsToUint(p1.w), b2 = floatBitsToUint(p2.w);
+    vec3 ns = bary.x * mesh_rt_oct_decode(b0) + bary.y * mesh_rt_oct_decode(b1) +
+              bary.z * mesh_rt_oct_decode(b2);
+    // A corner on a crease has no smooth normal (MESH_RT_NO_NORMAL): the flat normal.
+    bool crease = b0 == MESH_RT_NO_NORMAL || b1 == MESH_RT_NO_NORMAL || b2 == MESH_RT_NO_NORMAL;
+    n_shade = !crease && length(ns) > 1e-6 ? normalize(ns) : n_geom;
     t = t_best;
     tri = int(tr.w);
     return true;

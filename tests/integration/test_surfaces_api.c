@@ -166,6 +166,82 @@ static void voxel_scene_unchanged(struct test_daemon *d)
     free(with);
 }
 
+/* A unit cube as OBJ, wound outward; OPEN_CUBE lacks its top face (two triangles). */
+#define CUBE_VERTS                                                                                 \
+    "v -0.5 -0.5 -0.5\nv 0.5 -0.5 -0.5\nv 0.5 0.5 -0.5\nv -0.5 0.5 -0.5\n"                          \
+    "v -0.5 -0.5 0.5\nv 0.5 -0.5 0.5\nv 0.5 0.5 0.5\nv -0.5 0.5 0.5\n"
+#define CUBE_SIDES                                                                                 \
+    "f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 4 1 5\nf 4 5 8\n"
+static const char closed_cube[] = CUBE_VERTS CUBE_SIDES "f 3 4 8\nf 3 8 7\n";
+static const char open_cube[] = CUBE_VERTS CUBE_SIDES;
+
+static long post_mesh(struct test_daemon *d, const char *id, const char *name, const char *obj,
+                      char **body)
+{
+    char path[256];
+    snprintf(path, sizeof path, "/v1/scenes/%s/meshes?name=%s", id, name);
+    struct refract_response r;
+    *body = NULL;
+    if (refract_request(d->client, "POST", path, obj, strlen(obj), "application/octet-stream",
+                        &r) != REFRACT_E_OK)
+        return -1;
+    *body = r.body;
+    r.body = NULL;
+    long status = r.status;
+    refract_response_free(&r);
+    return status;
+}
+
+/* A mesh surface: missing (listed, 409 on render), a closed cube (traced like the box it
+ * is), an open one (400 invalid_mesh naming the edge). */
+static void mesh_surfaces(struct test_daemon *d)
+{
+    section("mesh surfaces");
+    const char *doc = "{\"name\": \"gem\", \"camera\": {\"width\": 32, \"height\": 24},"
+                      " \"surfaces\": [{\"name\": \"gem\", \"shape\": \"mesh\", \"mesh\": \"cube\","
+                      " \"scale\": 1.0, \"medium\": {\"ior\": 1.5}}]}";
+    char id[128], path[256], *body = NULL;
+    CHECK(test_create_scene(d, doc, id));
+    snprintf(path, sizeof path, "/v1/scenes/%s", id);
+    body = EXPECT_STATUS(d, "GET", path, NULL, 200);
+    CHECK(body != NULL && strstr(body, "\"missing_meshes\":\"cube\"") != NULL);
+    free(body);
+    snprintf(path, sizeof path, "/v1/scenes/%s/render", id);
+    EXPECT_ERROR(d, "POST", path, "{\"format\": \"png\"}", 409, "conflict", "mesh \"cube\"",
+                 "not uploaded");
+    CHECK_INT(post_mesh(d, id, "cube", closed_cube, &body), 201);
+    free(body);
+    free(EXPECT_STATUS(d, "POST", path, "{\"format\": \"png\"}", 200));
+    /* A ray through the cube's centre, tilted: Snell at two parallel faces gives back the
+     * direction, displaced; both events name the gem. */
+    snprintf(path, sizeof path, "/v1/scenes/%s/trace", id);
+    body = EXPECT_STATUS(d, "POST", path,
+                         "{\"events\": true, \"rays\": [{\"origin\": [0.1, 0.05, -3], "
+                         "\"direction\": [0.1, 0, 1]}]}",
+                         200);
+    cJSON *root = cJSON_Parse(body ? body : "{}");
+    const cJSON *r0 = cJSON_GetArrayItem(get(root, "rays"), 0);
+    CHECK_INT((int)num(r0, "event_count"), 2);
+    double dir[3];
+    vec(r0, "exit_direction", dir);
+    double len = sqrt(1.01);
+    CHECK_NEAR(dir[0], 0.1 / len, 1e-5);
+    CHECK_NEAR(dir[2], 1.0 / len, 1e-5);
+    const cJSON *e0 = cJSON_GetArrayItem(get(r0, "events"), 0);
+    CHECK_NEAR(num(e0, "n_after"), 1.5, 1e-6);
+    double p[3];
+    vec(e0, "point", p);
+    CHECK_NEAR(p[2], -0.5, 1e-5);
+    cJSON_Delete(root);
+    free(body);
+    /* The open cube cannot bound a medium: the error names the mesh and the open edge. */
+    CHECK_INT(post_mesh(d, id, "cube", open_cube, &body), 201);
+    free(body);
+    snprintf(path, sizeof path, "/v1/scenes/%s/render", id);
+    EXPECT_ERROR(d, "POST", path, "{\"format\": \"png\"}", 400, "invalid_mesh",
+                 "surfaces[0] (\"gem\")", "cannot bound a medium", "edge");
+}
+
 #define SURF(body) "{\"surfaces\": [" body "]}"
 #define BALL "{\"shape\": \"sphere\", \"radius\": 0.5, \"medium\": {\"ior\": 1.5}}"
 
@@ -221,6 +297,7 @@ int main(void)
     sphere_scene(&d);
     nested_media(&d);
     voxel_scene_unchanged(&d);
+    mesh_surfaces(&d);
     bad_input(&d);
     CHECK_INT(test_daemon_stop(&d), 0);
     test_daemon_cleanup(&d);
