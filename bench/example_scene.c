@@ -44,6 +44,8 @@ struct scene *bench_load_example(const char *program, const char *path, int reso
     cJSON *obj;
     cJSON_ArrayForEach(obj, cJSON_GetObjectItemCaseSensitive(root, "objects"))
     {
+        if (resolution <= 0)
+            break; /* keep the document's own */
         cJSON_DeleteItemFromObjectCaseSensitive(obj, "resolution");
         cJSON_AddNumberToObject(obj, "resolution", resolution);
     }

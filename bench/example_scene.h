@@ -11,7 +11,7 @@
 #include "scene/scene.h"
 
 /* Returns the parsed scene (scene_destroy) or NULL after printing why, prefixed by
- * `program`. */
+ * `program`. resolution <= 0 keeps the document's resolutions. */
 struct scene *bench_load_example(const char *program, const char *path, int resolution);
 
 struct gpu;
