@@ -104,8 +104,10 @@ static void cross(const struct ls_step_ctx *c, struct ls_patch *p, int k, int s,
         p->ev_surface = s;
         p->ev_mask = mask;
         p->ev_reflect = false;
-        for (int ch = 0; ch < 3; ch++)
+        for (int ch = 0; ch < 3; ch++) {
+            sp->P[ch] = p->P[ch];
             p->P[ch] *= 1.0 - sp->R_mean;
+        }
         pending = true;
     }
     if (pending) {

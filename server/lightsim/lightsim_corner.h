@@ -23,6 +23,7 @@ struct ls_spawn {
     int surface;   /* its surface */
     int mask;      /* the corners that cross it (bit k: corner k) */
     double R_mean; /* the twin's share of the power: sum of the corners' R / 4 */
+    double P[3];   /* the patch's power when the event began (before the split) */
 };
 
 /* The explicit midpoint step of the ray equation over time dt (docs/lightsim.md step 1). */

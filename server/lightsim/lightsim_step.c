@@ -339,11 +339,12 @@ enum ls_fate ls_patch_step(const struct ls_step_ctx *c, struct ls_patch *p,
     *twin_fate = LS_DIES;
     if (sp.spawned) {
         /* The reflected twin (docs/lightsim.md "Surfaces"): the patch as it was before
-         * this step, with the event's share of the power and every crossing corner
+         * this step, with the event's share of the power (of the power when it began: a
+         * corner may have lost some earlier in the step) and every crossing corner
          * pending, stepped now so that the wavefront stays equitemporal. */
         *twin = before;
         for (int ch = 0; ch < 3; ch++) {
-            twin->P[ch] = before.P[ch] * sp.R_mean;
+            twin->P[ch] = sp.P[ch] * sp.R_mean;
             twin->pend[ch] = 0.0;
         }
         twin->pend_steps = 0;
