@@ -142,9 +142,30 @@ static void test_parse(void)
     scene_destroy(s);
 }
 
+/* The light domain covers a surface with no voxel object (docs/lightsim.md "Domain"). */
+static void test_domain(void)
+{
+    struct scene *s = fx_scene("{\"surfaces\": [{\"shape\": \"sphere\", \"center\": [0.2, 0, 0], "
+                               "\"radius\": 0.5, \"medium\": {\"ior\": 1.5}}],"
+                               " \"receiver\": {\"height\": -1, \"half_size\": 0.4}}");
+    s->lightsim = fx_settings(32, 8);
+    struct light_grid g;
+    lightsim_domain(s, &g);
+    double voxel = 1.5 / 28; /* longest extent: y from -1 to 0.5 */
+    printf("domain: %d x %d x %d, voxel %.5f, bmin (%.4f, %.4f, %.4f)\n", g.dims[0], g.dims[1],
+           g.dims[2], g.voxel, g.bmin.x, g.bmin.y, g.bmin.z);
+    CHECK_NEAR(g.voxel, voxel, 1e-12);
+    CHECK_NEAR(g.bmin.y, -1.0, 1e-12);                /* the receiver plane */
+    CHECK_NEAR(g.bmin.x, -0.4 - 2 * voxel, 1e-12);    /* the receiver's side */
+    CHECK(g.bmin.x + g.dims[0] * g.voxel >= 0.7);     /* the sphere's +x side */
+    CHECK(g.bmin.y + g.dims[1] * g.voxel >= 0.5);     /* the sphere's top */
+    scene_destroy(s);
+}
+
 int main(void)
 {
     test_parse();
+    test_domain();
     test_slab_reflections();
     test_ball_lens(1.5, 128, 192);
     test_ball_lens(1.8, 128, 208);
