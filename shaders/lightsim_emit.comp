@@ -8,6 +8,8 @@
 // Twin: the split and capacity code of lightsim_ref_run.
 #include "lightsim_common.glsl"
 #include "lightsim_patches.glsl"
+// LS_SURFACES (the "(surfaces)" program): twins and the new corners' inside sets.
+#if LS_SURFACES
 #include "fresnel.glsl"
 
 layout(std430, binding = BIND_SSBO_LS_TWINS) readonly buffer ls_twins_block
@@ -20,6 +22,7 @@ void propagate(inout vec4 x, inout vec4 w, float dt)
 {
 }
 #include "lightsim_corner.glsl"
+#endif
 
 layout(local_size_x = LS_LOCAL_X) in;
 
@@ -80,10 +83,12 @@ void main()
     if (i < uint(control.counts.x)) {
         uint n = out_count[i], o = out_offset[i];
         ls_gpu_patch p = patches_in[i];
+#if LS_SURFACES
         if (n != 0u && p.event.w != 0) { // the last output is the twin
             n -= 1u;
             put(o + n, twins[i], live, capacity);
         }
+#endif
         if (n == 1u) {
             put(o, p, live, capacity);
         } else if (n == 4u) {
@@ -108,6 +113,7 @@ void main()
             ivec4 s = p.inside;
             bool same = all(equal(s, s.xxxx));
             int i0 = s.x, i1 = s.y, i2 = s.z, i3 = s.w, ic = s.x;
+#if LS_SURFACES
             if (!same) {
                 i0 = int(ls_surfaces_inside(m0));
                 i1 = int(ls_surfaces_inside(m1));
@@ -115,6 +121,7 @@ void main()
                 i3 = int(ls_surfaces_inside(m3));
                 ic = int(ls_surfaces_inside(mc));
             }
+#endif
             ivec4 l = p.last;
             put(o + 0u, child(p, x00, m0, mc, m3, w00, v0, vc, v3, ivec4(s.x, i0, ic, i3),
                               ivec4(l.x, -1, -1, -1), share.x), live, capacity);

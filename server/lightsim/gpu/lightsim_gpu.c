@@ -46,6 +46,7 @@ struct lightsim_gpu_run {
     struct irradiance_gpu out; /* made when the run ends */
     bool have_out;
     int current; /* LIST_A or LIST_B: the live list */
+    bool surfaces; /* the scene has exact surfaces: the LS_SURFACES kernels */
     struct light_grid grid;
     long long max_steps, steps_issued;
     double dt, t_sweep;
@@ -160,6 +161,7 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
         return err_set(e, REFRACT_E_OUT_OF_MEMORY, "no host memory for a light simulation run");
     r->grid = f->grid;
     r->current = LIST_A;
+    r->surfaces = f->surface_count > 0;
     struct lightsim_wavefront w;
     rc = lightsim_wavefront_build(f, l, set, &w, e);
     if (rc != REFRACT_E_OK) {
@@ -276,11 +278,11 @@ static void record_step(struct lightsim_gpu_run *r, const struct lightsim_gpu_pr
     const GLintptr patches = (GLintptr)offsetof(ls_control, dispatch_patches);
     const GLbitfield barrier = GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT;
     bind_all(r);
-    glUseProgram(p->step);
+    glUseProgram(r->surfaces ? p->step_surfaces : p->step);
     glDispatchComputeIndirect(patches);
     glMemoryBarrier(barrier);
     lightsim_gpu_scan_record(p);
-    glUseProgram(p->emit);
+    glUseProgram(r->surfaces ? p->emit_surfaces : p->emit);
     glDispatchComputeIndirect(patches);
     glMemoryBarrier(barrier);
     glUseProgram(p->args);
