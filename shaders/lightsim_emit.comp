@@ -1,11 +1,28 @@
 #version 450
 // lightsim_emit.comp - stream compaction/expansion of the patch list (docs/lightsim.md
 // items 6-7, "Children of a split"; the prefix-sum form of ziegler2007's HistoPyramids):
-// patch i's survivors (itself, or its four children) go to the next list from position
-// out_offset[i], in order; those at positions >= max_patches are dropped (capacity).
+// patch i's survivors (itself, or its four children, then the reflected twin of a surface
+// event, docs/lightsim.md "Surfaces") go to the next list from position out_offset[i], in
+// order; those at positions >= max_patches are dropped (capacity). A child's new corners
+// take the parent's inside set where its four corners agree, else the set where they are.
 // Twin: the split and capacity code of lightsim_ref_run.
 #include "lightsim_common.glsl"
 #include "lightsim_patches.glsl"
+// LS_SURFACES (the "(surfaces)" program): twins and the new corners' inside sets.
+#if LS_SURFACES
+#include "fresnel.glsl"
+
+layout(std430, binding = BIND_SSBO_LS_TWINS) readonly buffer ls_twins_block
+{
+    ls_gpu_patch twins[];
+};
+
+// lightsim_corner.glsl's surface code calls propagate(); emit never moves a corner.
+void propagate(inout vec4 x, inout vec4 w, float dt)
+{
+}
+#include "lightsim_corner.glsl"
+#endif
 
 layout(local_size_x = LS_LOCAL_X) in;
 
@@ -22,9 +39,11 @@ vec3 mean_ray2(vec3 a, vec3 b)
 // One child of p: corners a, b, c, d (p00, p10, p11, p01 order), ray vectors, and its
 // share of the power; level + 1, the parent's zone state, no cached centre samples.
 ls_gpu_patch child(ls_gpu_patch p, vec3 a, vec3 b, vec3 c, vec3 d, vec3 wa, vec3 wb, vec3 wc,
-                   vec3 wd, float share)
+                   vec3 wd, ivec4 inside, ivec4 last, float share)
 {
     ls_gpu_patch q = p;
+    q.inside = inside;
+    q.last = last;
     q.x[0] = vec4(a, 0.0);
     q.x[1] = vec4(b, 0.0);
     q.x[2] = vec4(c, 0.0);
@@ -43,6 +62,7 @@ ls_gpu_patch child(ls_gpu_patch p, vec3 a, vec3 b, vec3 c, vec3 d, vec3 wa, vec3
 
 void put(uint o, ls_gpu_patch q, inout vec3 live, inout vec3 capacity)
 {
+    q.event.w = 0;
     if (o < uint(ls.limits.y)) {
         patches_out[o] = q;
         live += q.power.rgb;
@@ -63,6 +83,12 @@ void main()
     if (i < uint(control.counts.x)) {
         uint n = out_count[i], o = out_offset[i];
         ls_gpu_patch p = patches_in[i];
+#if LS_SURFACES
+        if (n != 0u && p.event.w != 0) { // the last output is the twin
+            n -= 1u;
+            put(o + n, twins[i], live, capacity);
+        }
+#endif
         if (n == 1u) {
             put(o, p, live, capacity);
         } else if (n == 4u) {
@@ -83,10 +109,28 @@ void main()
                                    length(ls_diagonal_cross(m3, mc, m2, x01)));
             float sum = area.x + area.y + area.z + area.w;
             vec4 share = sum > 0.0 ? area / sum : vec4(0.25);
-            put(o + 0u, child(p, x00, m0, mc, m3, w00, v0, vc, v3, share.x), live, capacity);
-            put(o + 1u, child(p, m0, x10, m1, mc, v0, w10, v1, vc, share.y), live, capacity);
-            put(o + 2u, child(p, mc, m1, x11, m2, vc, v1, w11, v2, share.z), live, capacity);
-            put(o + 3u, child(p, m3, mc, m2, x01, v3, vc, v2, w01, share.w), live, capacity);
+            // inside sets (docs/lightsim.md "Surfaces"): parent corner k keeps its own
+            ivec4 s = p.inside;
+            bool same = all(equal(s, s.xxxx));
+            int i0 = s.x, i1 = s.y, i2 = s.z, i3 = s.w, ic = s.x;
+#if LS_SURFACES
+            if (!same) {
+                i0 = int(ls_surfaces_inside(m0));
+                i1 = int(ls_surfaces_inside(m1));
+                i2 = int(ls_surfaces_inside(m2));
+                i3 = int(ls_surfaces_inside(m3));
+                ic = int(ls_surfaces_inside(mc));
+            }
+#endif
+            ivec4 l = p.last;
+            put(o + 0u, child(p, x00, m0, mc, m3, w00, v0, vc, v3, ivec4(s.x, i0, ic, i3),
+                              ivec4(l.x, -1, -1, -1), share.x), live, capacity);
+            put(o + 1u, child(p, m0, x10, m1, mc, v0, w10, v1, vc, ivec4(i0, s.y, i1, ic),
+                              ivec4(-1, l.y, -1, -1), share.y), live, capacity);
+            put(o + 2u, child(p, mc, m1, x11, m2, vc, v1, w11, v2, ivec4(ic, i1, s.z, i2),
+                              ivec4(-1, -1, l.z, -1), share.z), live, capacity);
+            put(o + 3u, child(p, m3, mc, m2, x01, v3, vc, v2, w01, ivec4(i3, ic, i2, s.w),
+                              ivec4(-1, -1, -1, l.w), share.w), live, capacity);
         }
     }
     red[0][lid] = vec4(live, 0.0);

@@ -2,11 +2,25 @@
 // lightsim_step.comp - one wavefront time step of every live patch (docs/lightsim.md "A
 // time step", items 1-6; tevs2007 eqs. 4.12/4.13, 6.1/6.2): propagate the four corners,
 // extinction, interface (Fresnel) test, opaque test, deposit into the light grid, fate.
-// Writes the patch back in place and its output count (0, 1 or 4) for the prefix sum.
-// Twin: the step of lightsim_ref_run (server/lightsim/lightsim_ref.c).
+// Writes the patch back in place and its output count (0, 1 or 4) for the prefix sum;
+// among exact surfaces (docs/lightsim.md "Surfaces") a Fresnel event that begins in the
+// step also makes the reflected twin, stepped here too and written to twins[i]; its output
+// (0 or 1) adds to the count, and the patch record's event.w says it is there.
+// Twin: the step of lightsim_ref_run (server/lightsim/lightsim_ref.c, lightsim_step.c).
 #include "lightsim_common.glsl"
+#define LS_STEP_KERNEL 1
 #include "lightsim_patches.glsl"
 #include "fresnel.glsl"
+
+// LS_SURFACES (a preamble #define, the "(surfaces)" programs): scenes with exact
+// surfaces. The voxel scenes' programs leave the surface code out: though never entered,
+// it made llvmpipe run their steps 2-4x slower.
+#if LS_SURFACES
+layout(std430, binding = BIND_SSBO_LS_TWINS) writeonly buffer ls_twins_block
+{
+    ls_gpu_patch twins[];
+};
+#endif
 
 layout(local_size_x = LS_LOCAL_X) in;
 
@@ -162,21 +176,29 @@ void propagate(inout vec4 x, inout vec4 w, float dt)
     w.xyz += dt * k2w;
 }
 
+#if LS_SURFACES
+#include "lightsim_corner.glsl"
+#else
+struct ls_spawn_t {
+    bool spawned;
+    int surface;
+    int mask;
+    float R_mean;
+    vec3 P;
+};
+#endif
+
 // Per-work-group sums (one global atomic per group and counter).
 shared vec4 red[4][LS_LOCAL_X];
 shared int ev[5];
 
-void main()
+// Steps 1-6 of one patch (docs/lightsim.md "A time step"); returns its output count (0, 1
+// or 4). first: a surface event may begin and the patch may split (false for a twin in
+// its first step).
+uint step_patch(inout ls_gpu_patch p, bool first, inout ls_spawn_t sp, inout vec3 acc_out,
+                inout vec3 acc_refl, inout vec3 acc_abs, inout vec3 acc_cull)
 {
-    uint i = gl_GlobalInvocationID.x;
-    uint lid = gl_LocalInvocationID.x;
-    if (lid < 5u)
-        ev[lid] = 0;
-    barrier();
-    vec3 acc_out = vec3(0.0), acc_refl = vec3(0.0), acc_abs = vec3(0.0), acc_cull = vec3(0.0);
-    uint count = 0u;
-    if (i < uint(control.counts.x)) {
-        ls_gpu_patch p = patches_in[i];
+        uint count = 0u;
         float dt = ls.grid_max.w, voxel = ls.grid_min.w;
         vec3 c = 0.25 * (p.x[0].xyz + p.x[1].xyz + p.x[2].xyz + p.x[3].xyz);
         vec3 d = normalize(p.w[0].xyz + p.w[1].xyz + p.w[2].xyz + p.w[3].xyz);
@@ -191,17 +213,29 @@ void main()
             n0 = ls_ior_grad_at(c).a;
             sigma0 = ls_extinction_at(c).rgb;
         }
-        // 1. propagate the four corners.
+        // 1. propagate the four corners (among exact surfaces: lightsim_corner.glsl).
+#if LS_SURFACES
+        vec3 tau0 = vec3(0.0), tau1 = vec3(0.0), tau2 = vec3(0.0), tau3 = vec3(0.0);
+        ls_corner_move(p, 0, dt, first, sp, tau0, acc_refl);
+        ls_corner_move(p, 1, dt, first, sp, tau1, acc_refl);
+        ls_corner_move(p, 2, dt, first, sp, tau2, acc_refl);
+        ls_corner_move(p, 3, dt, first, sp, tau3, acc_refl);
+#else
         propagate(p.x[0], p.w[0], dt);
         propagate(p.x[1], p.w[1], dt);
         propagate(p.x[2], p.w[2], dt);
         propagate(p.x[3], p.w[3], dt);
+#endif
         vec3 c1 = 0.25 * (p.x[0].xyz + p.x[1].xyz + p.x[2].xyz + p.x[3].xyz);
         vec3 d1 = normalize(p.w[0].xyz + p.w[1].xyz + p.w[2].xyz + p.w[3].xyz);
         float ds = length(c1 - c);
         // 2. extinction (trapezoid of sigma_t along the centre's path).
         vec4 ext1 = ls_extinction_at(c1);
         vec3 T = exp(-0.5 * (sigma0 + ext1.rgb) * ds);
+#if LS_SURFACES
+        // Beer-Lambert along each corner's legs, averaged
+        T *= 0.25 * (exp(-tau0) + exp(-tau1) + exp(-tau2) + exp(-tau3));
+#endif
         vec3 P = p.power.rgb;
         acc_abs += P * (1.0 - T);
         P *= T;
@@ -273,11 +307,13 @@ void main()
             } else if (max(P.r, max(P.g, P.b)) < ls.cull.x) {
                 acc_cull += P;
                 atomicAdd(ev[1], 1);
-            } else if (ls.cull.y != 0.0 && !(dot(D1, d1) > 0.0)) {
+            } else if (ls.cull.y != 0.0 && p.event.y == 0 && !(dot(D1, d1) > 0.0)) {
                 acc_cull += P;
                 atomicAdd(ev[3], 1);
             } else if (e_max > ls.medium.w) {
-                if (p.state.x < ls.limits.x) {
+                if (!first || p.event.y != 0) {
+                    count = 1u; // a pending event, or a twin's first step: no split
+                } else if (p.state.x < ls.limits.x) {
                     count = 4u;
                     atomicAdd(ev[0], 1);
                 } else {
@@ -295,9 +331,78 @@ void main()
         p.x[1].w = ext1.g;
         p.x[2].w = ext1.b;
         p.state.w = 1;
+        return count;
+}
+
+// Swaps corners 1 and 3: a mirror image's winding, so that it comes out positive.
+void swap_winding(inout ls_gpu_patch t)
+{
+    vec4 x1 = t.x[1], w1 = t.w[1];
+    t.x[1] = t.x[3];
+    t.w[1] = t.w[3];
+    t.x[3] = x1;
+    t.w[3] = w1;
+    t.inside = t.inside.xwzy;
+    t.last = t.last.xwzy;
+    int m = t.event.y;
+    t.event.y = (m & 5) | ((m & 2) << 2) | ((m & 8) >> 2);
+}
+
+void main()
+{
+    uint i = gl_GlobalInvocationID.x;
+    uint lid = gl_LocalInvocationID.x;
+    if (lid < 5u)
+        ev[lid] = 0;
+    barrier();
+    vec3 acc_out = vec3(0.0), acc_refl = vec3(0.0), acc_abs = vec3(0.0), acc_cull = vec3(0.0);
+    if (i < uint(control.counts.x)) {
+        ls_gpu_patch before = patches_in[i], p = before;
+        ls_spawn_t sp;
+        sp.spawned = false;
+        sp.surface = -1;
+        sp.mask = 0;
+        sp.R_mean = 0.0;
+        sp.P = vec3(0.0);
+        uint count = 0u, twin = 0u;
+#if LS_SURFACES
+        // Pass 0 steps the patch; pass 1 the reflected twin of a surface event that began
+        // in it (the patch as it was, the event's share of the power, its crossing corners
+        // pending), so that the wavefront stays equitemporal. One loop body: the step is
+        // inlined once.
+        for (int pass = 0; pass < 2; pass++) {
+            if (pass == 1) {
+                if (!sp.spawned)
+                    break;
+                p = before;
+                p.power.rgb = sp.P * sp.R_mean;
+                p.pend = vec4(0.0);
+                p.event = ivec4(sp.surface, sp.mask, 1, 0);
+                swap_winding(p);
+            }
+            uint c = step_patch(p, pass == 0, sp, acc_out, acc_refl, acc_abs, acc_cull);
+            if (pass == 0) {
+                count = c;
+                if (c != 0u || sp.spawned) {
+                    p.event.w = 0;
+                    patches_in[i] = p; // rewritten below when a twin lives
+                }
+            } else {
+                twin = c;
+                if (c != 0u) {
+                    p.event.w = 0;
+                    twins[i] = p;
+                }
+            }
+        }
+        if (twin != 0u)
+            patches_in[i].event.w = 1;
+#else
+        count = step_patch(p, true, sp, acc_out, acc_refl, acc_abs, acc_cull);
         if (count != 0u)
             patches_in[i] = p;
-        out_count[i] = count;
+#endif
+        out_count[i] = count + twin;
     }
     red[0][lid] = vec4(acc_out, 0.0);
     red[1][lid] = vec4(acc_refl, 0.0);

@@ -131,8 +131,11 @@ struct lightsim_params {
     ivec4 dims;      /* xyz: light grid voxels; w: LS_DEPOSIT_* */
     vec4 medium;     /* x: ambient n; y: probe distance k (world); z: boundary threshold
                         (dn per light voxel); w: split length (world units) */
-    vec4 cull;       /* x: energy cut (absolute max(P)); y: 1 = cull flipped patches */
-    ivec4 limits;    /* x: max_level; y: max_patches; z: flux deposit every z steps */
+    vec4 cull;       /* x: energy cut (absolute max(P)); y: 1 = cull flipped patches;
+                        z: the domain's diagonal (how far a surface event's crossings are
+                        predicted, docs/lightsim.md "Surfaces") */
+    ivec4 limits;    /* x: max_level; y: max_patches; z: flux deposit every z steps;
+                        w: exact surfaces (BIND_SSBO_SURFACES), 0: none */
 };
 
 /* One wavefront patch (std430; docs/lightsim.md "Patches"): corners p00, p10, p11, p01. */
@@ -146,6 +149,11 @@ struct ls_gpu_patch {
     vec4 pend;      /* rgb: pending flux deposit, sum of P ds over the pending steps (docs/
                        lightsim.md step 5); w: pending step count */
     vec4 pend_from; /* xyz: start of the pending segment (world); w: unused */
+    ivec4 inside;   /* each corner's inside set of exact surfaces (uint bits) */
+    ivec4 last;     /* the surface each corner crossed last, -1: none */
+    ivec4 event;    /* the pending surface event: x surface (-1: none), y corners still to
+                       cross it (bit k), z 1 = reflected twin; w: between lightsim_step and
+                       lightsim_emit, 1 = the last of the outputs is the twin (twins[i]) */
 };
 
 /* Indirect dispatch arguments and counters written on the GPU (std430). */

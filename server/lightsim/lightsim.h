@@ -37,14 +37,17 @@ struct light_grid {
     double voxel; /* edge length, world units */
 };
 
-/* The light domain of a scene (docs/lightsim.md "Domain"): the union of the objects'
- * world bounding boxes and the receiver square, padded by two voxels, with cubic voxels
+/* The light domain of a scene (docs/lightsim.md "Domain"): the union of the objects' and
+ * the surfaces' world bounding boxes and the receiver square, padded by two voxels, with cubic voxels
  * and set->resolution voxels along its longest axis. Light-independent. */
 void lightsim_domain(const struct scene *s, struct light_grid *out);
 
 /* How many time steps a patch accumulates before a flux deposit (docs/lightsim.md step
  * 5): max(1, floor(1 / step_voxels)), so deposits lie about one voxel apart. */
 int lightsim_deposit_every(const struct scene_lightsim *set);
+
+struct reftrace_surface; /* core/reftrace.h (not included: shaders/bindings.h names the
+                            geometry kinds as macros for the GPU files that include both) */
 
 /* The simulator's input on the light grid. x fastest, then y, then z. */
 struct lightsim_fields {
@@ -55,6 +58,11 @@ struct lightsim_fields {
     double *ior_grad;          /* 4 per voxel: dn/dx, dn/dy, dn/dz (world units), n; owned */
     double *extinction;        /* 4 per voxel: sigma_t = sigma_a + sigma_s (r, g, b) per world
                                   unit, opaque coverage; owned */
+    /* Exact surfaces (docs/lightsim.md "Surfaces"), by nesting priority as in the scene:
+     * geometry and the constant medium inside. Lathe profiles point into profile_points. */
+    struct reftrace_surface *surfaces; /* owned; NULL when surface_count is 0 */
+    int surface_count;
+    double (*profile_points)[2]; /* owned copies of the lathes' profiles */
 };
 
 /* Builds the fields from the scene (docs/lightsim.md "Fields"). CONFLICT for a missing

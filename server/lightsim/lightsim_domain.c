@@ -1,10 +1,11 @@
 /*
  * lightsim_domain.c - the light grid of a scene (docs/lightsim.md "Domain"): the union of
- * the objects' world boxes and the receiver square, clipped below at the receiver plane,
+ * the objects' and the surfaces' world boxes and the receiver square, clipped below at the receiver plane,
  * padded by two cubic voxels.
  */
 #include <math.h>
 
+#include "../core/geom/geom.h"
 #include "lightsim.h"
 
 static void grow(vec3 *lo, vec3 *hi, vec3 p)
@@ -30,6 +31,24 @@ void lightsim_domain(const struct scene *s, struct light_grid *out)
             grow(&lo, &hi, xform_point_to_world(&o->world_from_object, p));
         }
     }
+    /* Exact surfaces: their solids' world boxes; an infinite side (a plane's half-space)
+     * adds nothing along that axis, so a water plane bounds the domain only where it is
+     * finite (docs/lightsim.md "Domain"). */
+    for (size_t k = 0; k < s->surface_count; k++) {
+        struct geom_surface g;
+        vec3 blo, bhi;
+        scene_surface_geom(&s->surfaces[k], &g);
+        if (g.kind == GEOM_MESH)
+            continue; /* refused by lightsim_fields_build */
+        geom_surface_bounds(&g, &blo, &bhi);
+        for (int a = 0; a < 3; a++) {
+            double l = vec3_get(blo, a), h = vec3_get(bhi, a);
+            if (isfinite(l) && l < vec3_get(lo, a))
+                vec3_set(&lo, a, l);
+            if (isfinite(h) && h > vec3_get(hi, a))
+                vec3_set(&hi, a, h);
+        }
+    }
     const struct scene_receiver *r = &s->receiver;
     if (r->enabled) {
         grow(&lo, &hi, (vec3){-r->half_size, r->height, -r->half_size});
@@ -38,6 +57,11 @@ void lightsim_domain(const struct scene *s, struct light_grid *out)
         if (hi.y < lo.y)
             hi.y = lo.y;
     }
+    for (int a = 0; a < 3; a++)
+        if (!(vec3_get(lo, a) <= vec3_get(hi, a))) { /* nothing finite along a */
+            vec3_set(&lo, a, 0.0);
+            vec3_set(&hi, a, 0.0);
+        }
     double longest = 0.0;
     for (int a = 0; a < 3; a++) {
         double ext = vec3_get(hi, a) - vec3_get(lo, a);

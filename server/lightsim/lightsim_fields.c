@@ -10,6 +10,7 @@
 #include "../core/smooth.h"
 #include "../scene/scene_reference.h"
 #include "lightsim.h"
+#include "lightsim_surfaces.h"
 
 /* Trilinear sample of one object's grid at object-space point p (tracing.md's voxel
  * coordinates, clamp to edge). */
@@ -111,6 +112,8 @@ enum refract_code lightsim_fields_build(const struct scene *s, scene_volume_look
     free(n);
     scene_reference_free(ref);
     free(ref);
+    if (rc == REFRACT_E_OK)
+        rc = ls_surfaces_build(s, out, e);
     if (rc != REFRACT_E_OK)
         lightsim_fields_free(out);
     return rc;
@@ -122,6 +125,7 @@ void lightsim_fields_free(struct lightsim_fields *f)
         return;
     free(f->ior_grad);
     free(f->extinction);
+    ls_surfaces_free(f);
     f->ior_grad = NULL;
     f->extinction = NULL;
 }

@@ -8,7 +8,9 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "../core/interface.h"
 #include "lightsim_sample.h"
+#include "lightsim_surfaces.h"
 
 /* Cube faces: outward axis f and in-face axes (s, t) with s x t = f. */
 static const vec3 FACE[6][3] = {
@@ -20,6 +22,19 @@ static const vec3 FACE[6][3] = {
 struct aim {
     vec3 lo, hi; /* the domain box */
 };
+
+/* The surface state of a new patch (docs/lightsim.md "Surfaces"): each corner's inside
+ * set where it starts, nothing crossed, no pending event. */
+static void start_surfaces(const struct lightsim_fields *f, struct ls_patch *p)
+{
+    for (int k = 0; k < 4; k++) {
+        p->inside[k] = f->surface_count > 0 ? ls_surfaces_inside(f, p->x[k]) : 0u;
+        p->last[k] = -1;
+    }
+    p->ev_surface = -1;
+    p->ev_mask = 0;
+    p->ev_reflect = false;
+}
 
 /* Keeps a patch whose centre half-line meets the domain box grown by e_max. */
 static bool aimed(const struct aim *a, const struct ls_patch *p)
@@ -61,8 +76,10 @@ static size_t directional(const struct lightsim_fields *f, const struct scene_li
                 p.w[k] = w;
             }
             set_power(&p, 1.0); /* unit irradiance times the area */
-            if (aimed(a, &p))
+            if (aimed(a, &p)) {
+                start_surfaces(f, &p);
                 out[n++] = p;
+            }
         }
     }
     return n;
@@ -76,6 +93,8 @@ static size_t point(const struct lightsim_fields *f, const struct scene_light *l
     double nq;
     vec3 gq;
     ls_sample_ior(f, l->position, &nq, &gq);
+    if (f->surface_count > 0) /* a light inside a surface starts in its medium */
+        nq = ls_medium_ior(f, interface_medium(ls_surfaces_inside(f, l->position)), l->position);
     bool spot = l->kind == SCENE_LIGHT_SPOT;
     vec3 axis = vec3_normalize(l->direction);
     double cos_cone = cos(l->spot_angle_deg * M_PI / 180.0);
@@ -101,8 +120,10 @@ static size_t point(const struct lightsim_fields *f, const struct scene_light *l
                     if (vec3_dot(g.d, axis) < cos_cone)
                         continue;
                 }
-                if (aimed(a, &p))
+                if (aimed(a, &p)) {
+                    start_surfaces(f, &p);
                     out[n++] = p;
+                }
             }
         }
     }
@@ -138,6 +159,8 @@ void ls_step_budget(const struct lightsim_fields *f, double dt, long long *max_s
     size_t v = (size_t)f->grid.dims[0] * f->grid.dims[1] * f->grid.dims[2];
     for (size_t i = 0; i < v; i++)
         n_max = fmax(n_max, f->ior_grad[4 * i + 3]);
+    for (int k = 0; k < f->surface_count; k++)
+        n_max = fmax(n_max, f->surfaces[k].ior);
     *max_steps = (long long)ceil(4.0 * n_max * rho * 2.0 / dt) + 16;
     *t_sweep = 2.0 * (rho + f->grid.voxel) * n_max;
 }

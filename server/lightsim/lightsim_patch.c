@@ -5,6 +5,7 @@
 #include "lightsim_patch.h"
 
 #include <math.h>
+#include <stddef.h>
 
 void ls_patch_derive(const struct ls_patch *p, struct ls_derived *out)
 {
@@ -45,7 +46,19 @@ static void mean_particle(const struct ls_patch *p, const int *idx, int n, vec3 
     *w = vec3_scale(vec3_normalize(ws), len / n);
 }
 
-void ls_patch_split(const struct ls_patch *p, struct ls_patch child[4])
+/* Inside set of a new corner at x (docs/lightsim.md "Surfaces": a patch whose corners
+ * lie in different media is split like any other, each new corner taking the set of the
+ * point where it is). */
+static uint32_t new_corner_set(const struct ls_patch *p, bool same, ls_inside_fn inside,
+                               const void *ctx, vec3 x, int near)
+{
+    if (same || inside == NULL)
+        return p->inside[near];
+    return inside(ctx, x);
+}
+
+void ls_patch_split(const struct ls_patch *p, ls_inside_fn inside, const void *ctx,
+                    struct ls_patch child[4])
 {
     static const int edges[4][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}};
     static const int all[4] = {0, 1, 2, 3};
@@ -63,6 +76,15 @@ void ls_patch_split(const struct ls_patch *p, struct ls_patch child[4])
                             {mw[0], p->w[1], mw[1], cw},
                             {cw, mw[1], p->w[2], mw[2]},
                             {mw[3], cw, mw[2], p->w[3]}};
+    bool same = p->inside[0] == p->inside[1] && p->inside[0] == p->inside[2] &&
+                p->inside[0] == p->inside[3];
+    uint32_t ms[4], cs = new_corner_set(p, same, inside, ctx, cx, 0);
+    for (int k = 0; k < 4; k++)
+        ms[k] = new_corner_set(p, same, inside, ctx, mx[k], k);
+    const uint32_t csets[4][4] = {{p->inside[0], ms[0], cs, ms[3]},
+                                  {ms[0], p->inside[1], ms[1], cs},
+                                  {cs, ms[1], p->inside[2], ms[2]},
+                                  {ms[3], cs, ms[2], p->inside[3]}};
     double areas[4], sum = 0.0;
     for (int k = 0; k < 4; k++) {
         child[k] = *p;
@@ -73,6 +95,8 @@ void ls_patch_split(const struct ls_patch *p, struct ls_patch child[4])
         for (int q = 0; q < 4; q++) {
             child[k].x[q] = cxs[k][q];
             child[k].w[q] = cws[k][q];
+            child[k].inside[q] = csets[k][q];
+            child[k].last[q] = q == k ? p->last[k] : -1; /* parent corner k stays at q = k */
         }
         struct ls_derived g;
         ls_patch_derive(&child[k], &g);

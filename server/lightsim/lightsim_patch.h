@@ -10,6 +10,7 @@
 #define REFRACT_LIGHTSIM_PATCH_H
 
 #include <stdbool.h>
+#include <stdint.h>
 
 #include "../core/vec3.h"
 
@@ -27,6 +28,16 @@ struct ls_patch {
     double pend[3];
     vec3 pend_from;
     int pend_steps;
+    /* Exact surfaces (docs/lightsim.md "Surfaces"): each corner's inside set
+     * (core/interface.h) and the surface it crossed last (-1: none), and the patch's
+     * pending Fresnel event: the surface ev_surface (-1: none), the corners that have not
+     * crossed it yet (ev_mask, bit k for corner k), and whether this patch is the event's
+     * reflected twin (its pending corners reflect there) or the transmitted one. */
+    uint32_t inside[4];
+    int last[4];
+    int ev_surface;
+    int ev_mask;
+    bool ev_reflect;
 };
 
 /* What each step derives from the corners (docs/lightsim.md "Patches"). */
@@ -44,8 +55,12 @@ void ls_patch_derive(const struct ls_patch *p, struct ls_derived *out);
 bool ls_patch_oriented(const struct ls_derived *g);
 
 /* The four children of a split (docs/lightsim.md "Children of a split"), in order, each
- * level + 1 with the parent's zone state and power shared by area. */
-void ls_patch_split(const struct ls_patch *p, struct ls_patch child[4]);
+ * level + 1 with the parent's zone state and power shared by area. A new corner's inside
+ * set is the parent's when its four corners agree, else inside(x) at the new corner, by
+ * the caller's function (NULL: the set of the parent corner it was made next to). */
+typedef uint32_t (*ls_inside_fn)(const void *ctx, vec3 p);
+void ls_patch_split(const struct ls_patch *p, ls_inside_fn inside, const void *ctx,
+                    struct ls_patch child[4]);
 
 /* Whether the closed box [lo, hi] contains p. */
 bool ls_box_contains(vec3 lo, vec3 hi, vec3 p);

@@ -162,6 +162,7 @@ enum refract_code lightsim_ref_advance(struct lightsim_ref *r, int max_steps, bo
         .deposit_every = lightsim_deposit_every(&r->set),
         .lo = lo,
         .hi = hi,
+        .reach = vec3_length(vec3_sub(hi, lo)),
         .acc_e = r->acc_e,
         .acc_d = r->acc_d,
         .st = &r->st,
@@ -170,14 +171,17 @@ enum refract_code lightsim_ref_advance(struct lightsim_ref *r, int max_steps, bo
         r->st.patch_steps += (long long)r->count;
         size_t n = 0;
         for (size_t i = 0; i < r->count; i++) {
-            struct ls_patch p = r->list[i], child[4];
-            enum ls_fate fate = ls_patch_step(&ctx, &p, child);
+            struct ls_patch p = r->list[i], child[4], twin;
+            enum ls_fate twin_fate;
+            enum ls_fate fate = ls_patch_step(&ctx, &p, child, &twin, &twin_fate);
             bool ok = true;
             if (fate == LS_LIVES)
                 ok = emit(r, &n, &p);
             else if (fate == LS_SPLITS)
                 for (int k = 0; k < 4 && ok; k++)
                     ok = emit(r, &n, &child[k]);
+            if (ok && twin_fate == LS_LIVES)
+                ok = emit(r, &n, &twin); /* a surface event's reflected twin, after p's */
             if (!ok)
                 return oom(e);
         }

@@ -8,29 +8,9 @@
 #include <math.h>
 
 #include "../core/fresnel.h"
+#include "lightsim_corner.h"
 #include "lightsim_sample.h"
-
-/* The ray equation in the time parameterisation (tevs2007 eqs. 4.12/4.13):
- * dx/dt = w / n^2, dw/dt = grad n / n. */
-static void ray_rhs(const struct lightsim_fields *f, vec3 x, vec3 w, vec3 *dx, vec3 *dw)
-{
-    double n;
-    vec3 g;
-    ls_sample_ior(f, x, &n, &g);
-    *dx = vec3_scale(w, 1.0 / (n * n));
-    *dw = vec3_scale(g, 1.0 / n);
-}
-
-/* Explicit midpoint rule, the same dt for every particle. */
-static void propagate(const struct lightsim_fields *f, double dt, vec3 *x, vec3 *w)
-{
-    vec3 k1x, k1w, k2x, k2w;
-    ray_rhs(f, *x, *w, &k1x, &k1w);
-    vec3 xm = vec3_madd(*x, k1x, dt / 2), wm = vec3_madd(*w, k1w, dt / 2);
-    ray_rhs(f, xm, wm, &k2x, &k2w);
-    *x = vec3_madd(*x, k2x, dt);
-    *w = vec3_madd(*w, k2w, dt);
-}
+#include "lightsim_surfaces.h"
 
 static void add3(double dst[3], const double P[3], double factor)
 {
@@ -222,9 +202,16 @@ static void deposit_max(const struct ls_step_ctx *c, const double P[3], const do
     c->acc_d[o + 2] += q_lum * d1.z;
 }
 
-/* Step 6: the patch's fate, in the order of docs/lightsim.md. */
+static uint32_t inside_at(const void *ctx, vec3 x)
+{
+    return ls_surfaces_inside(ctx, x);
+}
+
+/* Step 6: the patch's fate, in the order of docs/lightsim.md. A patch with a pending
+ * surface event is neither flip-tested nor split (its corners are on both sides of the
+ * event), nor is a twin in its first step (may_split). */
 static enum ls_fate fate_of(const struct ls_step_ctx *c, struct ls_patch *p,
-                            const struct ls_derived *g1, struct ls_patch child[4])
+                            const struct ls_derived *g1, bool may_split, struct ls_patch child[4])
 {
     struct lightsim_stats *st = c->st;
     if (!ls_box_contains(c->lo, c->hi, g1->c) &&
@@ -237,14 +224,16 @@ static enum ls_fate fate_of(const struct ls_step_ctx *c, struct ls_patch *p,
         st->culled_energy++;
         return LS_DIES;
     }
-    if (c->set->cull_flipped && !ls_patch_oriented(g1)) {
+    if (c->set->cull_flipped && p->ev_mask == 0 && !ls_patch_oriented(g1)) {
         add3(st->flux_culled, p->P, 1.0);
         st->culled_flip++;
         return LS_DIES;
     }
     if (g1->e_max > c->set->split_voxels * c->f->grid.voxel) {
+        if (!may_split || p->ev_mask != 0)
+            return LS_LIVES;
         if (p->level < c->set->max_level) {
-            ls_patch_split(p, child);
+            ls_patch_split(p, c->f->surface_count > 0 ? inside_at : NULL, c->f, child);
             st->splits++;
             return LS_SPLITS;
         }
@@ -255,26 +244,33 @@ static enum ls_fate fate_of(const struct ls_step_ctx *c, struct ls_patch *p,
     return LS_LIVES;
 }
 
-enum ls_fate ls_patch_step(const struct ls_step_ctx *c, struct ls_patch *p,
-                           struct ls_patch child[4])
+/* Steps 1-6 of one patch; may_spawn: a surface event may begin (not in a twin's first
+ * step, which is also not split). */
+static enum ls_fate step_one(const struct ls_step_ctx *c, struct ls_patch *p, bool may_spawn,
+                             struct ls_spawn *sp, struct ls_patch child[4])
 {
     const struct lightsim_fields *f = c->f;
     struct lightsim_stats *st = c->st;
     struct ls_derived g0, g1;
     ls_patch_derive(p, &g0);
 
-    /* 1. propagate every corner */
+    /* 1. propagate every corner (docs/lightsim.md "Surfaces" among exact surfaces) */
+    double tau[4][3] = {{0}};
     for (int k = 0; k < 4; k++)
-        propagate(f, c->dt, &p->x[k], &p->w[k]);
+        ls_corner_move(c, p, k, may_spawn, sp, tau[k]);
     ls_patch_derive(p, &g1);
 
-    /* 2. path and extinction (trapezoid of sigma_t along the centre's path) */
+    /* 2. path and extinction (trapezoid of sigma_t along the centre's path; in the
+     * surfaces' media Beer-Lambert along each corner's legs, averaged over the corners) */
     struct ls_sample s0, s1;
     ls_sample_all(f, g0.c, &s0);
     ls_sample_all(f, g1.c, &s1);
     double ds = vec3_length(vec3_sub(g1.c, g0.c));
     for (int ch = 0; ch < 3; ch++) {
         double T = exp(-0.5 * (s0.sigma[ch] + s1.sigma[ch]) * ds);
+        if (f->surface_count > 0)
+            T *= 0.25 * (exp(-tau[0][ch]) + exp(-tau[1][ch]) + exp(-tau[2][ch]) +
+                         exp(-tau[3][ch]));
         st->flux_absorbed[ch] += p->P[ch] * (1.0 - T);
         p->P[ch] *= T;
     }
@@ -308,8 +304,57 @@ enum ls_fate ls_patch_step(const struct ls_step_ctx *c, struct ls_patch *p,
         deposit_max(c, p->P, q, g1.area, m, g1.d);
     }
 
-    enum ls_fate fate = fate_of(c, p, &g1, child);
+    enum ls_fate fate = fate_of(c, p, &g1, may_spawn, child);
     if (flux && (fate != LS_LIVES || p->pend_steps >= c->deposit_every))
         flush_pending(c, p, g1.c, g1.d);
+    return fate;
+}
+
+/* Swaps corners 1 and 3 (p10 and p01): the quad's winding, and so its orientation
+ * sign(dot(D, d)), reverses, which a mirror image needs to come out positive. */
+static void swap_winding(struct ls_patch *p)
+{
+    vec3 x = p->x[1], w = p->w[1];
+    uint32_t in = p->inside[1];
+    int last = p->last[1];
+    p->x[1] = p->x[3];
+    p->w[1] = p->w[3];
+    p->inside[1] = p->inside[3];
+    p->last[1] = p->last[3];
+    p->x[3] = x;
+    p->w[3] = w;
+    p->inside[3] = in;
+    p->last[3] = last;
+    int m = p->ev_mask;
+    p->ev_mask = (m & 5) | ((m & 2) << 2) | ((m & 8) >> 2);
+}
+
+enum ls_fate ls_patch_step(const struct ls_step_ctx *c, struct ls_patch *p,
+                           struct ls_patch child[4], struct ls_patch *twin,
+                           enum ls_fate *twin_fate)
+{
+    struct ls_patch before = *p;
+    struct ls_spawn sp = {.spawned = false};
+    enum ls_fate fate = step_one(c, p, true, &sp, child);
+    *twin_fate = LS_DIES;
+    if (sp.spawned) {
+        /* The reflected twin (docs/lightsim.md "Surfaces"): the patch as it was before
+         * this step, with the event's share of the power (of the power when it began: a
+         * corner may have lost some earlier in the step) and every crossing corner
+         * pending, stepped now so that the wavefront stays equitemporal. */
+        *twin = before;
+        for (int ch = 0; ch < 3; ch++) {
+            twin->P[ch] = sp.P[ch] * sp.R_mean;
+            twin->pend[ch] = 0.0;
+        }
+        twin->pend_steps = 0;
+        twin->ev_surface = sp.surface;
+        twin->ev_mask = sp.mask;
+        twin->ev_reflect = true;
+        swap_winding(twin);
+        struct ls_spawn none = {.spawned = false};
+        struct ls_patch unused[4];
+        *twin_fate = step_one(c, twin, false, &none, unused);
+    }
     return fate;
 }

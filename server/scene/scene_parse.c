@@ -492,11 +492,8 @@ static enum refract_code parse_document(const cJSON *root, const struct scene_li
     /* After the objects: the receiver's default size depends on where they are. */
     if (rc == REFRACT_E_OK)
         rc = scene_parse_receiver(member(root, "receiver"), s, e);
-    if (rc == REFRACT_E_OK && s->surface_count > 0 && s->receiver.enabled)
-        rc = err_set(e, REFRACT_E_INVALID_FIELD,
-                     "receiver: the light simulator does not trace exact surfaces yet, so a "
-                     "scene with \"surfaces\" cannot have a receiver plane; remove "
-                     "\"receiver\" or model the scene with voxel objects only");
+    if (rc == REFRACT_E_OK && s->receiver.enabled)
+        rc = scene_check_lightsim_surfaces(s, "receiver", e);
     return rc;
 }
 

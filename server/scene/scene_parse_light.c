@@ -14,6 +14,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "../core/geom/geom.h"
 #include "json_read.h"
 #include "scene_parse_internal.h"
 
@@ -174,11 +175,33 @@ static vec3 world_corner(const struct scene_object *o, int c)
     return xform_point_to_world(&o->world_from_object, p);
 }
 
-/* 1.5 times the largest |x| or |z| that any object's world bounding box reaches, so the
- * plane catches the shadow and caustic of everything above it. */
+/* World box of surface k's solid; false for a mesh (its box comes with the upload).
+ * Components of a plane's half-space are infinite. */
+static bool surface_box(const struct scene *s, size_t k, vec3 *lo, vec3 *hi)
+{
+    struct geom_surface g;
+    scene_surface_geom(&s->surfaces[k], &g);
+    if (g.kind == GEOM_MESH)
+        return false;
+    geom_surface_bounds(&g, lo, hi);
+    return true;
+}
+
+/* 1.5 times the largest |x| or |z| that any object's or surface's world bounding box
+ * reaches (finite sides only: a plane's half-space adds nothing), so the plane catches the
+ * shadow and caustic of everything above it. */
 static double default_half_size(const struct scene *s)
 {
     double reach = 0.0;
+    for (size_t k = 0; k < s->surface_count; k++) {
+        vec3 lo, hi;
+        if (!surface_box(s, k, &lo, &hi))
+            continue;
+        const double v[4] = {lo.x, hi.x, lo.z, hi.z};
+        for (int i = 0; i < 4; i++)
+            if (isfinite(v[i]))
+                reach = fmax(reach, fabs(v[i]));
+    }
     for (size_t i = 0; i < s->object_count; i++) {
         const struct scene_object *o = &s->objects[i];
         for (int c = 0; c < 8; c++) {
@@ -207,6 +230,18 @@ static enum refract_code check_below_objects(const struct scene *s, double heigh
                            "do not see the receiver, so put the plane at or below y = %g, or let "
                            "the object's bounds end at the plane",
                            height, i, o->name, low, low);
+    }
+    /* Exact surfaces likewise: the plane would cut a solid whose bottom is finite (a
+     * plane's half-space reaching down forever, e.g. water over a pool floor, may hold it). */
+    for (size_t k = 0; k < s->surface_count; k++) {
+        vec3 lo, hi;
+        if (!surface_box(s, k, &lo, &hi) || !isfinite(lo.y))
+            continue;
+        if (height > lo.y + 1e-9)
+            return err_set(e, REFRACT_E_INVALID_FIELD,
+                           "receiver.height: %g is above the bottom of surfaces[%d]'s solid "
+                           "(y = %g); put the plane at or below y = %g",
+                           height, s->surfaces[k].document_index, lo.y, lo.y);
     }
     return REFRACT_E_OK;
 }

@@ -12,8 +12,8 @@
  *     for meshes, whose boxes come with the upload, equal priorities are refused);
  *   - voxel objects lie in the ambient medium: an object's world box must not overlap a
  *     surface's (a GRIN medium inside an exact surface is not supported yet);
- *   - the light simulator does not trace surfaces yet, so a scene with surfaces may not
- *     ask for it (no receiver, no scattering objects).
+ *   - the light simulator traces every kind but meshes (docs/lightsim.md "Surfaces"), so
+ *     a scene with a mesh surface may not ask for it (no receiver, no scattering objects).
  * The surfaces are stored sorted by priority, highest first (core/interface.h).
  */
 #include <math.h>
@@ -242,12 +242,25 @@ static enum refract_code check_rules(const struct scene *s, struct err *e)
         }
     }
     for (size_t k = 0; k < s->object_count; k++)
-        if (scene_channel_used(&s->objects[k], SCENE_CH_SCATTERING))
+        if (scene_channel_used(&s->objects[k], SCENE_CH_SCATTERING)) {
+            char path[48];
+            snprintf(path, sizeof path, "objects[%zu].scattering", k);
+            enum refract_code rc = scene_check_lightsim_surfaces(s, path, e);
+            if (rc != REFRACT_E_OK)
+                return rc;
+        }
+    return REFRACT_E_OK;
+}
+
+enum refract_code scene_check_lightsim_surfaces(const struct scene *s, const char *path,
+                                                struct err *e)
+{
+    for (size_t k = 0; k < s->surface_count; k++)
+        if (s->surfaces[k].shape.kind == SCENE_SHAPE_MESH)
             return err_set(e, REFRACT_E_INVALID_FIELD,
-                           "objects[%zu].scattering: the light simulator does not trace exact "
-                           "surfaces yet, so a scene with \"surfaces\" cannot have scattering "
-                           "objects; model the scene with voxel objects only",
-                           k);
+                           "%s: needs the light simulator, which does not trace mesh surfaces "
+                           "yet, and surfaces[%d] is a mesh; remove one of them",
+                           path, s->surfaces[k].document_index);
     return REFRACT_E_OK;
 }
 

@@ -12,6 +12,7 @@
  * the end, a light that misses the domain, and bad settings.
  */
 #include "bindings.h"
+#include "lightsim/gpu/lightsim_gpu_surfaces.h"
 #include "test_lightsim_gpu_support.h"
 
 static void uniform_133(vec3 x, const void *ctx, double *n, double ext[4])
@@ -259,9 +260,11 @@ static void lifecycle_run(struct gpu_work *w, struct gpu *gpu)
         return;
     size_t voxels = (size_t)f->grid.dims[0] * f->grid.dims[1] * f->grid.dims[2];
     size_t cap = 5000, blocks = (cap + LS_SCAN_BLOCK - 1) / LS_SCAN_BLOCK;
-    size_t stepping = 2 * cap * 208 + /* ls_gpu_patch: 208 bytes */ 2 * cap * 4 + blocks * 4 + 80 +
+    /* without surfaces the twin list, the surface records (surface_params: 224 bytes) and
+     * the lathe points are one stand-in element each */
+    size_t stepping = 2 * cap * 256 + /* ls_gpu_patch: 256 bytes */ 2 * cap * 4 + blocks * 4 + 80 +
                       LS_ACC_COUNT * 4 + LS_TOT_COUNT * 8 + voxels * LS_DEPOSIT_CHANNELS * 4 + 96 +
-                      2 * voxels * 16;
+                      2 * voxels * 16 + 256 + sizeof(surface_params) + 8;
     printf("life cycle: %zu bytes while stepping (expected %zu)\n", lightsim_gpu_run_bytes(run),
            stepping);
     LC_CHECK(lightsim_gpu_run_bytes(run) == stepping);

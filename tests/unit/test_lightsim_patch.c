@@ -48,7 +48,7 @@ static void test_split(void)
         quad((vec3){0, 0, 0}, (vec3){4, 0, 0}, (vec3){3, 2, 0}, (vec3){1, 2, 0}, 1.5);
     p.w[1] = (vec3){0.3, 0, 1.4}; /* diverging ray vectors of different directions */
     struct ls_patch ch[4];
-    ls_patch_split(&p, ch);
+    ls_patch_split(&p, NULL, NULL, ch);
     struct ls_derived g;
     ls_patch_derive(&p, &g);
     double area = 0.0, P[3] = {0, 0, 0};

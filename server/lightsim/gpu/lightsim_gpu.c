@@ -14,9 +14,10 @@
 
 #include "../lightsim_init.h"
 #include "lightsim_gpu_programs.h"
+#include "lightsim_gpu_surfaces.h"
 #include "lightsim_gpu_wavefront.h"
 
-_Static_assert(sizeof(ls_gpu_patch) == 208, "ls_gpu_patch must match std430");
+_Static_assert(sizeof(ls_gpu_patch) == 256, "ls_gpu_patch must match std430");
 _Static_assert(sizeof(ls_control) == 80, "ls_control must match std430");
 _Static_assert(sizeof(lightsim_params) == 96, "lightsim_params must match std140");
 
@@ -31,6 +32,9 @@ enum {
     CONTROL,
     ACCUM,
     TOTALS,
+    TWINS,    /* surface events' reflected twins, by live index */
+    SURFACES, /* surface_params[] (uploaded, never cleared) */
+    PROFILES, /* the lathes' profile points */
     DEPOSIT,
     BUFFER_COUNT = DEPOSIT + LS_DEPOSIT_CHANNELS
 };
@@ -42,6 +46,7 @@ struct lightsim_gpu_run {
     struct irradiance_gpu out; /* made when the run ends */
     bool have_out;
     int current; /* LIST_A or LIST_B: the live list */
+    bool surfaces; /* the scene has exact surfaces: the LS_SURFACES kernels */
     struct light_grid grid;
     long long max_steps, steps_issued;
     double dt, t_sweep;
@@ -97,8 +102,11 @@ static lightsim_params make_params(const struct lightsim_fields *f,
                      set->deposit == SCENE_DEPOSIT_MAX ? LS_DEPOSIT_MAX : LS_DEPOSIT_FLUX};
     p.medium = (vec4){(float)f->ambient_ior, (float)f->probe_distance, (float)f->boundary_threshold,
                       (float)(set->split_voxels * g->voxel)};
-    p.cull = (vec4){(float)energy_cut, set->cull_flipped ? 1.0f : 0.0f, 0, 0};
-    p.limits = (ivec4){set->max_level, set->max_patches, lightsim_deposit_every(set), 0};
+    vec3 diag = vec3_scale((vec3){g->dims[0], g->dims[1], g->dims[2]}, g->voxel);
+    p.cull = (vec4){(float)energy_cut, set->cull_flipped ? 1.0f : 0.0f, (float)vec3_length(diag),
+                    0};
+    p.limits = (ivec4){set->max_level, set->max_patches, lightsim_deposit_every(set),
+                       f->surface_count};
     return p;
 }
 
@@ -125,6 +133,9 @@ static void bind_all(const struct lightsim_gpu_run *r)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_LS_CONTROL, r->buf[CONTROL].buf);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_LS_ACCUM, r->buf[ACCUM].buf);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_LS_TOTALS, r->buf[TOTALS].buf);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_LS_TWINS, r->buf[TWINS].buf);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_SURFACES, r->buf[SURFACES].buf);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_SURFACE_PROFILES, r->buf[PROFILES].buf);
     for (int c = 0; c < LS_DEPOSIT_CHANNELS; c++)
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_LS_DEPOSIT + c,
                          r->buf[DEPOSIT + c].buf);
@@ -150,6 +161,7 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
         return err_set(e, REFRACT_E_OUT_OF_MEMORY, "no host memory for a light simulation run");
     r->grid = f->grid;
     r->current = LIST_A;
+    r->surfaces = f->surface_count > 0;
     struct lightsim_wavefront w;
     rc = lightsim_wavefront_build(f, l, set, &w, e);
     if (rc != REFRACT_E_OK) {
@@ -168,6 +180,15 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
     control.dispatch_blocks = (ivec4){(w.count + LS_SCAN_BLOCK - 1) / LS_SCAN_BLOCK, 1, 1, 0};
     control.counts = (ivec4){w.count, 0, 0, w.count};
     lightsim_params params = make_params(f, set, r->dt, set->energy_threshold * w.mean_max_power);
+    surface_params *surfs = NULL;
+    float *points = NULL;
+    size_t point_count = 0;
+    if (!lightsim_gpu_pack_surfaces(f, &surfs, &points, &point_count)) {
+        lightsim_wavefront_free(&w);
+        free(r);
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "no host memory to pack the surfaces");
+    }
+    size_t twins = f->surface_count > 0 ? cap : 1; /* only surface events make twins */
     struct {
         const char *label;
         size_t bytes;
@@ -181,6 +202,12 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
         [CONTROL] = {"lightsim control", sizeof control, &control},
         [ACCUM] = {"lightsim step sums", LS_ACC_COUNT * sizeof(float), NULL},
         [TOTALS] = {"lightsim totals", LS_TOT_COUNT * sizeof(double), NULL},
+        [TWINS] = {"lightsim twins", twins * sizeof(ls_gpu_patch), NULL},
+        [SURFACES] = {"lightsim surfaces",
+                      (f->surface_count > 0 ? (size_t)f->surface_count : 1) * sizeof *surfs,
+                      surfs},
+        [PROFILES] = {"lightsim surface profiles",
+                      (point_count ? point_count : 1) * 2 * sizeof *points, points},
         [DEPOSIT] = {"lightsim deposit irradiance r", voxels * sizeof(float), NULL},
         [DEPOSIT + 1] = {"lightsim deposit irradiance g", voxels * sizeof(float), NULL},
         [DEPOSIT + 2] = {"lightsim deposit irradiance b", voxels * sizeof(float), NULL},
@@ -207,7 +234,7 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
     if (rc == REFRACT_E_OK) {
         uint32_t zero = 0;
         for (int i = ACCUM; i < BUFFER_COUNT; i++)
-            if (i != CONTROL)
+            if (i != CONTROL && i != SURFACES && i != PROFILES)
                 glClearNamedBufferData(r->buf[i].buf, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT,
                                        &zero);
         if (w.count > 0)
@@ -232,6 +259,8 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
         s->progress = s->done ? 1 : 0;
     }
     lightsim_wavefront_free(&w);
+    free(surfs);
+    free(points);
     r->peak_bytes = lightsim_gpu_run_bytes(r);
     if (rc == REFRACT_E_OK && r->stats.done) /* nothing aimed at the domain: dark volumes */
         rc = finish(r, lightsim_gpu_programs(), e);
@@ -249,11 +278,11 @@ static void record_step(struct lightsim_gpu_run *r, const struct lightsim_gpu_pr
     const GLintptr patches = (GLintptr)offsetof(ls_control, dispatch_patches);
     const GLbitfield barrier = GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT;
     bind_all(r);
-    glUseProgram(p->step);
+    glUseProgram(r->surfaces ? p->step_surfaces : p->step);
     glDispatchComputeIndirect(patches);
     glMemoryBarrier(barrier);
     lightsim_gpu_scan_record(p);
-    glUseProgram(p->emit);
+    glUseProgram(r->surfaces ? p->emit_surfaces : p->emit);
     glDispatchComputeIndirect(patches);
     glMemoryBarrier(barrier);
     glUseProgram(p->args);

@@ -39,6 +39,10 @@ enum refract_code lightsim_gpu_init(struct gpu *gpu, struct err *e)
     } table[] = {
         {&programs.step, "lightsim step", "lightsim_step.comp", NULL},
         {&programs.emit, "lightsim emit", "lightsim_emit.comp", NULL},
+        {&programs.step_surfaces, "lightsim step (surfaces)", "lightsim_step.comp",
+         "#define LS_SURFACES 1"},
+        {&programs.emit_surfaces, "lightsim emit (surfaces)", "lightsim_emit.comp",
+         "#define LS_SURFACES 1"},
         {&programs.scan[0], "lightsim scan blocks", "lightsim_scan.comp",
          "#define LS_SCAN_STAGE 0"},
         {&programs.scan[1], "lightsim scan sums", "lightsim_scan.comp", "#define LS_SCAN_STAGE 1"},
@@ -72,7 +76,8 @@ bool lightsim_gpu_programs_use_cas(void)
 
 void lightsim_gpu_shutdown(void)
 {
-    GLuint *all[] = {&programs.step,    &programs.emit, &programs.scan[0], &programs.scan[1],
+    GLuint *all[] = {&programs.step,    &programs.emit, &programs.step_surfaces,
+                     &programs.emit_surfaces, &programs.scan[0], &programs.scan[1],
                      &programs.scan[2], &programs.args, &programs.finish};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++) {
         if (*all[i])

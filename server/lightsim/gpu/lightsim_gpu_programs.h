@@ -14,6 +14,10 @@
 struct lightsim_gpu_programs {
     GLuint step;    /* lightsim_step.comp */
     GLuint emit;    /* lightsim_emit.comp */
+    /* The same with LS_SURFACES 1 (docs/lightsim.md "Surfaces"), for scenes with exact
+     * surfaces: the surface code, though never entered, made llvmpipe run the voxel
+     * scenes' steps 2-4x slower. */
+    GLuint step_surfaces, emit_surfaces;
     GLuint scan[3]; /* lightsim_scan.comp, LS_SCAN_STAGE 0, 1, 2 */
     GLuint args;    /* lightsim_args.comp */
     GLuint finish;  /* lightsim_finish.comp */

@@ -21,6 +21,9 @@ static ls_gpu_patch to_gpu(const struct ls_patch *p)
     g.power = (vec4){(float)p->P[0], (float)p->P[1], (float)p->P[2], 0};
     g.zone = (vec4){(float)p->n_lo, (float)p->n_hi, 0, 0};
     g.state = (ivec4){p->level, p->in_zone ? 1 : 0, p->crossed ? 1 : 0, 0};
+    g.inside = (ivec4){(int)p->inside[0], (int)p->inside[1], (int)p->inside[2], (int)p->inside[3]};
+    g.last = (ivec4){p->last[0], p->last[1], p->last[2], p->last[3]};
+    g.event = (ivec4){p->ev_surface, p->ev_mask, p->ev_reflect ? 1 : 0, 0};
     return g;
 }
 
