@@ -275,8 +275,12 @@ static void bad_input(struct test_daemon *d)
          "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
          "\"resolution\": 8, \"ior\": 1.2}], \"surfaces\": [" BALL "]}",
          400, "invalid_field", {"surfaces[0]", "objects[0]"}},
-        {__LINE__, "{\"receiver\": {\"height\": -1, \"half_size\": 2}, \"surfaces\": [" BALL "]}", 400,
-         "invalid_field", {"receiver", "surfaces"}},
+        {__LINE__,
+         "{\"receiver\": {\"height\": -1, \"half_size\": 2}, \"surfaces\": [{\"shape\": "
+         "\"mesh\", \"mesh\": \"gem\", \"medium\": {\"ior\": 1.5}}]}",
+         400, "invalid_field", {"receiver", "mesh surfaces", "surfaces[0]"}},
+        {__LINE__, "{\"receiver\": {\"height\": 0, \"half_size\": 2}, \"surfaces\": [" BALL "]}",
+         400, "invalid_field", {"receiver.height", "surfaces[0]"}},
         {__LINE__, many, 422, "limit_exceeded", {"surfaces", "32"}},
         {__LINE__, SURF("{\"shape\": \"sphere\", \"radius\": 0.5, \"colour\": 1, "
                         "\"medium\": {\"ior\": 1.5}}"),

@@ -105,4 +105,18 @@ bool geom_surface_bounds(const struct geom_surface *g, vec3 *lo, vec3 *hi);
  * the convergence tolerance are relative to it. */
 double geom_surface_size(const struct geom_surface *g);
 
+/* ---- the GPU record (surface_pack.c) ---- */
+
+/* Self-intersection offset of the surface a ray just left, relative to its size, for the
+ * float marches: float hit points are off by about 1e-7 of their coordinates. */
+#define GEOM_PACK_EPS 1e-5
+
+struct surface_params; /* shaders/shared_types.h */
+
+/* Packs g (its kind's numbers, transform, lathe orientation and bounding cylinder) and its
+ * medium into sp; first_point: a lathe's first profile point in the shared points buffer.
+ * A mesh's buffer offsets (sp->mesh) are the caller's. */
+void geom_surface_pack(const struct geom_surface *g, double ior, const double attenuation[3],
+                       const double emission[3], int first_point, struct surface_params *sp);
+
 #endif

@@ -1,0 +1,66 @@
+/*
+ * surface_pack.c - a placed surface and its medium as the GPU's surface_params record
+ * (shaders/shared_types.h, read by shaders/geom/surface_dispatch.glsl): the one packing the
+ * view renderer (render/surfaces_gpu.c) and the light simulator
+ * (lightsim/gpu/lightsim_gpu_surfaces.c) share.
+ */
+#include <math.h>
+
+#include "geom.h"
+#define REFRACT_HOST_C
+#include "shared_types.h"
+
+static vec4 v4(vec3 v, double w)
+{
+    return (vec4){(float)v.x, (float)v.y, (float)v.z, (float)w};
+}
+
+void geom_surface_pack(const struct geom_surface *g, double ior, const double attenuation[3],
+                       const double emission[3], int first_point, struct surface_params *sp)
+{
+    xform_to_gl_mat4(&g->xf, sp->world_from_object.m, sp->object_from_world.m);
+    sp->kind = (ivec4){g->kind, g->axis, first_point, (int)g->profile_count};
+    sp->mesh = (ivec4){0, 0, 0, 0};
+    sp->shape0 = (vec4){0, 0, 0, 0};
+    sp->shape1 = (vec4){0, 0, 0, 0};
+    switch (g->kind) {
+    case GEOM_SPHERE:
+        sp->shape0 = v4(g->center, g->radius);
+        break;
+    case GEOM_BOX:
+        sp->shape0 = v4(g->center, 0.0);
+        sp->shape1 = v4(g->size, 0.0);
+        break;
+    case GEOM_CYLINDER:
+        sp->shape0 = v4(g->center, g->radius);
+        sp->shape1 = (vec4){(float)g->height, 0, 0, 0};
+        break;
+    case GEOM_PLANE:
+        sp->shape0 = v4(g->center, 0.0);
+        sp->shape1 = v4(g->normal, 0.0);
+        break;
+    case GEOM_LATHE: {
+        /* Orientation (+1 counter-clockwise in (r, h)) and the bounding cylinder that
+         * lathe.glsl culls with. */
+        double area2 = 0.0, r_max = 0.0, h_lo = INFINITY, h_hi = -INFINITY;
+        for (size_t i = 0; i < g->profile_count; i++) {
+            const double *a = g->profile[i], *b = g->profile[(i + 1) % g->profile_count];
+            area2 += a[0] * b[1] - b[0] * a[1];
+            r_max = fmax(r_max, a[0]);
+            h_lo = fmin(h_lo, a[1]);
+            h_hi = fmax(h_hi, a[1]);
+        }
+        sp->shape0 = v4(g->base, area2 >= 0.0 ? 1.0 : -1.0);
+        sp->shape1 = (vec4){(float)r_max, (float)h_lo, (float)h_hi, 0.0f};
+        break;
+    }
+    default: /* GEOM_MESH: the caller sets sp->mesh */
+        break;
+    }
+    bool absorbs = attenuation[0] > 0 && attenuation[1] > 0 && attenuation[2] > 0;
+    sp->medium = (vec4){(float)ior, (float)g->xf.scale,
+                        (float)(GEOM_PACK_EPS * geom_surface_size(g)), absorbs ? 1.0f : 0.0f};
+    sp->attenuation =
+        (vec4){(float)attenuation[0], (float)attenuation[1], (float)attenuation[2], 0.0f};
+    sp->emission = (vec4){(float)emission[0], (float)emission[1], (float)emission[2], 0.0f};
+}
