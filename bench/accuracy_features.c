@@ -27,7 +27,7 @@
  * the middle) and the same with emission. */
 static const char *const examples[] = {
     "glass_sphere_voxels",   "gaussian_lens", "luneburg_lens",     "maxwell_fisheye",
-    "bumpy_sphere",          "wine_glass",    "ball_lens_caustic", "rounded_cube_three_layers",
+    "bumpy_sphere",          "wine_glass_voxels", "ball_lens_caustic_voxels", "rounded_cube_three_layers",
     "glass_block_lettering", "smoke_spot"};
 #define EXAMPLE_COUNT (int)(sizeof examples / sizeof examples[0])
 #define SPARSE_CAMERA                                                                              \

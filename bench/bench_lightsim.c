@@ -3,7 +3,7 @@
  * (server/lightsim/gpu), for BENCHMARKS.md. Not a test: it asserts nothing and prints a
  * Markdown table.
  *
- *     build/refract-lightsim [--scenes glass_sphere_voxels,wine_glass,bumpy_sphere]
+ *     build/refract-lightsim [--scenes glass_sphere_voxels,wine_glass_voxels,bumpy_sphere]
  *                            [--resolutions 64,128,256] [--patches 32,64,128]
  *                            [--max-patches 262144] [--chunk 64] [--object-resolution 64]
  *
@@ -141,7 +141,7 @@ static void bench_case(struct gpu *gpu, const char *dir, const char *name, int r
 int main(int argc, char **argv)
 {
     struct list scenes, resolutions, patches;
-    split("glass_sphere_voxels,wine_glass,bumpy_sphere", &scenes);
+    split("glass_sphere_voxels,wine_glass_voxels,bumpy_sphere", &scenes);
     split("64,128,256", &resolutions);
     split("32,64,128", &patches);
     int max_patches = 262144, chunk = 64, obj_res = 64;

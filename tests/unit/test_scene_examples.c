@@ -228,6 +228,19 @@ static void examples_hold_what_their_names_promise(const char *dir)
     }
     s = parse_file(dir, "wine_glass.json");
     if (s != NULL) {
+        /* Exact lathes: the glass (priority 2) first, the wine (1) overlapping its wall; in
+         * the stem, glass; in the bowl, wine; above the wine, air (the inside sets). */
+        CHECK_INT((int)s->surface_count, 2);
+        CHECK(strcmp(s->surfaces[0].name, "glass") == 0 && s->surfaces[0].medium.ior == 1.5);
+        CHECK(strcmp(s->surfaces[1].name, "wine") == 0 && s->surfaces[1].medium.ior == 1.34);
+        CHECK_INT((int)scene_surfaces_inside(s, NULL, NULL, vec3_make(0.0, -0.7, 0.0)), 1);
+        CHECK_INT((int)scene_surfaces_inside(s, NULL, NULL, vec3_make(0.0, 0.1, 0.0)), 2);
+        CHECK_INT((int)scene_surfaces_inside(s, NULL, NULL, vec3_make(0.0, 0.8, 0.0)), 0);
+        CHECK_INT((int)scene_surfaces_inside(s, NULL, NULL, vec3_make(0.525, 0.3, 0.0)), 3);
+        scene_destroy(s);
+    }
+    s = parse_file(dir, "wine_glass_voxels.json");
+    if (s != NULL) {
         /* Glass in the stem, wine in the bowl, air above the wine inside the bowl. */
         CHECK_NEAR(ior_at(s, vec3_make(0.0, -0.7, 0.0)), 1.5, 1e-6);
         CHECK_NEAR(ior_at(s, vec3_make(0.0, 0.1, 0.0)), 1.34, 1e-6);
@@ -272,6 +285,16 @@ static double rgb_at(const struct scene *s, enum scene_channel ch, vec3 p, int c
 static void light_examples_hold_what_their_names_promise(const char *dir)
 {
     struct scene *s = parse_file(dir, "ball_lens_caustic.json");
+    if (s != NULL) {
+        CHECK_INT((int)s->surface_count, 1);
+        CHECK_INT(s->surfaces[0].shape.kind, SCENE_SHAPE_SPHERE);
+        CHECK_NEAR(s->surfaces[0].medium.ior, 1.5, 0);
+        CHECK(s->receiver.enabled);
+        CHECK_NEAR(-s->receiver.height, 1.5 * 0.5 / (2 * 0.5), 1e-12);
+        CHECK(scene_needs_light_simulation(s));
+        scene_destroy(s);
+    }
+    s = parse_file(dir, "ball_lens_caustic_voxels.json");
     if (s != NULL) {
         CHECK_INT(s->light_count, 1);
         CHECK_INT(s->lights[0].kind, SCENE_LIGHT_DIRECTIONAL);
