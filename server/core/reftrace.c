@@ -734,17 +734,16 @@ static void surface_leg(struct march *m, int medium, double t)
             e[c] = sig > 0.0 ? sf->emission[c] * -expm1(-sig * t) / sig : sf->emission[c] * t;
         }
         m->L = vec3_add(m->L, vec3_mul(vec3_scale(before, w), vec3_make(e[0], e[1], e[2])));
-        m->alpha = vec3_add(m->alpha, vec3_scale(vec3_make(sf->attenuation[0],
-                                                           sf->attenuation[1],
-                                                           sf->attenuation[2]),
-                                                 t));
+        m->alpha = vec3_add(
+            m->alpha,
+            vec3_scale(vec3_make(sf->attenuation[0], sf->attenuation[1], sf->attenuation[2]), t));
     }
     m->x = vec3_madd(m->x, m->d, t);
 }
 
 static void record_event(struct reftrace_result *out, enum reftrace_event_kind kind,
-                         const struct march *m, const struct geom_hit *h, int k, int from,
-                         int to, double n_from, double n_to, double R)
+                         const struct march *m, const struct geom_hit *h, int k, int from, int to,
+                         double n_from, double n_to, double R)
 {
     if (out->event_count < REFTRACE_MAX_EVENTS) {
         struct reftrace_event *ev = &out->events[out->event_count];

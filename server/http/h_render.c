@@ -45,7 +45,8 @@ static void render_run(struct gpu_work *w, struct gpu *gpu)
     struct http_request *req = w->user;
     struct render_job *job = req->job;
     render_request_version(req->app->render, req->app->irradiance, req->app->store, job->version,
-                        &job->request.view, job->lights, &job->result, &job->irradiance, &w->err);
+                           &job->request.view, job->lights, &job->result, &job->irradiance,
+                           &w->err);
 }
 
 static enum refract_code encode(const struct render_job *job, void **bytes, size_t *len,

@@ -53,9 +53,8 @@ _Static_assert(sizeof(struct trace_hit_out) == 64, "trace_hit_out layout");
 _Static_assert(sizeof(struct trace_event_out) == 64, "trace_event_out layout");
 _Static_assert(RENDER_TRACE_MAX_EVENTS == TRACE_MAX_EVENTS, "events per traced ray");
 _Static_assert(sizeof(struct light_params) == 5 * 16, "light_params layout");
-_Static_assert(sizeof(struct march_lights) ==
-                   3 * 16 + 2 * (MAX_OBJECTS + MAX_SURFACES) * 16 +
-                       MAX_LIGHTS * sizeof(struct light_params),
+_Static_assert(sizeof(struct march_lights) == 3 * 16 + 2 * (MAX_OBJECTS + MAX_SURFACES) * 16 +
+                                                  MAX_LIGHTS * sizeof(struct light_params),
                "march_lights layout");
 _Static_assert(MAX_LIGHTS == SCENE_MAX_LIGHTS, "one light slot per scene light");
 _Static_assert(UNIT_IRRADIANCE0 + MAX_LIGHTS <= UNIT_LIGHT_DIR0, "irradiance units overlap");
@@ -477,9 +476,9 @@ enum refract_code render_trace_events(struct render *r, const struct render_scen
     }
     for (size_t i = 0; i < count; i++) {
         vec3 o = {rays[i].origin[0], rays[i].origin[1], rays[i].origin[2]};
-        in[i].origin = (vec4){(float)o.x, (float)o.y, (float)o.z,
-                              set_bits(scene_surfaces_inside(src->scene, src->lookup,
-                                                             src->lookup_ctx, o))};
+        in[i].origin =
+            (vec4){(float)o.x, (float)o.y, (float)o.z,
+                   set_bits(scene_surfaces_inside(src->scene, src->lookup, src->lookup_ctx, o))};
         in[i].direction = (vec4){(float)rays[i].direction[0], (float)rays[i].direction[1],
                                  (float)rays[i].direction[2], 0.0f};
     }

@@ -39,9 +39,8 @@ static ivec4 mesh_slot(struct mesh_list *l, const struct mesh *m)
 }
 
 /* Finds each mesh surface's mesh and checks that it can bound a medium. */
-static enum refract_code find_meshes(const struct render_scene_source *src,
-                                     struct geom_surface *g, struct mesh_list *l,
-                                     ivec4 *first, struct err *e)
+static enum refract_code find_meshes(const struct render_scene_source *src, struct geom_surface *g,
+                                     struct mesh_list *l, ivec4 *first, struct err *e)
 {
     const struct scene *s = src->scene;
     for (size_t i = 0; i < s->surface_count; i++) {
@@ -96,8 +95,8 @@ static enum refract_code upload_meshes(const struct mesh_list *l, struct scene_g
     return rc;
 }
 
-enum refract_code surfaces_gpu_build(const struct render_scene_source *src,
-                                     struct scene_gpu *sg, struct err *e)
+enum refract_code surfaces_gpu_build(const struct render_scene_source *src, struct scene_gpu *sg,
+                                     struct err *e)
 {
     const struct scene *s = src->scene;
     struct gpu_buffer *records = &sg->surfaces, *profiles = &sg->surface_profiles;

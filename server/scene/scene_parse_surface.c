@@ -21,6 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../core/geom/geom.h"
 #include "json_read.h"
 #include "scene_parse_internal.h"
 
@@ -30,11 +31,11 @@ static const cJSON *member(const cJSON *obj, const char *key)
 }
 
 /* Names of "shape" for surfaces, as enum scene_shape_kind values. */
-static const char *const surface_shape_names[] = {"sphere", "box",   "cylinder", "plane",
-                                                  "lathe",  "mesh",  NULL};
-static const enum scene_shape_kind surface_shape_kinds[] = {
-    SCENE_SHAPE_SPHERE, SCENE_SHAPE_BOX,   SCENE_SHAPE_CYLINDER,
-    SCENE_SHAPE_PLANE,  SCENE_SHAPE_LATHE, SCENE_SHAPE_MESH};
+static const char *const surface_shape_names[] = {"sphere", "box",  "cylinder", "plane",
+                                                  "lathe",  "mesh", NULL};
+static const enum scene_shape_kind surface_shape_kinds[] = {SCENE_SHAPE_SPHERE,   SCENE_SHAPE_BOX,
+                                                            SCENE_SHAPE_CYLINDER, SCENE_SHAPE_PLANE,
+                                                            SCENE_SHAPE_LATHE,    SCENE_SHAPE_MESH};
 
 static enum refract_code parse_rgb(const cJSON *o, const char *path, const char *key, double *out,
                                    struct err *e)
@@ -109,8 +110,8 @@ static enum refract_code parse_shape(const cJSON *o, const char *path,
         return rc;
     sf->shape.kind = kind;
     if (kind == SCENE_SHAPE_PLANE) {
-        rc = jr_vec3(o, path, "point", false, vec3_make(0, 0, 0), -SCENE_COORD_MAX,
-                     SCENE_COORD_MAX, &sf->shape.center, e);
+        rc = jr_vec3(o, path, "point", false, vec3_make(0, 0, 0), -SCENE_COORD_MAX, SCENE_COORD_MAX,
+                     &sf->shape.center, e);
         if (rc == REFRACT_E_OK)
             rc = jr_direction(o, path, "normal", true, vec3_make(0, 1, 0), &sf->shape.normal, e);
         (void)got;
@@ -145,21 +146,6 @@ static enum refract_code parse_surface(const cJSON *o, const char *path, int ind
     return rc;
 }
 
-/* The world box of an object-space box's 8 corners. */
-static void world_box(const struct xform *xf, vec3 lo, vec3 hi, vec3 *wlo, vec3 *whi)
-{
-    *wlo = vec3_make(INFINITY, INFINITY, INFINITY);
-    *whi = vec3_make(-INFINITY, -INFINITY, -INFINITY);
-    for (int c = 0; c < 8; c++) {
-        vec3 p = {(c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z};
-        vec3 w = xform_point_to_world(xf, p);
-        for (int a = 0; a < 3; a++) {
-            vec3_set(wlo, a, fmin(vec3_get(*wlo, a), vec3_get(w, a)));
-            vec3_set(whi, a, fmax(vec3_get(*whi, a), vec3_get(w, a)));
-        }
-    }
-}
-
 bool scene_surface_world_bounds(const struct scene_surface *sf, vec3 *lo, vec3 *hi)
 {
     const struct scene_shape *sh = &sf->shape;
@@ -184,7 +170,7 @@ bool scene_surface_world_bounds(const struct scene_surface *sf, vec3 *lo, vec3 *
     vec3 a, b;
     if (!scene_shape_bounds(sh, &a, &b))
         return false;
-    world_box(&sf->world_from_object, a, b, lo, hi);
+    geom_world_box(&sf->world_from_object, a, b, lo, hi);
     return true;
 }
 
@@ -231,7 +217,7 @@ static enum refract_code check_rules(const struct scene *s, struct err *e)
         for (size_t k = 0; k < s->object_count; k++) {
             const struct scene_object *o = &s->objects[k];
             vec3 olo, ohi;
-            world_box(&o->world_from_object, o->bounds_min, o->bounds_max, &olo, &ohi);
+            geom_world_box(&o->world_from_object, o->bounds_min, o->bounds_max, &olo, &ohi);
             if (boxes_overlap(alo, ahi, olo, ohi))
                 return err_set(e, REFRACT_E_INVALID_FIELD,
                                "surfaces[%d]: its solid may overlap objects[%zu] (\"%s\")'s "
@@ -272,8 +258,9 @@ enum refract_code scene_parse_surfaces(const cJSON *arr, const struct scene_limi
         return REFRACT_E_OK;
     int n = cJSON_IsArray(arr) ? cJSON_GetArraySize(arr) : -1;
     if (n < 0 || (n == 0 && s->object_count == 0))
-        return err_set(e, REFRACT_E_INVALID_FIELD, "surfaces: expected an array of 1..%d surfaces, got %s",
-                       SCENE_MAX_SURFACES, jr_describe(arr, got, sizeof got));
+        return err_set(e, REFRACT_E_INVALID_FIELD,
+                       "surfaces: expected an array of 1..%d surfaces, got %s", SCENE_MAX_SURFACES,
+                       jr_describe(arr, got, sizeof got));
     if (n > SCENE_MAX_SURFACES) {
         return err_set(e, REFRACT_E_LIMIT_EXCEEDED,
                        "surfaces: %d surfaces exceed the limit of %d per scene (a fixed limit: "
@@ -290,8 +277,8 @@ enum refract_code scene_parse_surfaces(const cJSON *arr, const struct scene_limi
     for (const cJSON *it = arr->child; it != NULL; it = it->next, i++) {
         char p[64];
         s->surface_count = (size_t)i + 1; /* so scene_destroy frees what this one owns */
-        enum refract_code rc = parse_surface(it, jr_path_index(p, sizeof p, "surfaces", i), i,
-                                             lim, &s->surfaces[i], e);
+        enum refract_code rc = parse_surface(it, jr_path_index(p, sizeof p, "surfaces", i), i, lim,
+                                             &s->surfaces[i], e);
         if (rc != REFRACT_E_OK)
             return rc;
     }

@@ -37,7 +37,7 @@ void scene_surface_geom(const struct scene_surface *sf, struct geom_surface *g)
         break;
     case SCENE_SHAPE_LATHE:
         g->kind = GEOM_LATHE;
-        g->profile = (const double (*)[2])sh->profile;
+        g->profile = (const double(*)[2])sh->profile;
         g->profile_count = sh->profile_count;
         break;
     default:

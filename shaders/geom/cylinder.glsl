@@ -1,17 +1,5 @@
 // cylinder.glsl - twin of server/core/geom/cylinder.c: the side quadratic across the
 // axis and the two caps; prim 0 side, 1 lower cap, 2 upper cap.
-void cylinder_consider(float t, vec3 nrm, int prim, float tmin, inout float best,
-                       inout geom_hit h)
-{
-    if (t > tmin && t < best) {
-        best = t;
-        h.t = t;
-        h.normal = nrm;
-        h.shading = nrm;
-        h.prim = prim;
-    }
-}
-
 bool cylinder_intersect(vec3 c, float r, float height, int axis, vec3 o, vec3 d, float tmin,
                         float tmax, out geom_hit h)
 {
@@ -40,7 +28,7 @@ bool cylinder_intersect(vec3 c, float r, float height, int axis, vec3 o, vec3 d,
                 vec3 nrm = vec3(0.0);
                 nrm[a1] = (ox + t * dx) / r;
                 nrm[a2] = (oy + t * dy) / r;
-                cylinder_consider(t, normalize(nrm), 0, tmin, best, h);
+                geom_hit_consider(t, tmin, best, normalize(nrm), 0, h);
             }
         }
     }
@@ -53,7 +41,7 @@ bool cylinder_intersect(vec3 c, float r, float height, int axis, vec3 o, vec3 d,
                 continue;
             vec3 nrm = vec3(0.0);
             nrm[axis] = s == 1 ? 1.0 : -1.0;
-            cylinder_consider(t, nrm, 1 + s, tmin, best, h);
+            geom_hit_consider(t, tmin, best, nrm, 1 + s, h);
         }
     }
     return best < tmax;

@@ -3,17 +3,6 @@
 // BIND_SSBO_SURFACE_PROFILES buffer declared in surface.glsl); each edge sweeps a cone
 // frustum (a quadratic in t), a cylinder or an annulus. orient: +1 for a
 // counter-clockwise polygon (precomputed on the CPU from its signed area).
-void lathe_consider(float t, float tmin, inout float best, vec3 nrm, int prim, inout geom_hit h)
-{
-    if (t > tmin && t < best) {
-        best = t;
-        h.t = t;
-        h.normal = nrm;
-        h.shading = nrm;
-        h.prim = prim;
-    }
-}
-
 vec3 lathe_edge_normal(int axis, float x, float y, float n_r, float n_h)
 {
     int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
@@ -98,7 +87,7 @@ bool lathe_intersect(vec3 base, int axis, int first, int count, float orient, ve
             float x = ox + t * dx, y = oy + t * dy, rr = x * x + y * y;
             float lo = min(p0.x, p1.x), hi = max(p0.x, p1.x);
             if (rr >= lo * lo && rr <= hi * hi)
-                lathe_consider(t, tmin, best, lathe_edge_normal(axis, x, y, 0.0, n_h), i, h);
+                geom_hit_consider(t, tmin, best, lathe_edge_normal(axis, x, y, 0.0, n_h), i, h);
             continue;
         }
         float k = er / eh;
@@ -124,7 +113,7 @@ bool lathe_intersect(vec3 base, int axis, int first, int count, float orient, ve
             float s = (oh + t * dh - p0.y) / eh;
             if (t == -1e30 || s < 0.0 || s > 1.0 || alpha + beta * t < 0.0)
                 continue;
-            lathe_consider(t, tmin, best,
+            geom_hit_consider(t, tmin, best,
                            lathe_edge_normal(axis, ox + t * dx, oy + t * dy, n_r, n_h), i, h);
         }
     }

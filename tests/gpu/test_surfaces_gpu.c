@@ -165,7 +165,8 @@ static const char *const nested_doc =
     "   \"profile\": [[0, 1.0], [0.68, 1.4], [0.7, 1.7], [0, 1.7]],"
     "   \"priority\": 30, \"medium\": {\"ior\": 1.33, \"attenuation\": [0.1, 2, 3], "
     "   \"emission\": [0.05, 0, 0]}},"
-    "  {\"name\": \"block\", \"shape\": \"box\", \"center\": [1.3, 0, 0], \"size\": [0.6, 0.8, 0.6],"
+    "  {\"name\": \"block\", \"shape\": \"box\", \"center\": [1.3, 0, 0], \"size\": [0.6, 0.8, "
+    "0.6],"
     "   \"medium\": {\"ior\": 1.5}},"
     "  {\"name\": \"core\", \"shape\": \"box\", \"center\": [1.3, 0, 0], \"size\": [0.3, 0.4, 0.3],"
     "   \"priority\": 100, \"medium\": {\"ior\": 1.33}},"
@@ -181,19 +182,20 @@ static void test_nested(struct gpu *gpu)
         return;
     struct scene_reference ref;
     struct err e = {0};
-    CHECK_INT(scene_reference_build(s, SCENE_REFERENCE_VOXELS, NULL, NULL, &ref, &e),
-              REFRACT_E_OK);
+    CHECK_INT(scene_reference_build(s, SCENE_REFERENCE_VOXELS, NULL, NULL, &ref, &e), REFRACT_E_OK);
     struct trace_work *t = trace(gpu, s);
     t->scene = s;
     t->id = "nested";
     t->count = MAX_RAYS;
     for (size_t i = 0; i < t->count; i++) {
-        vec3 aim = {3.2 * (uniform() - 0.5), 2.4 * (uniform() - 0.5) + 0.2, 0.8 * (uniform() - 0.5)};
+        vec3 aim = {3.2 * (uniform() - 0.5), 2.4 * (uniform() - 0.5) + 0.2,
+                    0.8 * (uniform() - 0.5)};
         vec3 o = {4 * (uniform() - 0.5), 3.0, 4.0};
         if (i % 8 == 0) /* some start under the water and in the glass */
             o = vec3_make(0.1, i % 16 == 0 ? -2.0 : 0.5, 0.05);
         vec3 d = vec3_normalize(vec3_sub(aim, o));
-        t->rays[i] = (struct render_trace_ray){.origin = {o.x, o.y, o.z}, .direction = {d.x, d.y, d.z}};
+        t->rays[i] =
+            (struct render_trace_ray){.origin = {o.x, o.y, o.z}, .direction = {d.x, d.y, d.z}};
     }
     run_trace(gpu, t);
     int same = 0, close = 0, events = 0;
@@ -211,8 +213,8 @@ static void test_nested(struct gpu *gpu)
         double dx = vec3_length(vec3_sub(v3(g->exit_origin), r.exit_origin));
         double dt = fabs(g->transmittance[0] - r.transmittance.x) +
                     fabs(g->transmittance[1] - r.transmittance.y);
-        double dopl = fabs(g->optical_path_length - r.optical_path_length) /
-                      fmax(1.0, r.optical_path_length);
+        double dopl =
+            fabs(g->optical_path_length - r.optical_path_length) / fmax(1.0, r.optical_path_length);
         if (r.status == RAY_ABSORBED)
             dd = dx = dopl = 0.0; /* the half-space: where it ends is a convention */
         if (dd < 1e-3 && dx < 1e-3 && dt < 1e-3 && dopl < 1e-4)
@@ -250,8 +252,8 @@ static void test_nested(struct gpu *gpu)
                 ok = ok && fabs(g[c] - want[c]) <= 1e-3 * (fabs(want[c]) + 0.1);
             within += ok;
         }
-    printf("nested media image %dx%d: %d of %d pixels within 1e-3 of the CPU twin\n",
-           cam->width, cam->height, within, total);
+    printf("nested media image %dx%d: %d of %d pixels within 1e-3 of the CPU twin\n", cam->width,
+           cam->height, within, total);
     CHECK_MSG(within >= 0.97 * total, "%d of %d pixels", within, total);
     free(v.out.rgba);
     scene_reference_free(&ref);
@@ -280,10 +282,8 @@ static void lit_run(struct gpu_work *w, struct gpu *gpu)
                               .scale = {l->color[0] * l->intensity, l->color[1] * l->intensity,
                                         l->color[2] * l->intensity}};
     struct render_scene_source src = {.id = "lit", .generation = 1, .scene = v->scene};
-    struct render_view_request req = {.camera = v->scene->camera,
-                                      .settings = v->scene->render,
-                                      .lights = &rl,
-                                      .light_count = 1};
+    struct render_view_request req = {
+        .camera = v->scene->camera, .settings = v->scene->render, .lights = &rl, .light_count = 1};
     render_view(r, &src, &req, &v->out, &w->err);
     render_destroy(r);
 }
@@ -292,18 +292,17 @@ static void lit_run(struct gpu_work *w, struct gpu *gpu)
  * the highlight that the surface's GGX BRDF reflects, on the GPU against the CPU twin. */
 static void test_lit_surface(struct gpu *gpu)
 {
-    struct scene *s = parse_ok(
-        "{\"camera\": {\"eye\": [0, 0.5, 3], \"look_at\": [0, 0, 0], \"width\": 64, "
-        "\"height\": 48}, \"lights\": [{\"type\": \"directional\", \"direction\": "
-        "[-0.3, -1, -0.6], \"intensity\": 3}], \"surfaces\": [{\"shape\": \"sphere\", "
-        "\"radius\": 0.8, \"medium\": {\"ior\": 1.5}, \"brdf\": {\"type\": \"ggx\", "
-        "\"roughness\": 0.3}}]}");
+    struct scene *s =
+        parse_ok("{\"camera\": {\"eye\": [0, 0.5, 3], \"look_at\": [0, 0, 0], \"width\": 64, "
+                 "\"height\": 48}, \"lights\": [{\"type\": \"directional\", \"direction\": "
+                 "[-0.3, -1, -0.6], \"intensity\": 3}], \"surfaces\": [{\"shape\": \"sphere\", "
+                 "\"radius\": 0.8, \"medium\": {\"ior\": 1.5}, \"brdf\": {\"type\": \"ggx\", "
+                 "\"roughness\": 0.3}}]}");
     if (s == NULL)
         return;
     struct scene_reference ref;
     struct err e = {0};
-    CHECK_INT(scene_reference_build(s, SCENE_REFERENCE_VOXELS, NULL, NULL, &ref, &e),
-              REFRACT_E_OK);
+    CHECK_INT(scene_reference_build(s, SCENE_REFERENCE_VOXELS, NULL, NULL, &ref, &e), REFRACT_E_OK);
     const struct scene_light *l = &s->lights[0];
     struct reftrace_light rl = {.kind = (int)l->kind,
                                 .mode = LIGHT_MODE_DIRECT,

@@ -58,8 +58,7 @@ static void trace_run(struct gpu_work *w, struct gpu *gpu)
         .id = t->id, .generation = 1, .scene = t->scene, .lookup = lookup};
     if (render_trace(r, &src, &t->scene->render, t->rays, RAYS, t->hits, NULL, &w->err) ==
         REFRACT_E_OK) {
-        struct render_view_request req = {.camera = t->scene->camera,
-                                          .settings = t->scene->render};
+        struct render_view_request req = {.camera = t->scene->camera, .settings = t->scene->render};
         render_view(r, &src, &req, &t->view, &w->err);
     }
     render_destroy(r);
@@ -78,8 +77,9 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-#define CAMERA "\"camera\": {\"eye\": [0.2, 0.6, 3], \"look_at\": [0.1, 0, 0], \"width\": 96, " \
-               "\"height\": 72}"
+#define CAMERA                                                                                     \
+    "\"camera\": {\"eye\": [0.2, 0.6, 3], \"look_at\": [0.1, 0, 0], \"width\": 96, "               \
+    "\"height\": 72}"
 
 int main(void)
 {
@@ -96,13 +96,16 @@ int main(void)
     ico_volume = (struct scene_volume){.mesh = ico};
     /* The unit icosphere placed at radius 0.75 about (0.1, 0, 0): scale 0.5 by the shape,
      * 1.5 and a turn by the surface's transform. */
-    struct scene *mesh_scene = parse_ok(
-        "{" CAMERA ", \"surfaces\": [{\"shape\": \"mesh\", \"mesh\": \"ico\", \"center\": [0, 0, 0],"
-        " \"scale\": 0.5, \"rotate\": {\"axis\": [1, 1, 0], \"angle_deg\": 20},"
-        " \"transform\": {\"translate\": [0.1, 0, 0], \"scale\": 1.5, \"rotate\": {\"axis\": [0, 0, 1],"
-        " \"angle_deg\": 40}}, \"medium\": {\"ior\": 1.5}}]}");
+    struct scene *mesh_scene =
+        parse_ok("{" CAMERA
+                 ", \"surfaces\": [{\"shape\": \"mesh\", \"mesh\": \"ico\", \"center\": [0, 0, 0],"
+                 " \"scale\": 0.5, \"rotate\": {\"axis\": [1, 1, 0], \"angle_deg\": 20},"
+                 " \"transform\": {\"translate\": [0.1, 0, 0], \"scale\": 1.5, \"rotate\": "
+                 "{\"axis\": [0, 0, 1],"
+                 " \"angle_deg\": 40}}, \"medium\": {\"ior\": 1.5}}]}");
     struct scene *sphere_scene = parse_ok(
-        "{" CAMERA ", \"surfaces\": [{\"shape\": \"sphere\", \"center\": [0.1, 0, 0], \"radius\": 0.75,"
+        "{" CAMERA
+        ", \"surfaces\": [{\"shape\": \"sphere\", \"center\": [0.1, 0, 0], \"radius\": 0.75,"
         " \"medium\": {\"ior\": 1.5}}]}");
     if (mesh_scene == NULL || sphere_scene == NULL)
         return test_summary("test_surfaces_mesh_gpu");
@@ -117,8 +120,10 @@ int main(void)
                                      .direction = {0, 0, 1}};
         tm.rays[i] = ts.rays[i] = r;
     }
-    tm.work = (struct gpu_work){.priority = GPU_PRIORITY_INTERACTIVE, .run = trace_run, .user = &tm};
-    ts.work = (struct gpu_work){.priority = GPU_PRIORITY_INTERACTIVE, .run = trace_run, .user = &ts};
+    tm.work =
+        (struct gpu_work){.priority = GPU_PRIORITY_INTERACTIVE, .run = trace_run, .user = &tm};
+    ts.work =
+        (struct gpu_work){.priority = GPU_PRIORITY_INTERACTIVE, .run = trace_run, .user = &ts};
     CHECK_INT(gpu_run_sync(gpu, &tm.work), REFRACT_E_OK);
     CHECK_INT(gpu_run_sync(gpu, &ts.work), REFRACT_E_OK);
 
@@ -136,7 +141,8 @@ int main(void)
         struct reftrace_result cm, cs;
         reftrace_ray(rm.objects, rm.count, &rm.settings, o, d, &cm);
         reftrace_ray(rs.objects, rs.count, &rs.settings, o, d, &cs);
-        gpu_err[i] = angle_between(v3(tm.hits[i].exit_direction), v3(ts.hits[i].exit_direction)) * DEG;
+        gpu_err[i] =
+            angle_between(v3(tm.hits[i].exit_direction), v3(ts.hits[i].exit_direction)) * DEG;
         cpu_err[i] = angle_between(cm.exit_direction, cs.exit_direction) * DEG;
         twin = fmax(twin, angle_between(v3(tm.hits[i].exit_direction), cm.exit_direction) * DEG);
         status_same += tm.hits[i].status == (int)cm.status && cm.status == RAY_EXITED;
@@ -165,8 +171,8 @@ int main(void)
         for (int c = 0; c < 3; c++, n++)
             sum += fabs(tm.view.rgba[4 * p + c] - ts.view.rgba[4 * p + c]);
     double mean = n ? sum / n : INFINITY;
-    printf("icosphere vs exact sphere views %dx%d: mean absolute difference %.3g\n",
-           tm.view.width, tm.view.height, mean);
+    printf("icosphere vs exact sphere views %dx%d: mean absolute difference %.3g\n", tm.view.width,
+           tm.view.height, mean);
     CHECK_MSG(mean <= 1e-2, "mean absolute difference %g", mean);
     free(tm.view.rgba);
     free(ts.view.rgba);

@@ -24,8 +24,8 @@
 #include "test.h"
 
 #define SPHERE_SCENE                                                                               \
-    "{\"name\": \"ball\", \"camera\": {\"eye\": [0, 0, 4], \"look_at\": [0, 0, 0], "             \
-    "\"width\": 64, \"height\": 48}, \"surfaces\": [{\"name\": \"ball\", \"shape\": \"sphere\", " \
+    "{\"name\": \"ball\", \"camera\": {\"eye\": [0, 0, 4], \"look_at\": [0, 0, 0], "               \
+    "\"width\": 64, \"height\": 48}, \"surfaces\": [{\"name\": \"ball\", \"shape\": \"sphere\", "  \
     "\"radius\": 0.8, \"medium\": {\"ior\": 1.5, \"attenuation\": [0.02, 0.01, 0.02]}}]}"
 
 static const cJSON *get(const cJSON *o, const char *k)
@@ -83,8 +83,10 @@ static void sphere_scene(struct test_daemon *d)
     const cJSON *events = get(r0, "events");
     CHECK_INT(cJSON_GetArraySize(events), 2);
     const cJSON *e0 = cJSON_GetArrayItem(events, 0), *e1 = cJSON_GetArrayItem(events, 1);
-    CHECK(cJSON_IsString(get(e0, "kind")) && strcmp(get(e0, "kind")->valuestring, "refracted") == 0);
-    CHECK(cJSON_IsString(get(e0, "surface")) && strcmp(get(e0, "surface")->valuestring, "ball") == 0);
+    CHECK(cJSON_IsString(get(e0, "kind")) &&
+          strcmp(get(e0, "kind")->valuestring, "refracted") == 0);
+    CHECK(cJSON_IsString(get(e0, "surface")) &&
+          strcmp(get(e0, "surface")->valuestring, "ball") == 0);
     CHECK(strcmp(get(e0, "medium_before")->valuestring, "ambient") == 0);
     CHECK(strcmp(get(e0, "medium_after")->valuestring, "ball") == 0);
     CHECK(strcmp(get(e1, "medium_after")->valuestring, "ambient") == 0);
@@ -168,7 +170,7 @@ static void voxel_scene_unchanged(struct test_daemon *d)
 
 /* A unit cube as OBJ, wound outward; OPEN_CUBE lacks its top face (two triangles). */
 #define CUBE_VERTS                                                                                 \
-    "v -0.5 -0.5 -0.5\nv 0.5 -0.5 -0.5\nv 0.5 0.5 -0.5\nv -0.5 0.5 -0.5\n"                          \
+    "v -0.5 -0.5 -0.5\nv 0.5 -0.5 -0.5\nv 0.5 0.5 -0.5\nv -0.5 0.5 -0.5\n"                         \
     "v -0.5 -0.5 0.5\nv 0.5 -0.5 0.5\nv 0.5 0.5 0.5\nv -0.5 0.5 0.5\n"
 #define CUBE_SIDES                                                                                 \
     "f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 4 1 5\nf 4 5 8\n"
@@ -259,34 +261,62 @@ static void bad_input(struct test_daemon *d)
     }
     strcat(many, "]}");
     const struct json_error_case cases[] = {
-        {__LINE__, SURF("{\"shape\": \"rounded_box\", \"size\": [1, 1, 1], \"radius\": 0.1, "
-                        "\"medium\": {\"ior\": 1.5}}"),
-         400, "invalid_field", {"surfaces[0].shape", "rounded_box", "mesh"}},
-        {__LINE__, SURF("{\"shape\": \"sphere\", \"radius\": 0.5}"), 400, "missing_field",
+        {__LINE__,
+         SURF("{\"shape\": \"rounded_box\", \"size\": [1, 1, 1], \"radius\": 0.1, "
+              "\"medium\": {\"ior\": 1.5}}"),
+         400,
+         "invalid_field",
+         {"surfaces[0].shape", "rounded_box", "mesh"}},
+        {__LINE__,
+         SURF("{\"shape\": \"sphere\", \"radius\": 0.5}"),
+         400,
+         "missing_field",
          {"surfaces[0]", "medium"}},
-        {__LINE__, SURF("{\"shape\": \"sphere\", \"radius\": 0.5, \"medium\": {\"ior\": 7}}"), 400,
-         "invalid_field", {"surfaces[0].medium.ior"}},
-        {__LINE__, SURF("{\"shape\": \"sphere\", \"radius\": 0.5, \"medium\": {\"n\": 1.5}}"),
-         400, "unknown_field", {"surfaces[0].medium", "n"}},
-        {__LINE__, SURF(BALL ", {\"shape\": \"box\", \"size\": [1, 1, 1], \"priority\": 0, "
-                             "\"medium\": {\"ior\": 1.3}}"),
-         400, "invalid_field", {"surfaces[1].priority", "different priorities"}},
+        {__LINE__,
+         SURF("{\"shape\": \"sphere\", \"radius\": 0.5, \"medium\": {\"ior\": 7}}"),
+         400,
+         "invalid_field",
+         {"surfaces[0].medium.ior"}},
+        {__LINE__,
+         SURF("{\"shape\": \"sphere\", \"radius\": 0.5, \"medium\": {\"n\": 1.5}}"),
+         400,
+         "unknown_field",
+         {"surfaces[0].medium", "n"}},
+        {__LINE__,
+         SURF(BALL ", {\"shape\": \"box\", \"size\": [1, 1, 1], \"priority\": 0, "
+                   "\"medium\": {\"ior\": 1.3}}"),
+         400,
+         "invalid_field",
+         {"surfaces[1].priority", "different priorities"}},
         {__LINE__,
          "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
          "\"resolution\": 8, \"ior\": 1.2}], \"surfaces\": [" BALL "]}",
-         400, "invalid_field", {"surfaces[0]", "objects[0]"}},
+         400,
+         "invalid_field",
+         {"surfaces[0]", "objects[0]"}},
         {__LINE__,
          "{\"receiver\": {\"height\": -1, \"half_size\": 2}, \"surfaces\": [{\"shape\": "
          "\"mesh\", \"mesh\": \"gem\", \"medium\": {\"ior\": 1.5}}]}",
-         400, "invalid_field", {"receiver", "mesh surfaces", "surfaces[0]"}},
-        {__LINE__, "{\"receiver\": {\"height\": 0, \"half_size\": 2}, \"surfaces\": [" BALL "]}",
-         400, "invalid_field", {"receiver.height", "surfaces[0]"}},
+         400,
+         "invalid_field",
+         {"receiver", "mesh surfaces", "surfaces[0]"}},
+        {__LINE__,
+         "{\"receiver\": {\"height\": 0, \"half_size\": 2}, \"surfaces\": [" BALL "]}",
+         400,
+         "invalid_field",
+         {"receiver.height", "surfaces[0]"}},
         {__LINE__, many, 422, "limit_exceeded", {"surfaces", "32"}},
-        {__LINE__, SURF("{\"shape\": \"sphere\", \"radius\": 0.5, \"colour\": 1, "
-                        "\"medium\": {\"ior\": 1.5}}"),
-         400, "unknown_field", {"surfaces[0]", "colour"}},
-        {__LINE__, SURF("{\"shape\": \"plane\", \"point\": [0, 0, 0], \"medium\": {\"ior\": 1.33}}"),
-         400, "missing_field", {"surfaces[0]", "normal"}},
+        {__LINE__,
+         SURF("{\"shape\": \"sphere\", \"radius\": 0.5, \"colour\": 1, "
+              "\"medium\": {\"ior\": 1.5}}"),
+         400,
+         "unknown_field",
+         {"surfaces[0]", "colour"}},
+        {__LINE__,
+         SURF("{\"shape\": \"plane\", \"point\": [0, 0, 0], \"medium\": {\"ior\": 1.33}}"),
+         400,
+         "missing_field",
+         {"surfaces[0]", "normal"}},
         {__LINE__, "{\"surfaces\": []}", 400, "invalid_field", {"surfaces"}},
         {__LINE__, "{\"name\": \"x\"}", 400, "missing_field", {"objects", "surfaces"}},
     };

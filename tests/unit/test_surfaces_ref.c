@@ -118,15 +118,15 @@ static void test_lathe_cone(void)
     vec3 base = {0, 0, 0};
     struct geom_hit h;
     /* Horizontal ray at height 1 from x = -3: meets the cone at rho = 0.5. */
-    CHECK(lathe_intersect(base, 1, tri, 3, vec3_make(-3, 1, 0), vec3_make(1, 0, 0), 0, INFINITY,
-                          &h));
+    CHECK(
+        lathe_intersect(base, 1, tri, 3, vec3_make(-3, 1, 0), vec3_make(1, 0, 0), 0, INFINITY, &h));
     CHECK_NEAR(h.t, 2.5, 1e-12);
     /* Outward normal of the side: (2, 1) / sqrt 5 in (rho, h), pointing to -x here. */
     CHECK_NEAR(h.normal.x, -2 / sqrt(5.0), 1e-12);
     CHECK_NEAR(h.normal.y, 1 / sqrt(5.0), 1e-12);
     /* From below along +y at x = 0.25: the base disc, normal -y. */
-    CHECK(lathe_intersect(base, 1, tri, 3, vec3_make(0.25, -1, 0), vec3_make(0, 1, 0), 0,
-                          INFINITY, &h));
+    CHECK(lathe_intersect(base, 1, tri, 3, vec3_make(0.25, -1, 0), vec3_make(0, 1, 0), 0, INFINITY,
+                          &h));
     CHECK_NEAR(h.t, 1.0, 1e-12);
     CHECK_NEAR(h.normal.y, -1.0, 1e-12);
     /* A ray through the other nappe (above the apex) must not hit it. */
@@ -264,8 +264,7 @@ static void test_diamond_tir(void)
     trace(&sf, 1, vec3_make(0.3, 0, 0), vec3_make(0, 0, 1), &r);
     CHECK_INT(r.status, RAY_EXITED);
     CHECK_INT(r.events[0].kind, REFTRACE_EVENT_REFRACTED);
-    CHECK_NEAR(sin(angle_deg(r.exit_direction, r.events[0].normal) / DEG) * 1.0, 0.3 * 2.42,
-               1e-9);
+    CHECK_NEAR(sin(angle_deg(r.exit_direction, r.events[0].normal) / DEG) * 1.0, 0.3 * 2.42, 1e-9);
 }
 
 /* ---- nested media -------------------------------------------------------------- */

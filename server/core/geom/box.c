@@ -6,8 +6,7 @@
 
 #include "geom.h"
 
-bool box_intersect(vec3 c, vec3 size, vec3 o, vec3 d, double tmin, double tmax,
-                   struct geom_hit *h)
+bool box_intersect(vec3 c, vec3 size, vec3 o, vec3 d, double tmin, double tmax, struct geom_hit *h)
 {
     double t_near = -INFINITY, t_far = INFINITY;
     int ax_near = 0, ax_far = 0;

@@ -7,17 +7,6 @@
 
 #include "geom.h"
 
-static void consider(double t, vec3 nrm, int prim, double tmin, double *best, struct geom_hit *h)
-{
-    if (t > tmin && t < *best) {
-        *best = t;
-        h->t = t;
-        h->normal = nrm;
-        h->shading = nrm;
-        h->prim = prim;
-    }
-}
-
 bool cylinder_intersect(vec3 c, double r, double height, int axis, vec3 o, vec3 d, double tmin,
                         double tmax, struct geom_hit *h)
 {
@@ -45,7 +34,7 @@ bool cylinder_intersect(vec3 c, double r, double height, int axis, vec3 o, vec3 
                 vec3 nrm = vec3_make(0, 0, 0);
                 vec3_set(&nrm, a1, (ox + t * dx) / r);
                 vec3_set(&nrm, a2, (oy + t * dy) / r);
-                consider(t, vec3_normalize(nrm), 0, tmin, &best, h);
+                geom_hit_consider(t, tmin, &best, vec3_normalize(nrm), 0, h);
             }
         }
     }
@@ -60,7 +49,7 @@ bool cylinder_intersect(vec3 c, double r, double height, int axis, vec3 o, vec3 
                 continue;
             vec3 nrm = vec3_make(0, 0, 0);
             vec3_set(&nrm, axis, s ? 1.0 : -1.0);
-            consider(t, nrm, 1 + s, tmin, &best, h);
+            geom_hit_consider(t, tmin, &best, nrm, 1 + s, h);
         }
     }
     return best < tmax;

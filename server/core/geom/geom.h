@@ -30,6 +30,20 @@ struct geom_hit {
     int64_t prim; /* mesh: triangle index; lathe: profile edge; box: face; else 0 */
 };
 
+/* Keeps the hit at t when it is past tmin and nearer than *best (the kinds with several
+ * candidate roots use it). */
+static inline void geom_hit_consider(double t, double tmin, double *best, vec3 nrm, int64_t prim,
+                                     struct geom_hit *h)
+{
+    if (t > tmin && t < *best) {
+        *best = t;
+        h->t = t;
+        h->normal = nrm;
+        h->shading = nrm;
+        h->prim = prim;
+    }
+}
+
 /* Sphere |p - c| = r. */
 bool sphere_intersect(vec3 c, double r, vec3 o, vec3 d, double tmin, double tmax,
                       struct geom_hit *h);
@@ -37,8 +51,7 @@ bool sphere_inside(vec3 c, double r, vec3 p);
 void sphere_bounds(vec3 c, double r, vec3 *lo, vec3 *hi);
 
 /* Axis-aligned box of centre c and full edge lengths size. */
-bool box_intersect(vec3 c, vec3 size, vec3 o, vec3 d, double tmin, double tmax,
-                   struct geom_hit *h);
+bool box_intersect(vec3 c, vec3 size, vec3 o, vec3 d, double tmin, double tmax, struct geom_hit *h);
 bool box_inside(vec3 c, vec3 size, vec3 p);
 void box_bounds(vec3 c, vec3 size, vec3 *lo, vec3 *hi);
 
@@ -50,8 +63,7 @@ void cylinder_bounds(vec3 c, double r, double height, int axis, vec3 *lo, vec3 *
 
 /* Infinite plane through c with unit normal n; the solid is the half-space behind it
  * (dot(p - c, n) < 0), e.g. the body of water under its surface. */
-bool plane_intersect(vec3 c, vec3 n, vec3 o, vec3 d, double tmin, double tmax,
-                     struct geom_hit *h);
+bool plane_intersect(vec3 c, vec3 n, vec3 o, vec3 d, double tmin, double tmax, struct geom_hit *h);
 bool plane_inside(vec3 c, vec3 n, vec3 p);
 /* Infinite except along an axis-aligned normal (the solid is then a half-space box). */
 void plane_bounds(vec3 c, vec3 n, vec3 *lo, vec3 *hi);
@@ -62,32 +74,31 @@ void plane_bounds(vec3 c, vec3 n, vec3 *lo, vec3 *hi);
 bool lathe_intersect(vec3 base, int axis, const double (*pts)[2], size_t count, vec3 o, vec3 d,
                      double tmin, double tmax, struct geom_hit *h);
 bool lathe_inside(vec3 base, int axis, const double (*pts)[2], size_t count, vec3 p);
-void lathe_bounds(vec3 base, int axis, const double (*pts)[2], size_t count, vec3 *lo,
-                  vec3 *hi);
+void lathe_bounds(vec3 base, int axis, const double (*pts)[2], size_t count, vec3 *lo, vec3 *hi);
 
 /* ---- a placed surface of any kind (surface.c): what the marches iterate over ---- */
 
 /* Triangle meshes live in server/mesh (which links this module), so a surface reaches
  * its mesh through these two functions (mesh space = the surface's object space). */
 struct geom_mesh_ops {
-    bool (*intersect)(const void *mesh, vec3 o, vec3 d, double tmin, double tmax,
-                      int64_t skip_prim, struct geom_hit *h);
+    bool (*intersect)(const void *mesh, vec3 o, vec3 d, double tmin, double tmax, int64_t skip_prim,
+                      struct geom_hit *h);
     bool (*inside)(const void *mesh, vec3 p);
 };
 
 struct geom_surface {
-    int kind;        /* GEOM_* */
-    struct xform xf; /* world_from_object (similarity) */
-    vec3 center;     /* sphere, box, cylinder; plane: a point on it */
-    double radius;   /* sphere, cylinder */
-    vec3 size;       /* box: full edge lengths */
-    double height;   /* cylinder: full length */
-    int axis;        /* cylinder, lathe */
-    vec3 normal;     /* plane: unit */
-    vec3 base;       /* lathe */
+    int kind;                   /* GEOM_* */
+    struct xform xf;            /* world_from_object (similarity) */
+    vec3 center;                /* sphere, box, cylinder; plane: a point on it */
+    double radius;              /* sphere, cylinder */
+    vec3 size;                  /* box: full edge lengths */
+    double height;              /* cylinder: full length */
+    int axis;                   /* cylinder, lathe */
+    vec3 normal;                /* plane: unit */
+    vec3 base;                  /* lathe */
     const double (*profile)[2]; /* lathe: borrowed */
     size_t profile_count;
-    const void *mesh; /* mesh: borrowed, through mesh_ops */
+    const void *mesh;      /* mesh: borrowed, through mesh_ops */
     vec3 mesh_lo, mesh_hi; /* mesh: its box in object (mesh) space */
     const struct geom_mesh_ops *mesh_ops;
 };
@@ -95,12 +106,14 @@ struct geom_surface {
 /* The nearest hit of the world ray o + t d (unit d) with t in (tmin, tmax), world units;
  * skip_prim: a mesh triangle the ray just left (-1: none). h->t is world distance, the
  * normals are world directions. */
-bool geom_surface_intersect(const struct geom_surface *g, vec3 o, vec3 d, double tmin,
-                            double tmax, int64_t skip_prim, struct geom_hit *h);
+bool geom_surface_intersect(const struct geom_surface *g, vec3 o, vec3 d, double tmin, double tmax,
+                            int64_t skip_prim, struct geom_hit *h);
 /* Is the world point p inside the solid. */
 bool geom_surface_inside(const struct geom_surface *g, vec3 p);
 /* World box of the solid (infinite components for planes). */
 bool geom_surface_bounds(const struct geom_surface *g, vec3 *lo, vec3 *hi);
+/* The world box of the object-space box lo..hi under xf (its 8 corners carried over). */
+void geom_world_box(const struct xform *xf, vec3 lo, vec3 hi, vec3 *wlo, vec3 *whi);
 /* A length that sets the surface's scale (world units): the self-intersection offset and
  * the convergence tolerance are relative to it. */
 double geom_surface_size(const struct geom_surface *g);

@@ -28,18 +28,6 @@ static double orientation(const double (*pts)[2], size_t count)
     return area2 >= 0.0 ? 1.0 : -1.0;
 }
 
-static void consider(double t, double tmin, double *best, vec3 nrm, int64_t prim,
-                     struct geom_hit *h)
-{
-    if (t > tmin && t < *best) {
-        *best = t;
-        h->t = t;
-        h->normal = nrm;
-        h->shading = nrm;
-        h->prim = prim;
-    }
-}
-
 /* The 3D outward normal at (x, y) across the axis and the edge's (n_r, n_h). */
 static vec3 edge_normal(int axis, double x, double y, double n_r, double n_h)
 {
@@ -134,7 +122,7 @@ bool lathe_intersect(vec3 base, int axis, const double (*pts)[2], size_t count, 
             double x = ox + t * dx, y = oy + t * dy, rr = x * x + y * y;
             double lo = fmin(r0, r1), hi = fmax(r0, r1);
             if (rr >= lo * lo && rr <= hi * hi)
-                consider(t, tmin, &best, edge_normal(axis, x, y, 0.0, n_h), (int64_t)i, h);
+                geom_hit_consider(t, tmin, &best, edge_normal(axis, x, y, 0.0, n_h), (int64_t)i, h);
             continue;
         }
         double k = er / eh;
@@ -162,8 +150,8 @@ bool lathe_intersect(vec3 base, int axis, const double (*pts)[2], size_t count, 
             double s = (hh - h0) / eh;
             if (s < 0.0 || s > 1.0 || alpha + beta * t < 0.0)
                 continue;
-            consider(t, tmin, &best, edge_normal(axis, ox + t * dx, oy + t * dy, n_r, n_h),
-                     (int64_t)i, h);
+            geom_hit_consider(t, tmin, &best, edge_normal(axis, ox + t * dx, oy + t * dy, n_r, n_h),
+                              (int64_t)i, h);
         }
     }
     return best < tmax;
@@ -177,8 +165,7 @@ bool lathe_inside(vec3 base, int axis, const double (*pts)[2], size_t count, vec
     bool in = false; /* crossing number of the ray from (rho, hh) towards +r */
     for (size_t i = 0, j = count - 1; i < count; j = i++) {
         const double *a = pts[i], *b = pts[j];
-        if ((a[1] > hh) != (b[1] > hh) &&
-            rho < (b[0] - a[0]) * (hh - a[1]) / (b[1] - a[1]) + a[0])
+        if ((a[1] > hh) != (b[1] > hh) && rho < (b[0] - a[0]) * (hh - a[1]) / (b[1] - a[1]) + a[0])
             in = !in;
     }
     return in;

@@ -6,8 +6,7 @@
 
 #include "geom.h"
 
-bool plane_intersect(vec3 c, vec3 n, vec3 o, vec3 d, double tmin, double tmax,
-                     struct geom_hit *h)
+bool plane_intersect(vec3 c, vec3 n, vec3 o, vec3 d, double tmin, double tmax, struct geom_hit *h)
 {
     double dn = vec3_dot(d, n);
     if (dn == 0.0)

@@ -8,8 +8,8 @@
 
 #include "geom.h"
 
-static bool intersect_object(const struct geom_surface *g, vec3 o, vec3 d, double tmin,
-                             double tmax, int64_t skip_prim, struct geom_hit *h)
+static bool intersect_object(const struct geom_surface *g, vec3 o, vec3 d, double tmin, double tmax,
+                             int64_t skip_prim, struct geom_hit *h)
 {
     switch (g->kind) {
     case GEOM_SPHERE:
@@ -21,8 +21,7 @@ static bool intersect_object(const struct geom_surface *g, vec3 o, vec3 d, doubl
     case GEOM_PLANE:
         return plane_intersect(g->center, g->normal, o, d, tmin, tmax, h);
     case GEOM_LATHE:
-        return lathe_intersect(g->base, g->axis, g->profile, g->profile_count, o, d, tmin, tmax,
-                               h);
+        return lathe_intersect(g->base, g->axis, g->profile, g->profile_count, o, d, tmin, tmax, h);
     case GEOM_MESH:
         return g->mesh_ops != NULL &&
                g->mesh_ops->intersect(g->mesh, o, d, tmin, tmax, skip_prim, h);
@@ -30,8 +29,8 @@ static bool intersect_object(const struct geom_surface *g, vec3 o, vec3 d, doubl
     return false;
 }
 
-bool geom_surface_intersect(const struct geom_surface *g, vec3 o, vec3 d, double tmin,
-                            double tmax, int64_t skip_prim, struct geom_hit *h)
+bool geom_surface_intersect(const struct geom_surface *g, vec3 o, vec3 d, double tmin, double tmax,
+                            int64_t skip_prim, struct geom_hit *h)
 {
     double s = g->xf.scale;
     vec3 oo = xform_point_to_object(&g->xf, o);
@@ -64,8 +63,7 @@ bool geom_surface_inside(const struct geom_surface *g, vec3 p)
     return false;
 }
 
-/* The world box of the object-space box lo..hi: its 8 corners carried to world space. */
-static void world_box(const struct xform *xf, vec3 lo, vec3 hi, vec3 *wlo, vec3 *whi)
+void geom_world_box(const struct xform *xf, vec3 lo, vec3 hi, vec3 *wlo, vec3 *whi)
 {
     *wlo = vec3_make(INFINITY, INFINITY, INFINITY);
     *whi = vec3_make(-INFINITY, -INFINITY, -INFINITY);
@@ -112,7 +110,7 @@ bool geom_surface_bounds(const struct geom_surface *g, vec3 *lo, vec3 *hi)
     default:
         return false;
     }
-    world_box(&g->xf, a, b, lo, hi);
+    geom_world_box(&g->xf, a, b, lo, hi);
     return true;
 }
 
