@@ -114,4 +114,13 @@ static inline void test_skip(const char *name, const char *why)
     exit(77);
 }
 
+/* True in the ASan+UBSan build's ctest run (tests/CMakeLists.txt): a test may leave out a
+ * repeat of a long numerical case there, since the sanitizers check the code paths, which
+ * the first case already runs. */
+static inline int test_sanitized(void)
+{
+    const char *s = getenv("REFRACT_TEST_SANITIZED");
+    return s != NULL && s[0] == '1';
+}
+
 #endif

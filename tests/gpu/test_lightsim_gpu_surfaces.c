@@ -191,7 +191,9 @@ int main(void)
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++)
         compare(gpu, &cases[i]);
     ball_lens(gpu, 1.5, 128, 192);
-    ball_lens(gpu, 1.8, 128, 208);
+    /* n = 1.8 runs the same code as n = 1.5; the sanitizer build leaves it out. */
+    if (!test_sanitized())
+        ball_lens(gpu, 1.8, 128, 208);
     gpu_destroy(gpu, NULL);
     return test_summary("test_lightsim_gpu_surfaces");
 }

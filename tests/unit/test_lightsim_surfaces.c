@@ -168,6 +168,8 @@ int main(void)
     test_domain();
     test_slab_reflections();
     test_ball_lens(1.5, 128, 192);
-    test_ball_lens(1.8, 128, 208);
+    /* n = 1.8 runs the same code as n = 1.5; the sanitizer build leaves it out. */
+    if (!test_sanitized())
+        test_ball_lens(1.8, 128, 208);
     return test_summary("test_lightsim_surfaces");
 }
