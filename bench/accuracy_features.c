@@ -25,10 +25,16 @@
  * box and a Gaussian GRIN lens whose index decays to the ambient value; and two absorbing
  * ones, where early termination has: dark tinted glass (throughput down to 1e-8 through
  * the middle) and the same with emission. */
-static const char *const examples[] = {
-    "glass_sphere_voxels",   "gaussian_lens", "luneburg_lens",     "maxwell_fisheye",
-    "bumpy_sphere",          "wine_glass_voxels", "ball_lens_caustic_voxels", "rounded_cube_three_layers",
-    "glass_block_lettering", "smoke_spot"};
+static const char *const examples[] = {"glass_sphere_voxels",
+                                       "gaussian_lens",
+                                       "luneburg_lens",
+                                       "maxwell_fisheye",
+                                       "bumpy_sphere",
+                                       "wine_glass_voxels",
+                                       "ball_lens_caustic_voxels",
+                                       "rounded_cube_three_layers",
+                                       "glass_block_lettering",
+                                       "smoke_spot"};
 #define EXAMPLE_COUNT (int)(sizeof examples / sizeof examples[0])
 #define SPARSE_CAMERA                                                                              \
     "\"camera\": {\"eye\": [0.3, 0.8, 3.6], \"look_at\": [0, 0, 0], \"fov_y_deg\": 40}"

@@ -617,27 +617,34 @@ static void write_grin_boundary_section(FILE *f)
         "\n",
         "Not measured by this tool: the numbers come from tests/unit/test_grin_rim.c and ",
         "tests/gpu/test_grin_boundary.c (which print them) and, for the hypotheses, from a ",
-        "throwaway variant of the CPU twin's sampler (issue 12 item 5). A Luneburg lens n = sqrt(2 ",
-        "- r^2), R = 1, at 128^3 with the default settings (rk4, step 0.5, sigma 1, trilinear), 144 ",
+        "throwaway variant of the CPU twin's sampler (issue 12 item 5). A Luneburg lens n = "
+        "sqrt(2 ",
+        "- r^2), R = 1, at 128^3 with the default settings (rk4, step 0.5, sigma 1, trilinear), "
+        "144 ",
         "rays from z = -2 along +z over 95% of the aperture, exit-direction error against the ",
-        "Dormand-Prince reference on the exact field, median / worst in degrees, CPU twin (the GPU ",
+        "Dormand-Prince reference on the exact field, median / worst in degrees, CPU twin (the "
+        "GPU ",
         "agrees to 4e-6 rad). In bounds +-1 the sphere touches the faces and every ray leaves ",
         "through the focus on the exit face; in bounds +-1.05 it has 3 voxels of margin.\n",
         "\n",
         "| variant | bounds +-1 | bounds +-1.05 |\n",
         "|---|---|---|\n",
         "| before the fix | 0.294 / 0.498 | 0.0171 / 0.117 |\n",
-        "| (a) smoothing without the clamp at the faces (odd reflection: linear fields stay linear) ",
+        "| (a) smoothing without the clamp at the faces (odd reflection: linear fields stay "
+        "linear) ",
         "| 0.431 / 0.739 | 0.0160 / 0.115 |\n",
         "| (a) no smoothing (sigma 0) | 0.443 / 0.776 | 0.0066 / 0.037 |\n",
-        "| (b) the exact gradient at the voxel centres instead of the differences | 0.620 / 1.55 | ",
+        "| (b) the exact gradient at the voxel centres instead of the differences | 0.620 / 1.55 "
+        "| ",
         "0.088 / 0.273 |\n",
         "| (c) the exact n at the face events | 0.451 / 0.821 | 0.0186 / 0.119 |\n",
         "| (d) the exact field itself, rk4 step 0.5 voxel (only the kink of grad n at r = R) | ",
         "0.0709 / 0.107 | 0.0263 / 0.085 |\n",
-        "| **the fix: the exit face refracts from \\|w\\|, not from the clamped n(p')** | **0.0084 / ",
+        "| **the fix: the exit face refracts from \\|w\\|, not from the clamped n(p')** | **0.0084 "
+        "/ ",
         "0.046** | **0.025 / 0.111** |\n",
-        "| the fix, tricubic (before: 0.294 / 0.498 and 0.0086 / 0.080) | 0.0076 / 0.045 | 0.022 / ",
+        "| the fix, tricubic (before: 0.294 / 0.498 and 0.0086 / 0.080) | 0.0076 / 0.045 | 0.022 "
+        "/ ",
         "0.094 |\n",
         "| dropped: n continued linearly into the rim (minmod-limited slope) | 0.0080 / 0.057 | ",
         "0.0282 / 0.130 |\n",
@@ -645,24 +652,33 @@ static void write_grin_boundary_section(FILE *f)
         "| before the fix, the same voxels extended by 8 on every side (n = 1 at the faces) | - | ",
         "0.0289 / 0.133 |\n",
         "\n",
-        "The cause is the rim and the exit face together (docs/tracing.md \"The rim\"): in the half ",
-        "voxel between the outermost voxel centres and a face, n is clamped while the sampled grad ",
-        "n still changes w = n dx/ds, and the exit face refracted from the clamped n(p'), not from ",
+        "The cause is the rim and the exit face together (docs/tracing.md \"The rim\"): in the "
+        "half ",
+        "voxel between the outermost voxel centres and a face, n is clamped while the sampled "
+        "grad ",
+        "n still changes w = n dx/ds, and the exit face refracted from the clamped n(p'), not "
+        "from ",
         "the |w| the ray was integrated with, which turns the ray by about (n(p') / |w| - 1) ",
-        "tan(theta). At the touching lens' focus n stood at 1.0129 while |w| had lost about 0.005. ",
-        "Neither the smoothing's clamp (a), the one-sided gradients (b) nor the face events' exact ",
+        "tan(theta). At the touching lens' focus n stood at 1.0129 while |w| had lost about "
+        "0.005. ",
+        "Neither the smoothing's clamp (a), the one-sided gradients (b) nor the face events' "
+        "exact ",
         "n (c) helps: each leaves the touching layout at 0.43-0.62 deg; the kink (d) costs fixed ",
         "steps on the exact field 0.07 deg there, not 0.29. Refracting from |w| keeps w's ",
         "tangential part, which the lens conserves up to the focus (|r x w|), and fixes it alone; ",
         "it also makes the exit direction of a linear field that fills its bounds exact (0.50 deg ",
-        "before) and that of the 0.24-per-voxel ramp of the hard cases (0.1 rad before). Continuing ",
+        "before) and that of the 0.24-per-voxel ramp of the hard cases (0.1 rad before). "
+        "Continuing ",
         "n into the rim fixed the lens as well but overshot the tail of the smoothed n = 2.42 ",
-        "sphere at 24^3 (n = 0.94 at the face); zeroing the normal gradient in the rim left a kink ",
+        "sphere at 24^3 (n = 0.94 at the face); zeroing the normal gradient in the rim left a "
+        "kink ",
         "that cost a linear field 0.05 deg. The +-1.05 layout's median rises from 0.017 to 0.025 ",
         "deg: its exit face had the same clamp, whose error cancelled part of the smoothed kink's ",
         "(the extended grid, where the faces see n = 1, gives 0.029). What remains there is the ",
-        "smoothing of the kink at r = R (sigma 0: 0.0066 deg), a limit of the smoothed voxel field, ",
-        "not of the faces. The smoothed diamond sphere of the hard cases (24^3, its tail 2.4 voxels ",
+        "smoothing of the kink at r = R (sigma 0: 0.0066 deg), a limit of the smoothed voxel "
+        "field, ",
+        "not of the faces. The smoothed diamond sphere of the hard cases (24^3, its tail 2.4 "
+        "voxels ",
         "from the faces) moves the other way, 0.009 -> 0.022 rad of paraxial deviation error, and ",
         "the n = 1.5 one from 0.014 to 0.0026.\n",
     };

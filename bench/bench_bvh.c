@@ -16,10 +16,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/utsname.h>
 #include <time.h>
 #include <unistd.h>
 
+#include "example_scene.h"
 #include "mesh/mesh.h"
 #include "mesh/mesh_rt.h"
 
@@ -131,41 +131,6 @@ static double sah_cost(const struct mesh_rt *rt, double *mean_leaf)
     return cost;
 }
 
-static int compare(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static void print_header(int argc, char **argv)
-{
-    char cpu[300] = "unknown", line[256];
-    FILE *f = fopen("/proc/cpuinfo", "r");
-    while (f && fgets(line, sizeof line, f)) {
-        if (strncmp(line, "model name", 10) == 0) {
-            char *colon = strchr(line, ':');
-            snprintf(cpu, sizeof cpu, "%s", colon ? colon + 2 : line);
-            cpu[strcspn(cpu, "\n")] = '\0';
-            break;
-        }
-    }
-    if (f)
-        fclose(f);
-    struct utsname u;
-    uname(&u);
-    time_t t = time(NULL);
-    char date[32];
-    strftime(date, sizeof date, "%Y-%m-%d", gmtime(&t));
-    double load[3] = {0, 0, 0};
-    getloadavg(load, 3);
-    printf("- date: %s\n- machine: %s, %ld cores, %s %s\n- load average at start: %.2f\n", date,
-           cpu, sysconf(_SC_NPROCESSORS_ONLN), u.sysname, u.machine, load[0]);
-    printf("- command: `");
-    for (int i = 0; i < argc; i++)
-        printf("%s%s", i ? " " : "", argv[i]);
-    printf("`\n\n");
-}
-
 static void bench(const char *name, struct mesh *m, double create_ms, int runs, int rays)
 {
     double wall[16], cpu[16];
@@ -181,8 +146,8 @@ static void bench(const char *name, struct mesh *m, double create_ms, int runs, 
         cpu[r] = clock_ms(CLOCK_PROCESS_CPUTIME_ID) - c0;
         mesh_rt_destroy(rt);
     }
-    qsort(wall, (size_t)runs, sizeof wall[0], compare);
-    qsort(cpu, (size_t)runs, sizeof cpu[0], compare);
+    qsort(wall, (size_t)runs, sizeof wall[0], bench_compare_doubles);
+    qsort(cpu, (size_t)runs, sizeof cpu[0], bench_compare_doubles);
     const struct mesh_rt *rt = m->rt;
     struct mesh_rt_gpu g = mesh_rt_gpu_arrays(rt);
     double mean_leaf, sah = sah_cost(rt, &mean_leaf);
@@ -222,7 +187,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "refract-bvh: --runs must be 1..16 and --rays positive\n");
         return 2;
     }
-    print_header(argc, argv);
+    bench_print_header(NULL, argc, argv);
     printf("| mesh | triangles | build ms (wall, median) | build ms (CPU) | mesh_create ms | "
            "nodes | depth | triangles/leaf | SAH cost | GPU bytes/triangle | Mrays/s (CPU, "
            "double, 1 core) |\n|---|---|---|---|---|---|---|---|---|---|---|\n");

@@ -103,12 +103,6 @@ static enum refract_code on_gpu(struct gpu *gpu, struct bench_ctx *c, int op)
     return rc;
 }
 
-static int compare_doubles(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 static void bench_scene(struct gpu *gpu, struct bench_ctx *c, const struct options *o,
                         const char *name, int res)
 {
@@ -151,7 +145,7 @@ static void bench_scene(struct gpu *gpu, struct bench_ctx *c, const struct optio
                 }
                 if (runs == 0)
                     continue;
-                qsort(times, (size_t)runs, sizeof times[0], compare_doubles);
+                qsort(times, (size_t)runs, sizeof times[0], bench_compare_doubles);
                 double median = times[runs / 2];
                 printf("| %s | %d^3 | %dx%d | %s | %s | %.1f | %.2f | %d runs |\n", name, res, w, h,
                        o->integrators.item[k], o->steps.item[st], median,

@@ -66,12 +66,6 @@ static int on_gpu(struct gpu *gpu, struct job *j, int op)
     return rc;
 }
 
-static int cmp(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 /* Median GPU ms of rendering s at w x h, or -1. */
 static double time_scene(struct gpu *gpu, struct job *j, const char *id, struct scene *s, int w,
                          int h, double budget_ms)
@@ -90,7 +84,7 @@ static double time_scene(struct gpu *gpu, struct job *j, const char *id, struct 
         t[n++] = j->result.gpu_ms;
         spent += j->result.gpu_ms;
     }
-    qsort(t, (size_t)n, sizeof t[0], cmp);
+    qsort(t, (size_t)n, sizeof t[0], bench_compare_doubles);
     return t[n / 2];
 }
 

@@ -16,10 +16,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/utsname.h>
 #include <time.h>
 #include <unistd.h>
 
+#include "example_scene.h"
 #include "mesh/mesh.h"
 
 static double clock_ms(clockid_t id)
@@ -87,39 +87,6 @@ static int parse_list(const char *s, int *out, int max)
     return n;
 }
 
-static int compare(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static void print_header(int argc, char **argv)
-{
-    char cpu[300] = "unknown", line[256];
-    FILE *f = fopen("/proc/cpuinfo", "r");
-    while (f && fgets(line, sizeof line, f)) {
-        if (strncmp(line, "model name", 10) == 0) {
-            char *colon = strchr(line, ':');
-            snprintf(cpu, sizeof cpu, "%s", colon ? colon + 2 : line);
-            cpu[strcspn(cpu, "\n")] = '\0';
-            break;
-        }
-    }
-    if (f)
-        fclose(f);
-    struct utsname u;
-    uname(&u);
-    time_t t = time(NULL);
-    char date[32];
-    strftime(date, sizeof date, "%Y-%m-%d", gmtime(&t));
-    printf("- date: %s\n- machine: %s, %ld cores, %s %s\n- GL_RENDERER: none (CPU only)\n", date,
-           cpu, sysconf(_SC_NPROCESSORS_ONLN), u.sysname, u.machine);
-    printf("- command: `");
-    for (int i = 0; i < argc; i++)
-        printf("%s%s", i ? " " : "", argv[i]);
-    printf("`\n\n");
-}
-
 int main(int argc, char **argv)
 {
     int res[8] = {128, 256}, nres = 2, thr[8] = {1, 2}, nthr = 2, runs = 3, seg = 224;
@@ -151,14 +118,15 @@ int main(int argc, char **argv)
         fprintf(stderr, "refract-voxelize: %s\n", e.msg);
         return 1;
     }
-    print_header(argc, argv);
+    bench_print_header(NULL, argc, argv);
     printf("Torus, %zu triangles, %zu vertices; validation + BVH build %.0f ms.\n\n",
            m->triangle_count, m->vertex_count, build_ms);
     double load[3] = {0, 0, 0};
     getloadavg(load, 3);
     printf("Load average at start: %.2f (other processes share the cores).\n\n", load[0]);
-    printf("| grid | threads | wall ms (median) | CPU ms (median, all threads) | Mvoxels/s (wall) | "
-           "runs |\n|---|---|---|---|---|---|\n");
+    printf(
+        "| grid | threads | wall ms (median) | CPU ms (median, all threads) | Mvoxels/s (wall) | "
+        "runs |\n|---|---|---|---|---|---|\n");
     for (int r = 0; r < nres; r++) {
         size_t n = (size_t)res[r] * res[r] * res[r];
         float *cov = malloc(n * sizeof *cov);
@@ -181,8 +149,8 @@ int main(int argc, char **argv)
                 ms[k] = now_ms() - s;
                 cpu[k] = clock_ms(CLOCK_PROCESS_CPUTIME_ID) - c;
             }
-            qsort(ms, (size_t)runs, sizeof ms[0], compare);
-            qsort(cpu, (size_t)runs, sizeof cpu[0], compare);
+            qsort(ms, (size_t)runs, sizeof ms[0], bench_compare_doubles);
+            qsort(cpu, (size_t)runs, sizeof cpu[0], bench_compare_doubles);
             double med = ms[runs / 2];
             printf("| %d^3 | %d | %.0f | %.0f | %.1f | %d |\n", res[r], thr[t], med, cpu[runs / 2],
                    n / med / 1e3, runs);

@@ -66,9 +66,15 @@ void bench_print_header(const struct gpu *gpu, int argc, char **argv)
     bench_write_header(stdout, gpu, argc, argv);
 }
 
+int bench_compare_doubles(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
 void bench_write_header(FILE *out, const struct gpu *gpu, int argc, char **argv)
 {
-    const struct gpu_context_info *info = gpu_info(gpu);
+    const struct gpu_context_info *info = gpu ? gpu_info(gpu) : NULL;
     struct utsname u;
     uname(&u);
     char cpu[300] = "unknown";
@@ -87,10 +93,15 @@ void bench_write_header(FILE *out, const struct gpu *gpu, int argc, char **argv)
     time_t now = time(NULL);
     char date[32];
     strftime(date, sizeof date, "%Y-%m-%d", gmtime(&now));
-    fprintf(out,
-            "- date: %s\n- machine: %s, %ld cores, %s %s\n- GL_RENDERER: %s\n- GL_VERSION: %s\n",
-            date, cpu, sysconf(_SC_NPROCESSORS_ONLN), u.sysname, u.machine, info->renderer,
-            info->version);
+    double load[3] = {0, 0, 0};
+    if (getloadavg(load, 3) < 1)
+        load[0] = -1.0;
+    fprintf(out, "- date: %s\n- machine: %s, %ld cores, %s %s\n- load average at start: %.2f\n",
+            date, cpu, sysconf(_SC_NPROCESSORS_ONLN), u.sysname, u.machine, load[0]);
+    if (info != NULL)
+        fprintf(out, "- GL_RENDERER: %s\n- GL_VERSION: %s\n", info->renderer, info->version);
+    else
+        fprintf(out, "- GL_RENDERER: none (CPU only)\n");
     fprintf(out, "- command: `");
     for (int i = 0; i < argc; i++)
         fprintf(out, "%s%s", i ? " " : "", argv[i]);

@@ -16,8 +16,12 @@ struct scene *bench_load_example(const char *program, const char *path, int reso
 
 struct gpu;
 
-/* Prints the report's header: date, CPU model and cores, OS, GL_RENDERER, GL_VERSION and
- * the command line (argv), as Markdown list items. */
+/* qsort's comparison of doubles, ascending (the benchmarks' medians). */
+int bench_compare_doubles(const void *a, const void *b);
+
+/* Prints the report's header: date, CPU model and cores, OS, the load average, GL_RENDERER
+ * and GL_VERSION (gpu NULL: a CPU-only benchmark) and the command line (argv), as Markdown
+ * list items. */
 void bench_print_header(const struct gpu *gpu, int argc, char **argv);
 /* The same, into a file. */
 void bench_write_header(FILE *out, const struct gpu *gpu, int argc, char **argv);

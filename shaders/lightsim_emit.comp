@@ -111,10 +111,10 @@ void main()
             vec4 share = sum > 0.0 ? area / sum : vec4(0.25);
             // inside sets (docs/lightsim.md "Surfaces"): parent corner k keeps its own
             ivec4 s = p.inside;
-            bool same = all(equal(s, s.xxxx));
             int i0 = s.x, i1 = s.y, i2 = s.z, i3 = s.w, ic = s.x;
 #if LS_SURFACES
-            if (!same) {
+            // Corners in different media: each new corner takes the set where it lies.
+            if (!all(equal(s, s.xxxx))) {
                 i0 = int(ls_surfaces_inside(m0));
                 i1 = int(ls_surfaces_inside(m1));
                 i2 = int(ls_surfaces_inside(m2));

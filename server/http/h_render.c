@@ -241,6 +241,14 @@ enum MHD_Result http_handle_trace(struct http_request *req)
     job->hits = calloc(job->count, sizeof *job->hits);
     if (job->hits == NULL)
         return http_respond_error(req, REFRACT_E_OUT_OF_MEMORY, "out of memory for the hits");
+    /* Each origin's inside set here, on the HTTP thread, not on the GPU thread. */
+    struct render_scene_source src = render_request_scene_source(v);
+    for (size_t i = 0; i < job->count; i++) {
+        struct render_trace_ray *r = &job->rays[i];
+        vec3 o = {r->origin[0], r->origin[1], r->origin[2]};
+        r->inside = scene_surfaces_inside(v->scene, src.lookup, src.lookup_ctx, o);
+        r->inside_known = true;
+    }
     if (events) {
         job->events = calloc(job->count * RENDER_TRACE_MAX_EVENTS, sizeof *job->events);
         if (job->events == NULL)

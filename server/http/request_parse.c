@@ -11,9 +11,6 @@
 #include "http_internal.h"
 
 /* Order as enum scene_integrator. */
-#define integrator_names scene_integrator_words
-#define ior_filter_names scene_ior_filter_words
-#define tonemap_names scene_tonemap_words
 static const char *const format_names[] = {"png", "jpeg", "exr", NULL};
 
 enum refract_code http_parse_body(const char *body, size_t len, cJSON **root, struct err *e)
@@ -48,9 +45,10 @@ enum refract_code http_parse_settings(const cJSON *root, const struct scene_rend
     *st = *def;
     int integrator = (int)st->integrator, ior_filter = (int)st->ior_filter;
     enum refract_code rc =
-        jr_enum(root, "", "integrator", false, integrator, integrator_names, &integrator, e);
+        jr_enum(root, "", "integrator", false, integrator, scene_integrator_words, &integrator, e);
     if (rc == REFRACT_E_OK)
-        rc = jr_enum(root, "", "ior_filter", false, ior_filter, ior_filter_names, &ior_filter, e);
+        rc = jr_enum(root, "", "ior_filter", false, ior_filter, scene_ior_filter_words, &ior_filter,
+                     e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(root, "", "step", false, st->step_voxels, 0.01, 8.0, &st->step_voxels, e);
     if (rc == REFRACT_E_OK)
@@ -121,7 +119,7 @@ enum refract_code http_parse_image_options(const cJSON *root, double *exposure_e
                                            struct err *e)
 {
     int tm = (int)*tonemap;
-    enum refract_code rc = jr_enum(root, "", "tonemap", false, tm, tonemap_names, &tm, e);
+    enum refract_code rc = jr_enum(root, "", "tonemap", false, tm, scene_tonemap_words, &tm, e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(root, "", "exposure", false, *exposure_ev, -20.0, 20.0, exposure_ev, e);
     if (rc == REFRACT_E_OK)

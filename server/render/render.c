@@ -476,9 +476,10 @@ enum refract_code render_trace_events(struct render *r, const struct render_scen
     }
     for (size_t i = 0; i < count; i++) {
         vec3 o = {rays[i].origin[0], rays[i].origin[1], rays[i].origin[2]};
-        in[i].origin =
-            (vec4){(float)o.x, (float)o.y, (float)o.z,
-                   set_bits(scene_surfaces_inside(src->scene, src->lookup, src->lookup_ctx, o))};
+        uint32_t inside = rays[i].inside_known
+                              ? rays[i].inside
+                              : scene_surfaces_inside(src->scene, src->lookup, src->lookup_ctx, o);
+        in[i].origin = (vec4){(float)o.x, (float)o.y, (float)o.z, set_bits(inside)};
         in[i].direction = (vec4){(float)rays[i].direction[0], (float)rays[i].direction[1],
                                  (float)rays[i].direction[2], 0.0f};
     }

@@ -19,6 +19,7 @@
 #define REFRACT_RENDER_H
 
 #include <stddef.h>
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "../core/err.h"
@@ -87,6 +88,12 @@ struct render_view_result {
 struct render_trace_ray {
     double origin[3];
     double direction[3]; /* unit */
+    /* The set of the scene's surfaces whose solids contain the origin
+     * (scene_surfaces_inside), when inside_known. Otherwise render_trace works it out itself,
+     * on the GPU thread: a caller with many rays (the HTTP handler) fills it beforehand, off
+     * that thread, since a mesh surface costs a winding number per ray. */
+    uint32_t inside;
+    bool inside_known;
 };
 
 struct render_trace_hit {
@@ -104,9 +111,9 @@ struct render_trace_hit {
 struct render_trace_event {
     int kind; /* TRACE_EVENT_REFRACTED or TRACE_EVENT_REFLECTED (total internal reflection) */
     double point[3];
-    double normal[3]; /* unit, facing the incoming ray */
-    double fresnel_R; /* reflectance at the event; 1 under total internal reflection */
-    int surface;      /* index in the scene's surfaces (priority order) */
+    double normal[3];           /* unit, facing the incoming ray */
+    double fresnel_R;           /* reflectance at the event; 1 under total internal reflection */
+    int surface;                /* index in the scene's surfaces (priority order) */
     int medium_from, medium_to; /* surface whose medium, -1 the ambient medium */
     double n_from, n_to;
 };

@@ -173,24 +173,20 @@ static enum refract_code parse_render(const cJSON *root, const struct scene_limi
         "boundary_threshold", "tonemap", "ior_texture", "ior_filter", "empty_space_skipping",
         "min_throughput",     NULL};
     /* Order as enum scene_integrator / scene_ior_texture / scene_ior_filter. */
-    const char *const *integrators = scene_integrator_words;
-    const char *const *ior_textures = scene_ior_texture_words;
-    const char *const *tonemaps = scene_tonemap_words;
-    const char *const *ior_filters = scene_ior_filter_words;
     const cJSON *o;
     int integrator = SCENE_INTEGRATOR_RK4, tonemap = SCENE_TONEMAP_CLAMP;
     int ior_texture = SCENE_IOR_FLOAT32, ior_filter = SCENE_FILTER_TRILINEAR;
     int def_steps = lim->max_steps < 20000 ? lim->max_steps : 20000;
     enum refract_code rc = sub_object(root, "render", keys, &o, e);
     if (rc == REFRACT_E_OK)
-        rc = jr_enum(o, "render", "integrator", false, SCENE_INTEGRATOR_RK4, integrators,
+        rc = jr_enum(o, "render", "integrator", false, SCENE_INTEGRATOR_RK4, scene_integrator_words,
                      &integrator, e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(o, "render", "step", false, 0.5, 0.01, 8.0, &r->step_voxels, e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(o, "render", "tolerance", false, 1e-3, 1e-6, 1.0, &r->tolerance_voxels, e);
     if (rc == REFRACT_E_OK)
-        rc = jr_enum(o, "render", "ior_texture", false, SCENE_IOR_FLOAT32, ior_textures,
+        rc = jr_enum(o, "render", "ior_texture", false, SCENE_IOR_FLOAT32, scene_ior_texture_words,
                      &ior_texture, e);
     if (rc == REFRACT_E_OK)
         rc = scene_read_limited_int(member(o, "max_steps"), "render.max_steps", def_steps, 1,
@@ -201,14 +197,15 @@ static enum refract_code parse_render(const cJSON *root, const struct scene_limi
         rc = jr_number_gt(o, "render", "boundary_threshold", false, 0.02, 0.0, 10.0,
                           &r->boundary_threshold, e);
     if (rc == REFRACT_E_OK)
-        rc = jr_enum(o, "render", "tonemap", false, SCENE_TONEMAP_CLAMP, tonemaps, &tonemap, e);
+        rc = jr_enum(o, "render", "tonemap", false, SCENE_TONEMAP_CLAMP, scene_tonemap_words,
+                     &tonemap, e);
     if (rc == REFRACT_E_OK)
         rc = jr_bool(o, "render", "empty_space_skipping", false, true, &r->empty_space_skipping, e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(o, "render", "min_throughput", false, 1e-6, 0.0, 0.5, &r->min_throughput, e);
     if (rc == REFRACT_E_OK)
-        rc = jr_enum(o, "render", "ior_filter", false, SCENE_FILTER_TRILINEAR, ior_filters,
-                     &ior_filter, e);
+        rc = jr_enum(o, "render", "ior_filter", false, SCENE_FILTER_TRILINEAR,
+                     scene_ior_filter_words, &ior_filter, e);
     r->ior_filter = (enum scene_ior_filter)ior_filter;
     r->integrator = (enum scene_integrator)integrator;
     r->tonemap = (enum scene_tonemap)tonemap;

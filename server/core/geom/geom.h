@@ -75,6 +75,11 @@ bool lathe_intersect(vec3 base, int axis, const double (*pts)[2], size_t count, 
                      double tmin, double tmax, struct geom_hit *h);
 bool lathe_inside(vec3 base, int axis, const double (*pts)[2], size_t count, vec3 p);
 void lathe_bounds(vec3 base, int axis, const double (*pts)[2], size_t count, vec3 *lo, vec3 *hi);
+/* +1 for a counter-clockwise profile in the (r, h) plane, -1 for clockwise (from its signed
+ * area): which side of each edge is out. */
+double lathe_orientation(const double (*pts)[2], size_t count);
+/* The profile's largest r and its lowest and highest h: the bounding cylinder. */
+void lathe_extent(const double (*pts)[2], size_t count, double *r_max, double *h_lo, double *h_hi);
 
 /* ---- a placed surface of any kind (surface.c): what the marches iterate over ---- */
 

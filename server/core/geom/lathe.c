@@ -17,8 +17,7 @@
 
 #include "geom.h"
 
-/* +1 for a counter-clockwise polygon in the (r, h) plane, -1 for clockwise. */
-static double orientation(const double (*pts)[2], size_t count)
+double lathe_orientation(const double (*pts)[2], size_t count)
 {
     double area2 = 0.0;
     for (size_t i = 0; i < count; i++) {
@@ -26,6 +25,18 @@ static double orientation(const double (*pts)[2], size_t count)
         area2 += a[0] * b[1] - b[0] * a[1];
     }
     return area2 >= 0.0 ? 1.0 : -1.0;
+}
+
+void lathe_extent(const double (*pts)[2], size_t count, double *r_max, double *h_lo, double *h_hi)
+{
+    *r_max = 0.0;
+    *h_lo = INFINITY;
+    *h_hi = -INFINITY;
+    for (size_t i = 0; i < count; i++) {
+        *r_max = fmax(*r_max, pts[i][0]);
+        *h_lo = fmin(*h_lo, pts[i][1]);
+        *h_hi = fmax(*h_hi, pts[i][1]);
+    }
 }
 
 /* The 3D outward normal at (x, y) across the axis and the edge's (n_r, n_h). */
@@ -92,17 +103,13 @@ bool lathe_intersect(vec3 base, int axis, const double (*pts)[2], size_t count, 
     vec3 v = vec3_sub(o, base);
     double ox = vec3_get(v, a1), oy = vec3_get(v, a2), oh = vec3_get(v, axis);
     double dx = vec3_get(d, a1), dy = vec3_get(d, a2), dh = vec3_get(d, axis);
-    double sgn = orientation(pts, count);
+    double sgn = lathe_orientation(pts, count);
     double best = tmax;
     /* Cull: the part of the ray inside the bounding cylinder (radius r_max, heights
      * h_min..h_max) and the heights it spans there; edges outside those heights cannot be
      * met (the GLSL twin does the same with the bounds packed in surface_params). */
-    double r_max = 0.0, h_lo = INFINITY, h_hi = -INFINITY;
-    for (size_t i = 0; i < count; i++) {
-        r_max = fmax(r_max, pts[i][0]);
-        h_lo = fmin(h_lo, pts[i][1]);
-        h_hi = fmax(h_hi, pts[i][1]);
-    }
+    double r_max, h_lo, h_hi;
+    lathe_extent(pts, count, &r_max, &h_lo, &h_hi);
     double span_lo, span_hi;
     if (!lathe_span(ox, oy, oh, dx, dy, dh, r_max, h_lo, h_hi, tmin, tmax, &span_lo, &span_hi))
         return false;
@@ -173,12 +180,8 @@ bool lathe_inside(vec3 base, int axis, const double (*pts)[2], size_t count, vec
 
 void lathe_bounds(vec3 base, int axis, const double (*pts)[2], size_t count, vec3 *lo, vec3 *hi)
 {
-    double rmax = 0.0, hmin = INFINITY, hmax = -INFINITY;
-    for (size_t i = 0; i < count; i++) {
-        rmax = fmax(rmax, pts[i][0]);
-        hmin = fmin(hmin, pts[i][1]);
-        hmax = fmax(hmax, pts[i][1]);
-    }
+    double rmax, hmin, hmax;
+    lathe_extent(pts, count, &rmax, &hmin, &hmax);
     *lo = vec3_make(base.x - rmax, base.y - rmax, base.z - rmax);
     *hi = vec3_make(base.x + rmax, base.y + rmax, base.z + rmax);
     vec3_set(lo, axis, vec3_get(base, axis) + hmin);

@@ -40,17 +40,10 @@ void geom_surface_pack(const struct geom_surface *g, double ior, const double at
         sp->shape1 = v4(g->normal, 0.0);
         break;
     case GEOM_LATHE: {
-        /* Orientation (+1 counter-clockwise in (r, h)) and the bounding cylinder that
-         * lathe.glsl culls with. */
-        double area2 = 0.0, r_max = 0.0, h_lo = INFINITY, h_hi = -INFINITY;
-        for (size_t i = 0; i < g->profile_count; i++) {
-            const double *a = g->profile[i], *b = g->profile[(i + 1) % g->profile_count];
-            area2 += a[0] * b[1] - b[0] * a[1];
-            r_max = fmax(r_max, a[0]);
-            h_lo = fmin(h_lo, a[1]);
-            h_hi = fmax(h_hi, a[1]);
-        }
-        sp->shape0 = v4(g->base, area2 >= 0.0 ? 1.0 : -1.0);
+        /* Orientation and the bounding cylinder that lathe.glsl culls with. */
+        double r_max, h_lo, h_hi;
+        lathe_extent(g->profile, g->profile_count, &r_max, &h_lo, &h_hi);
+        sp->shape0 = v4(g->base, lathe_orientation(g->profile, g->profile_count));
         sp->shape1 = (vec4){(float)r_max, (float)h_lo, (float)h_hi, 0.0f};
         break;
     }
