@@ -160,17 +160,16 @@ static bool mesh_found(scene_volume_lookup_fn lookup, void *ctx, const char *nam
     return scene_mesh_lookup(lookup, ctx, name) != NULL;
 }
 
-/* Whether the comma-separated list holds name. */
-static bool listed(const char *list, const char *name)
+/* Whether a mesh layer of any object names the mesh (missing_names has listed it then). */
+static bool layers_name_mesh(const struct scene *s, const char *name)
 {
-    size_t n = strlen(name);
-    for (const char *p = list; p != NULL && *p;) {
-        const char *end = strchr(p, ',');
-        size_t len = end ? (size_t)(end - p) : strlen(p);
-        if (len == n && strncmp(p, name, n) == 0)
-            return true;
-        p = end ? end + 1 : NULL;
-    }
+    for (size_t i = 0; i < s->object_count; i++)
+        for (int ch = 0; ch < SCENE_CH_COUNT; ch++)
+            for (size_t k = 0; k < s->objects[i].fields[ch].count; k++) {
+                const char *m = mesh_at(s, i, ch, k);
+                if (m != NULL && strcmp(m, name) == 0)
+                    return true;
+            }
     return false;
 }
 
@@ -188,7 +187,7 @@ int scene_missing_meshes(const struct scene *s, scene_volume_lookup_fn lookup, v
         for (size_t j = 0; j < k && !dup; j++)
             dup = s->surfaces[j].shape.kind == SCENE_SHAPE_MESH &&
                   strcmp(s->surfaces[j].shape.mesh, sh->mesh) == 0;
-        if (dup || (buf != NULL && listed(buf, sh->mesh)))
+        if (dup || layers_name_mesh(s, sh->mesh))
             continue;
         if (buf != NULL && used < buf_size) {
             int n = snprintf(buf + used, buf_size - used, "%s%s", missing ? "," : "", sh->mesh);
