@@ -31,6 +31,7 @@
 #include "fresnel.h"
 #include "interface.h"
 #include "reftrace_integrate.h"
+#include "reftrace_march.h"
 #include "reftrace_light.h"
 
 /* docs/tracing.md constants. */
@@ -56,20 +57,6 @@
  * ends the ray with status max_steps. */
 #define MAX_PASSES (4 * MAX_OBJECTS + 64)
 
-/* The state of docs/tracing.md "The march". */
-struct march {
-    const struct reftrace_settings *set;
-    vec3 x, d;  /* world position and unit direction */
-    double t_f; /* Fresnel throughput */
-    vec3 alpha; /* optical depth per channel (tevs2007 eq. 5.9) */
-    vec3 L;     /* radiance gathered along the view ray */
-    double opl; /* optical path length, world units */
-    int steps;  /* integration steps over the whole ray */
-    bool running;
-    enum ray_status status;
-    bool crossed; /* met at least one object */
-};
-
 /* An object's per-march constants. */
 struct object_frame {
     const struct reftrace_object *o;
@@ -77,11 +64,6 @@ struct object_frame {
     vec3 vs;      /* voxel size, object units */
     double h_min; /* min(vs) */
 };
-
-static vec3 exp_neg(vec3 a)
-{
-    return (vec3){exp(-a.x), exp(-a.y), exp(-a.z)};
-}
 
 static vec3 environment(const struct march *m, vec3 d_world)
 {
@@ -94,14 +76,6 @@ static void add_reflection(struct march *m, double R, vec3 d_world)
 {
     vec3 t = vec3_scale(exp_neg(m->alpha), m->t_f * R);
     m->L = vec3_add(m->L, vec3_mul(t, environment(m, d_world)));
-}
-
-/* frisvad2010's basic radiance: light that starts in a medium of index n reaches the
- * viewer in the ambient medium times (n_amb / n)^2 (docs/tracing.md "Basic radiance"). */
-static double basic_radiance(const struct march *m, double n)
-{
-    double r = m->set->ambient_ior / n;
-    return r * r;
 }
 
 /* The lights' reflected radiance at a Fresnel event (the delta(x) R L_r term of tevs2007
@@ -117,18 +91,6 @@ static void add_light_reflection(struct march *m, const struct reftrace_object *
                                  xform_dir_to_world(&o->xf, q), xform_dir_to_world(&o->xf, nrm), R);
     double w = m->t_f * basic_radiance(m, n_view);
     m->L = vec3_add(m->L, vec3_mul(vec3_scale(exp_neg(m->alpha), w), Lr));
-}
-
-static double throughput(const struct march *m)
-{
-    vec3 t = exp_neg(m->alpha);
-    return m->t_f * fmax(t.x, fmax(t.y, t.z));
-}
-
-static void stop(struct march *m, enum ray_status status)
-{
-    m->status = status;
-    m->running = false;
 }
 
 static vec3 axis_normal(int axis, double sign)
@@ -197,6 +159,8 @@ static bool next_object(const struct march *m, const struct reftrace_object *obj
     e->t_world = INFINITY;
     for (int i = 0; i < count; i++) {
         const struct reftrace_object *o = &objects[i];
+        if (o->bound)
+            continue; /* seen only inside its surface */
         vec3 org = xform_point_to_object(&o->xf, m->x);
         vec3 q = xform_dir_to_object(&o->xf, m->d);
         double t0, t1, sign;
@@ -689,19 +653,17 @@ uint32_t reftrace_inside_set(const struct reftrace_surface *surfaces, int count,
     return set;
 }
 
-/* The nearest surface crossing ahead of the march; -1 when none. last/last_prim: the
- * surface (and mesh triangle) the ray left at its previous event. */
-static int next_surface(const struct march *m, int last, int64_t last_prim, struct geom_hit *hit)
+int reftrace_next_surface(const struct reftrace_settings *set, vec3 x, vec3 d, double t_max,
+                          int last, int64_t last_prim, struct geom_hit *hit)
 {
-    const struct reftrace_settings *set = m->set;
     int best = -1;
-    double t_best = INFINITY;
+    double t_best = t_max;
     for (int k = 0; k < set->surface_count; k++) {
         const struct reftrace_surface *sf = &set->surfaces[k];
         double size = geom_surface_size(&sf->geom);
         double tmin = (k == last ? SURFACE_EPS_SAME : SURFACE_EPS_OTHER) * size;
         struct geom_hit h;
-        if (geom_surface_intersect(&sf->geom, m->x, m->d, tmin, t_best, k == last ? last_prim : -1,
+        if (geom_surface_intersect(&sf->geom, x, d, tmin, t_best, k == last ? last_prim : -1,
                                    &h)) {
             t_best = h.t;
             *hit = h;
@@ -711,9 +673,20 @@ static int next_surface(const struct march *m, int last, int64_t last_prim, stru
     return best;
 }
 
+double reftrace_medium_ior(const struct reftrace_settings *set, int medium, vec3 x)
+{
+    if (medium < 0)
+        return set->ambient_ior;
+    const struct reftrace_object *o = set->surfaces[medium].field;
+    if (o == NULL)
+        return set->surfaces[medium].ior;
+    vec3 grad_unused;
+    return reftrace_sample_ior(o, xform_point_to_object(&o->xf, x), &grad_unused);
+}
+
 static double medium_ior(const struct march *m, int medium)
 {
-    return medium < 0 ? m->set->ambient_ior : m->set->surfaces[medium].ior;
+    return reftrace_medium_ior(m->set, medium, m->x);
 }
 
 /* A straight leg of length t (world) through the medium of surface `medium` (-1: the
@@ -743,7 +716,7 @@ static void surface_leg(struct march *m, int medium, double t)
 
 static void record_event(struct reftrace_result *out, enum reftrace_event_kind kind,
                          const struct march *m, const struct geom_hit *h, int k, int from, int to,
-                         double n_from, double n_to, double R)
+                         double n_from, double n_to, double R, double gap)
 {
     if (out->event_count < REFTRACE_MAX_EVENTS) {
         struct reftrace_event *ev = &out->events[out->event_count];
@@ -756,6 +729,7 @@ static void record_event(struct reftrace_result *out, enum reftrace_event_kind k
         ev->n_from = n_from;
         ev->n_to = n_to;
         ev->fresnel_R = R;
+        ev->step_gap = gap;
     }
     out->event_count++;
 }
@@ -764,17 +738,20 @@ static void record_event(struct reftrace_result *out, enum reftrace_event_kind k
  * where the medium changes, the Fresnel event of interface_cross with the environment's
  * reflection gathered (as at a bounds face) or total internal reflection. */
 static void surface_event(struct march *m, uint32_t *inside, int k, const struct geom_hit *h,
-                          struct reftrace_result *out)
+                          const struct reftrace_bound_exit *bx, struct reftrace_result *out)
 {
     uint32_t next = *inside ^ (1u << k);
     int from = interface_medium(*inside), to = interface_medium(next);
+    double gap = bx != NULL ? bx->gap : 0.0;
     m->steps++;
     m->crossed = true;
     if (from == to) {
         *inside = next; /* k lies inside a higher-priority solid: not an interface here */
         return;
     }
-    double n_from = medium_ior(m, from), n_to = medium_ior(m, to);
+    /* Leaving a field: n on the inside as reftrace_bound_march found it (the sample at the
+     * hit, or |w| where the sample is clamped: docs/tracing.md "The rim"). */
+    double n_from = bx != NULL ? bx->n_w : medium_ior(m, from), n_to = medium_ior(m, to);
     struct interface_event ev = interface_cross(m->d, h->shading, n_from, n_to);
     if (fabs(n_from - n_to) <= INDEX_EPS) {
         ev.R = 0.0; /* index-matched: the ray passes unchanged */
@@ -782,7 +759,7 @@ static void surface_event(struct march *m, uint32_t *inside, int k, const struct
         ev.refracted = m->d;
     }
     record_event(out, ev.tir ? REFTRACE_EVENT_REFLECTED : REFTRACE_EVENT_REFRACTED, m, h, k, from,
-                 ev.tir ? from : to, n_from, n_to, ev.R);
+                 ev.tir ? from : to, n_from, n_to, ev.R, gap);
     if (ev.tir) {
         m->d = ev.reflected;
         return;
@@ -799,13 +776,6 @@ static void surface_event(struct march *m, uint32_t *inside, int k, const struct
     m->t_f *= 1.0 - ev.R;
     m->d = ev.refracted;
     *inside = next;
-}
-
-static double absorbed_cut(const struct reftrace_settings *set)
-{
-    return set->min_throughput > 0.0   ? set->min_throughput
-           : set->min_throughput < 0.0 ? 0.0
-                                       : ABSORBED_EPS;
 }
 
 void reftrace_ray(const struct reftrace_object *objects, int count,
@@ -838,19 +808,34 @@ void reftrace_ray(const struct reftrace_object *objects, int count,
          * are searched. Then the nearest surface, when it comes first. */
         struct entry e;
         bool have_object = inside == 0 && next_object(&m, objects, count, &e);
+        int med = interface_medium(inside);
+        if (med >= 0 && settings->surfaces[med].field != NULL) {
+            /* A field fills this medium: the ray equation up to the next surface. */
+            struct reftrace_bound_exit bx;
+            int k = reftrace_bound_march(&m, med, last_surface, last_prim, &bx);
+            if (k < 0)
+                break;
+            surface_event(&m, &inside, k, &bx.hit, &bx, out);
+            last_surface = k;
+            last_prim = bx.hit.prim;
+            if (throughput(&m) < reftrace_absorbed_cut(settings))
+                stop(&m, RAY_ABSORBED);
+            continue;
+        }
         if (settings->surface_count > 0) {
             struct geom_hit h;
-            int k = next_surface(&m, last_surface, last_prim, &h);
+            int k = reftrace_next_surface(settings, m.x, m.d, INFINITY, last_surface, last_prim,
+                                          &h);
             if (k >= 0 && (!have_object || h.t <= e.t_world)) {
                 if (m.steps >= settings->max_steps) {
                     stop(&m, RAY_MAX_STEPS);
                     break;
                 }
-                surface_leg(&m, interface_medium(inside), h.t);
-                surface_event(&m, &inside, k, &h, out);
+                surface_leg(&m, med, h.t);
+                surface_event(&m, &inside, k, &h, NULL, out);
                 last_surface = k;
                 last_prim = h.prim;
-                if (throughput(&m) < absorbed_cut(settings))
+                if (throughput(&m) < reftrace_absorbed_cut(settings))
                     stop(&m, RAY_ABSORBED);
                 continue;
             }

@@ -60,6 +60,10 @@ struct reftrace_object {
     const struct macrocell_map *cells; /* empty-space map of the voxel fields (macrocell.h);
                                           NULL: no skipping in this object */
     enum reftrace_ior_filter ior_filter; /* how `grid` reconstructs n and grad n */
+    bool bound;        /* fills a surface (reftrace_surface.field): seen only through it, never
+                          entered through its bounds */
+    bool ior_constant; /* n is the same everywhere: inside a surface the ray goes straight and
+                          only the integrals are stepped */
 };
 
 /* One light as the reference sees it (docs/tracing.md "Light"); the CPU twin of the GPU's
@@ -108,6 +112,9 @@ struct reftrace_surface {
     double attenuation[3]; /* sigma_a per world unit */
     double emission[3];    /* L_e per world unit */
     struct brdf_params brdf; /* reflection of lights where it refracts; zero: none */
+    /* The medium "object" form: this bound object's fields fill the solid instead of the
+     * constants above (ior, attenuation, emission unused); NULL: constant medium. Borrowed. */
+    const struct reftrace_object *field;
 };
 
 /* One surface event of a ray (the trace API's "events"). */
@@ -123,6 +130,9 @@ struct reftrace_event {
     int medium_from, medium_to; /* surface whose medium it is, -1 the ambient medium */
     double n_from, n_to;
     double fresnel_R; /* the reflectance at the event; 1 for total internal reflection */
+    double step_gap;  /* leaving a field-filled surface: distance from the event point (on the
+                         surface) to the end of the ray-equation step cut there, world units
+                         (the cut's accuracy, at most 1e-6 of the step); 0 otherwise */
 };
 
 #define REFTRACE_MAX_EVENTS 64

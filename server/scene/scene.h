@@ -123,6 +123,11 @@ struct scene_object {
     double opaque_ior; /* n of opaque embeddings' surfaces, for their Fresnel reflection */
     struct scene_field fields[SCENE_CH_COUNT];
     struct scene_brdf brdf; /* reflection of lights at the object's boundaries (eq. 5.6) */
+    /* Bound to a surface (docs/scenes.md "Surfaces", the medium "object" form): the object's
+     * fields fill that surface's solid and the object is seen nowhere else. Zero: free, a
+     * voxel object in the ambient medium. */
+    bool bound;
+    int bound_surface; /* when bound: index into scene.surfaces (priority order) */
 };
 
 struct scene_camera {
@@ -234,11 +239,14 @@ struct scene_lightsim {
 
 #define SCENE_MAX_SURFACES 32 /* = INTERFACE_MAX_SURFACES: bits of a ray's inside set */
 
-/* What fills a surface's solid: a constant medium. */
+/* What fills a surface's solid: a constant medium, or a voxel object's fields ("object":
+ * a GRIN lens bounded by its exact sphere). */
 struct scene_medium {
-    double ior;            /* 1..5 */
-    double attenuation[3]; /* sigma_a per world unit, >= 0 */
-    double emission[3];    /* L_e per world unit, >= 0 */
+    double ior;            /* 1..5; 1 and unused when has_object */
+    double attenuation[3]; /* sigma_a per world unit, >= 0; 0 when has_object */
+    double emission[3];    /* L_e per world unit, >= 0; 0 when has_object */
+    bool has_object;       /* the medium is the fields of scene.objects[object] */
+    int object;            /* when has_object: index into scene.objects */
 };
 
 /* A surface bounding a medium: its shape (sphere, box, cylinder, plane, lathe, mesh) in
@@ -364,6 +372,15 @@ enum refract_code scene_field_eval(const struct scene *s, const struct scene_obj
                                    enum scene_channel ch, scene_volume_lookup_fn lookup, void *ctx,
                                    float *out, struct err *e);
 
+/* For an object bound to a surface (obj->bound): replaces the channel's voxels outside the
+ * surface's solid, in a band of 2 + 3 sigma voxels, by the inside field continued linearly
+ * across the surface, so that samples near the surface see only the medium
+ * (scene_field_bound.c). scene_field_eval calls it; a no-op for free objects. Borrows
+ * everything until return; fails only with OUT_OF_MEMORY. */
+enum refract_code scene_field_extend_bound(const struct scene *s, const struct scene_object *obj,
+                                           enum scene_channel ch, scene_volume_lookup_fn lookup,
+                                           void *ctx, float *out, struct err *e);
+
 /* Signed distance from p (object space) to the shape's surface: negative inside.
  * Exact for sphere, box, rounded_box, cylinder, lathe and text; for bumpy_sphere a
  * first-order estimate near the surface, with the exact sign (shapes.c). Meshes are not
@@ -396,6 +413,10 @@ uint32_t scene_surfaces_inside(const struct scene *s, scene_volume_lookup_fn loo
 /* A surface's world box (infinite components for planes); false for meshes, whose box
  * is known only with the upload (scene_parse_surface.c). */
 bool scene_surface_world_bounds(const struct scene_surface *sf, vec3 *lo, vec3 *hi);
+
+/* True when the object's index is the same everywhere (no ior layers, or constants only):
+ * inside a surface it fills, rays go straight (docs/tracing.md "Fields inside surfaces"). */
+bool scene_ior_constant(const struct scene_object *obj);
 
 /* Voxel size of an object in object-space units along each axis, and its smallest. */
 vec3 scene_object_voxel_size(const struct scene_object *obj);

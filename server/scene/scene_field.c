@@ -50,6 +50,15 @@ bool scene_channel_used(const struct scene_object *obj, enum scene_channel ch)
     return ch >= 0 && ch < SCENE_CH_COUNT && obj->fields[ch].count > 0;
 }
 
+bool scene_ior_constant(const struct scene_object *obj)
+{
+    const struct scene_field *f = &obj->fields[SCENE_CH_IOR];
+    for (size_t i = 0; i < f->count; i++)
+        if (f->layers[i].kind != SCENE_LAYER_CONSTANT)
+            return false;
+    return true;
+}
+
 vec3 scene_object_voxel_size(const struct scene_object *obj)
 {
     vec3 ext = vec3_sub(obj->bounds_max, obj->bounds_min);
@@ -470,5 +479,6 @@ enum refract_code scene_field_eval(const struct scene *s, const struct scene_obj
         }
         }
     }
-    return REFRACT_E_OK;
+    /* A bound object's field continues its inside values beyond its surface. */
+    return scene_field_extend_bound(s, obj, ch, lookup, ctx, out, e);
 }

@@ -10,8 +10,13 @@
  *     where solids overlap (as later layers override earlier ones in a field);
  *   - two surfaces of equal priority must not overlap (their world boxes are disjoint;
  *     for meshes, whose boxes come with the upload, equal priorities are refused);
+ *   - a medium is constants (ior, attenuation, emission) or names a voxel object
+ *     ("object"), whose fields then fill the solid (a GRIN lens bounded by its exact
+ *     sphere): the object's bounds cover the solid, it fills only that surface and is seen
+ *     nowhere else ("bound"), it has no opaque embeddings, and the scene does not ask for
+ *     the light simulator, whose wavefront does not bend inside surfaces yet;
  *   - voxel objects lie in the ambient medium: an object's world box must not overlap a
- *     surface's (a GRIN medium inside an exact surface is not supported yet);
+ *     surface's, except the surface the object fills;
  *   - the light simulator traces every kind but meshes (docs/lightsim.md "Surfaces"), so
  *     a scene with a mesh surface may not ask for it (no receiver, no scattering objects).
  * The surfaces are stored sorted by priority, highest first (core/interface.h).
@@ -48,19 +53,59 @@ static enum refract_code parse_rgb(const cJSON *o, const char *path, const char 
     return rc;
 }
 
-static enum refract_code parse_medium(const cJSON *o, const char *path, struct scene_medium *m,
-                                      struct err *e)
+/* medium.object: the name of a voxel object whose fields fill the solid. */
+static enum refract_code parse_medium_object(const cJSON *mo, const char *p,
+                                             const struct scene *s, struct scene_medium *m,
+                                             struct err *e)
 {
-    static const char *const keys[] = {"ior", "attenuation", "emission", NULL};
+    char got[80];
+    const cJSON *name = member(mo, "object");
+    static const char *const constants[] = {"ior", "attenuation", "emission"};
+    for (size_t i = 0; i < 3; i++)
+        if (member(mo, constants[i]) != NULL)
+            return err_set(e, REFRACT_E_INVALID_FIELD,
+                           "%s.%s: not allowed with \"object\": the object's fields give the "
+                           "medium's ior, attenuation and emission; remove \"%s\" or "
+                           "\"object\"",
+                           p, constants[i], constants[i]);
+    if (!cJSON_IsString(name))
+        return err_set(e, REFRACT_E_INVALID_FIELD,
+                       "%s.object: expected the name of an object in \"objects\", got %s", p,
+                       jr_describe(name, got, sizeof got));
+    for (size_t k = 0; k < s->object_count; k++)
+        if (strcmp(s->objects[k].name, name->valuestring) == 0) {
+            m->has_object = true;
+            m->object = (int)k;
+            m->ior = 1.0;
+            return REFRACT_E_OK;
+        }
+    char names[256] = "";
+    size_t len = 0;
+    for (size_t k = 0; k < s->object_count && len + 2 < sizeof names; k++)
+        len += (size_t)snprintf(names + len, sizeof names - len, "%s\"%s\"", k ? ", " : "",
+                                s->objects[k].name);
+    return err_set(e, REFRACT_E_INVALID_FIELD,
+                   "%s.object: no object named \"%s\"; %s%s", p, name->valuestring,
+                   s->object_count ? "the objects are " : "the scene has no objects: add one to "
+                                                          "\"objects\"",
+                   names);
+}
+
+static enum refract_code parse_medium(const cJSON *o, const char *path, const struct scene *s,
+                                      struct scene_medium *m, struct err *e)
+{
+    static const char *const keys[] = {"ior", "attenuation", "emission", "object", NULL};
     char p[256];
     jr_path(p, sizeof p, path, "medium");
     const cJSON *mo = member(o, "medium");
     if (mo == NULL)
         return err_set(e, REFRACT_E_MISSING_FIELD,
                        "%s: missing required field \"medium\" (what fills the surface, e.g. "
-                       "{\"ior\": 1.5})",
+                       "{\"ior\": 1.5} or {\"object\": \"lens\"})",
                        path);
     enum refract_code rc = jr_check_object(mo, p, keys, e);
+    if (rc == REFRACT_E_OK && member(mo, "object") != NULL)
+        return parse_medium_object(mo, p, s, m, e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(mo, p, "ior", true, 1.0, 1.0, 5.0, &m->ior, e);
     if (rc == REFRACT_E_OK)
@@ -121,8 +166,8 @@ static enum refract_code parse_shape(const cJSON *o, const char *path,
 }
 
 static enum refract_code parse_surface(const cJSON *o, const char *path, int index,
-                                       const struct scene_limits *lim, struct scene_surface *sf,
-                                       struct err *e)
+                                       const struct scene_limits *lim, const struct scene *s,
+                                       struct scene_surface *sf, struct err *e)
 {
     char got[80];
     if (!cJSON_IsObject(o))
@@ -140,7 +185,7 @@ static enum refract_code parse_surface(const cJSON *o, const char *path, int ind
     if (rc == REFRACT_E_OK)
         rc = jr_int(o, path, "priority", false, index, 0, 1000000, &sf->priority, e);
     if (rc == REFRACT_E_OK)
-        rc = parse_medium(o, path, &sf->medium, e);
+        rc = parse_medium(o, path, s, &sf->medium, e);
     if (rc == REFRACT_E_OK)
         rc = scene_parse_brdf(o, path, &sf->brdf, e);
     return rc;
@@ -190,6 +235,73 @@ static int by_priority(const void *a, const void *b)
     return x->document_index - y->document_index;
 }
 
+/* Does the object's world box contain the world box lo..hi (touching counts: a lens's
+ * bounds +-1 around its sphere of radius 1)? Tolerance: rounding of the transforms. */
+static bool box_covers(const struct scene_object *o, vec3 lo, vec3 hi)
+{
+    vec3 olo, ohi;
+    geom_world_box(&o->world_from_object, o->bounds_min, o->bounds_max, &olo, &ohi);
+    for (int k = 0; k < 3; k++) {
+        double tol = 1e-9 * fmax(1.0, fmax(fabs(vec3_get(olo, k)), fabs(vec3_get(ohi, k))));
+        if (!(vec3_get(lo, k) >= vec3_get(olo, k) - tol && vec3_get(hi, k) <= vec3_get(ohi, k) + tol))
+            return false;
+    }
+    return true;
+}
+
+/* The medium "object" form: each bound object fills exactly one surface whose solid its
+ * bounds cover, and has no opaque embeddings (not modelled inside surfaces). Marks the
+ * objects bound (after the sort, so bound_surface is the priority index). */
+static enum refract_code bind_objects(struct scene *s, struct err *e)
+{
+    for (size_t i = 0; i < s->surface_count; i++) {
+        const struct scene_surface *sf = &s->surfaces[i];
+        if (!sf->medium.has_object)
+            continue;
+        struct scene_object *o = &s->objects[sf->medium.object];
+        int d = sf->document_index;
+        if (o->bound)
+            return err_set(e, REFRACT_E_INVALID_FIELD,
+                           "surfaces[%d].medium.object: objects[%d] (\"%s\") already fills "
+                           "surfaces[%d] (\"%s\"); an object fills one surface: give this "
+                           "surface its own object",
+                           d, sf->medium.object, o->name,
+                           s->surfaces[o->bound_surface].document_index,
+                           s->surfaces[o->bound_surface].name);
+        vec3 lo, hi;
+        if (sf->shape.kind == SCENE_SHAPE_MESH)
+            return err_set(e, REFRACT_E_INVALID_FIELD,
+                           "surfaces[%d].medium.object: a mesh surface cannot be filled by an "
+                           "object yet (its extent is known only with the upload, so the "
+                           "object's cover cannot be checked); use a sphere, box, cylinder or "
+                           "lathe surface, or constant \"ior\"",
+                           d);
+        if (!scene_surface_world_bounds(sf, &lo, &hi) || !isfinite(lo.x + lo.y + lo.z) ||
+            !isfinite(hi.x + hi.y + hi.z))
+            return err_set(e, REFRACT_E_INVALID_FIELD,
+                           "surfaces[%d].medium.object: the %s's solid is unbounded, so no "
+                           "object's bounds can cover it; bound the field by a sphere, box, "
+                           "cylinder or lathe",
+                           d, sf->shape.kind == SCENE_SHAPE_PLANE ? "plane" : "surface");
+        if (!box_covers(o, lo, hi))
+            return err_set(e, REFRACT_E_INVALID_FIELD,
+                           "surfaces[%d].medium.object: objects[%d] (\"%s\")'s bounds do not "
+                           "cover the surface's solid, which spans [%g, %g, %g]..[%g, %g, %g] "
+                           "in world space; make the object's bounds (after its transform) "
+                           "contain that box (touching it is fine)",
+                           d, sf->medium.object, o->name, lo.x, lo.y, lo.z, hi.x, hi.y, hi.z);
+        if (o->fields[SCENE_CH_OPAQUE].count > 0)
+            return err_set(e, REFRACT_E_INVALID_FIELD,
+                           "objects[%d].opaque: objects[%d] (\"%s\") fills surfaces[%d], and "
+                           "opaque embeddings are not modelled inside a surface; remove "
+                           "\"opaque\" or the surface's \"object\"",
+                           sf->medium.object, sf->medium.object, o->name, d);
+        o->bound = true;
+        o->bound_surface = (int)i;
+    }
+    return REFRACT_E_OK;
+}
+
 static enum refract_code check_rules(const struct scene *s, struct err *e)
 {
     for (size_t i = 0; i < s->surface_count; i++) {
@@ -216,6 +328,8 @@ static enum refract_code check_rules(const struct scene *s, struct err *e)
             continue;
         for (size_t k = 0; k < s->object_count; k++) {
             const struct scene_object *o = &s->objects[k];
+            if (o->bound && o->bound_surface == (int)i)
+                continue; /* it fills this surface */
             vec3 olo, ohi;
             geom_world_box(&o->world_from_object, o->bounds_min, o->bounds_max, &olo, &ohi);
             if (boxes_overlap(alo, ahi, olo, ohi))
@@ -241,12 +355,21 @@ static enum refract_code check_rules(const struct scene *s, struct err *e)
 enum refract_code scene_check_lightsim_surfaces(const struct scene *s, const char *path,
                                                 struct err *e)
 {
-    for (size_t k = 0; k < s->surface_count; k++)
+    for (size_t k = 0; k < s->surface_count; k++) {
         if (s->surfaces[k].shape.kind == SCENE_SHAPE_MESH)
             return err_set(e, REFRACT_E_INVALID_FIELD,
                            "%s: needs the light simulator, which does not trace mesh surfaces "
                            "yet, and surfaces[%d] is a mesh; remove one of them",
                            path, s->surfaces[k].document_index);
+        if (s->surfaces[k].medium.has_object)
+            return err_set(e, REFRACT_E_INVALID_FIELD,
+                           "%s: needs the light simulator, whose wavefront does not bend by a "
+                           "field inside a surface yet, and surfaces[%d].medium names the "
+                           "object \"%s\" (docs/lightsim.md \"Surfaces\"); remove one of "
+                           "them",
+                           path, s->surfaces[k].document_index,
+                           s->objects[s->surfaces[k].medium.object].name);
+    }
     return REFRACT_E_OK;
 }
 
@@ -278,10 +401,11 @@ enum refract_code scene_parse_surfaces(const cJSON *arr, const struct scene_limi
         char p[64];
         s->surface_count = (size_t)i + 1; /* so scene_destroy frees what this one owns */
         enum refract_code rc = parse_surface(it, jr_path_index(p, sizeof p, "surfaces", i), i, lim,
-                                             &s->surfaces[i], e);
+                                             s, &s->surfaces[i], e);
         if (rc != REFRACT_E_OK)
             return rc;
     }
     qsort(s->surfaces, s->surface_count, sizeof *s->surfaces, by_priority);
-    return check_rules(s, e);
+    enum refract_code rc = bind_objects(s, e);
+    return rc == REFRACT_E_OK ? check_rules(s, e) : rc;
 }

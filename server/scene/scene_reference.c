@@ -214,6 +214,8 @@ enum refract_code scene_reference_build(const struct scene *s, enum scene_refere
         memcpy(ro->brdf.color, o->brdf.color, sizeof ro->brdf.color);
         ro->brdf.alpha = o->brdf.roughness * o->brdf.roughness;
         ro->brdf.exponent = o->brdf.exponent;
+        ro->bound = o->bound;
+        ro->ior_constant = scene_ior_constant(o);
         rc = mode == SCENE_REFERENCE_ANALYTIC ? build_analytic(out, i, o, s->ambient_ior, e)
                                               : build_voxels(out, s, i, lookup, ctx, e);
     }
@@ -236,6 +238,7 @@ enum refract_code scene_reference_build(const struct scene *s, enum scene_refere
         memcpy(rs->brdf.color, b->color, sizeof rs->brdf.color);
         rs->brdf.alpha = b->roughness * b->roughness;
         rs->brdf.exponent = b->exponent;
+        rs->field = m->has_object ? &out->objects[m->object] : NULL;
     }
     out->settings.surfaces = out->surfaces;
     out->settings.surface_count = (int)s->surface_count;

@@ -211,6 +211,12 @@ static void mix_surface(uint64_t *h, const struct scene_surface *sf)
     mix_double(h, sf->medium.ior);
     for (int c = 0; c < 3; c++)
         mix_double(h, sf->medium.attenuation[c]);
+    /* The medium "object" form: which object fills the solid (its fields are mixed with
+     * the objects). Only when set, so constant media hash as before. */
+    if (sf->medium.has_object) {
+        mix_int(h, 0x0b1ec7);
+        mix_int(h, sf->medium.object);
+    }
 }
 
 uint64_t scene_transport_hash(const struct scene *s)
