@@ -194,6 +194,8 @@ int march_next_object(march_state s, out float t_world, out bool inside, out int
     face_axis = 0;
     face_sign = 1.0;
     for (int i = 0; i < params.settings_i.z; i++) {
+        if ((params.objects[i].resolution.w & OBJECT_BOUND) != 0)
+            continue; // fills a surface: seen only inside it (march_bound.glsl)
         vec3 o = march_point_to_object(i, s.x);
         vec3 q = march_dir_to_object(i, s.d);
         float t0, t1, sgn;
@@ -575,9 +577,16 @@ int march_next_surface(vec3 x, vec3 d, int last, int last_prim, float t_max, out
     return best;
 }
 
-float march_medium_ior(int medium)
+// n of the medium of surface `medium` at world point x: the constant, or the sample of the
+// object that fills it (surfaces[k].attenuation.w >= 0, march_bound.glsl); -1: ambient.
+float march_medium_ior(int medium, vec3 x)
 {
-    return medium < 0 ? params.settings_f.z : surfaces[medium].medium.x;
+    if (medium < 0)
+        return params.settings_f.z;
+    if (surfaces[medium].attenuation.w < 0.0)
+        return surfaces[medium].medium.x;
+    int obj = int(surfaces[medium].attenuation.w);
+    return volume_sample_ior_grad(obj, march_point_to_object(obj, x)).a;
 }
 
 // A straight leg of length t through the medium of surface `medium` (-1: ambient): optical
@@ -585,7 +594,7 @@ float march_medium_ior(int medium)
 // closed form, L_e (1 - exp(-sigma t)) / sigma (L_e t where sigma = 0).
 void march_surface_leg(inout march_state s, int medium, float t)
 {
-    s.opl += march_medium_ior(medium) * t;
+    s.opl += march_medium_ior(medium, s.x) * t;
     if (medium >= 0) {
         vec3 sig = surfaces[medium].attenuation.rgb;
 #if MARCH_RADIANCE
@@ -602,8 +611,10 @@ void march_surface_leg(inout march_state s, int medium, float t)
 
 // Crossing surface k (core/interface.h): toggles k in the inside set; where the medium
 // changes, the Fresnel event with the environment's reflection gathered, or total
-// internal reflection.
-void march_surface_event(inout march_state s, inout uint inside, int k, geom_hit h)
+// internal reflection. n_leaving: leaving a field-filled surface, the index on the inside
+// as march_through_bound found it; < 0: the medium's index at s.x.
+void march_surface_event(inout march_state s, inout uint inside, int k, geom_hit h,
+                         float n_leaving)
 {
     uint next = inside ^ (1u << uint(k));
     int from = interface_medium(inside), to = interface_medium(next);
@@ -613,7 +624,8 @@ void march_surface_event(inout march_state s, inout uint inside, int k, geom_hit
         inside = next;
         return;
     }
-    float n_from = march_medium_ior(from), n_to = march_medium_ior(to);
+    float n_from = n_leaving >= 0.0 ? n_leaving : march_medium_ior(from, s.x);
+    float n_to = march_medium_ior(to, s.x);
     if (abs(n_from - n_to) <= MARCH_INDEX_EPS) {
         inside = next;
         return;
@@ -639,6 +651,8 @@ void march_surface_event(inout march_state s, inout uint inside, int k, geom_hit
     s.d = ev.refracted;
     inside = next;
 }
+
+#include "march_bound.glsl"
 #endif
 
 // Traces a world ray through the scene. Statuses, exit point and direction, transmittance
@@ -674,6 +688,21 @@ march_state march_ray(vec3 origin, vec3 dir, uint inside)
         float sgn = 1.0;
         int obj = -1;
 #if MARCH_SURFACES
+        int med = interface_medium(inside);
+        if (med >= 0 && surfaces[med].attenuation.w >= 0.0) {
+            // A field fills this medium: the ray equation up to the next surface.
+            geom_hit hb;
+            float n_in;
+            int kb = march_through_bound(s, med, last_surface, last_prim, hb, n_in);
+            if (kb < 0)
+                break;
+            march_surface_event(s, inside, kb, hb, n_in);
+            last_surface = kb;
+            last_prim = hb.prim;
+            if (march_throughput(s) < min_throughput)
+                s.status = RAY_STATUS_ABSORBED;
+            continue;
+        }
         // Voxel objects lie in the ambient medium, outside every surface.
         if (inside == 0u)
 #endif
@@ -687,7 +716,7 @@ march_state march_ray(vec3 origin, vec3 dir, uint inside)
                 break;
             }
             march_surface_leg(s, interface_medium(inside), h.t);
-            march_surface_event(s, inside, k, h);
+            march_surface_event(s, inside, k, h, -1.0);
             last_surface = k;
             last_prim = h.prim;
             if (march_throughput(s) < min_throughput)

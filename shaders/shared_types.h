@@ -29,6 +29,11 @@ typedef struct object_params object_params;
 #define OBJECT_HAS_ATTENUATION 1
 #define OBJECT_HAS_EMISSION 2
 #define OBJECT_HAS_OPAQUE 4
+/* (8 is OBJECT_HAS_SCATTERING, below.) The object fills a surface (docs/scenes.md "Surfaces",
+ * medium "object"): seen only inside it, never entered through its bounds. */
+#define OBJECT_BOUND 16
+/* Its n is the same everywhere: inside its surface rays go straight. */
+#define OBJECT_IOR_CONSTANT 32
 
 /* One volume object as the march sees it. */
 struct object_params {
@@ -82,7 +87,8 @@ struct surface_params {
                        lathe: x largest r, y lowest h, z highest h of the profile */
     vec4 medium;    /* x: n inside; y: scale (world units per object unit); z: offset past
                        the surface just left (world units); w: 1 = absorbs in every channel */
-    vec4 attenuation; /* rgb: sigma_a per world unit */
+    vec4 attenuation; /* rgb: sigma_a per world unit; w: the object whose fields fill the
+                         solid instead of the constants (march_bound.glsl), -1: none */
     vec4 emission;    /* rgb: L_e per world unit */
 };
 

@@ -124,6 +124,10 @@ static void layout_atlas(struct scene_gpu *sg, const struct scene *s)
             flags |= OBJECT_HAS_OPAQUE;
         if (scene_channel_used(&s->objects[i], SCENE_CH_SCATTERING))
             flags |= OBJECT_HAS_SCATTERING;
+        if (s->objects[i].bound)
+            flags |= OBJECT_BOUND;
+        if (scene_ior_constant(&s->objects[i]))
+            flags |= OBJECT_IOR_CONSTANT;
         sg->objects[i].flags = flags;
     }
     sg->atlas_size[2] = z;

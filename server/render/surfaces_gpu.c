@@ -125,6 +125,8 @@ enum refract_code surfaces_gpu_build(const struct render_scene_source *src, stru
         const struct scene_medium *m = &s->surfaces[i].medium;
         geom_surface_pack(&g[i], m->ior, m->attenuation, m->emission, (int)next, &sp[i]);
         sp[i].mesh = first[i];
+        /* The medium "object" form: the object whose fields fill the solid. */
+        sp[i].attenuation.w = m->has_object ? (float)m->object : -1.0f;
         if (sh->kind == SCENE_SHAPE_LATHE)
             for (size_t j = 0; j < sh->profile_count; j++, next++) {
                 pts[2 * next] = (float)sh->profile[j][0];
