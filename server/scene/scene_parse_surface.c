@@ -336,9 +336,10 @@ static enum refract_code check_rules(const struct scene *s, struct err *e)
                 return err_set(e, REFRACT_E_INVALID_FIELD,
                                "surfaces[%d]: its solid may overlap objects[%zu] (\"%s\")'s "
                                "bounds; voxel objects must lie in the ambient medium outside "
-                               "every surface (a GRIN or scattering medium inside an exact "
-                               "surface is not supported yet): move one of them",
-                               a->document_index, k, o->name);
+                               "every surface but the one they fill: move one of them, or "
+                               "let the object fill the surface (\"medium\": {\"object\": "
+                               "\"%s\"})",
+                               a->document_index, k, o->name, o->name);
         }
     }
     for (size_t k = 0; k < s->object_count; k++)
