@@ -10,7 +10,8 @@
  * at 128^3), the same sphere as a 327,680-triangle icosphere mesh surface
  * (mesh_make_icosphere, 7 subdivisions), and wine_glass.json (the glass and the wine as
  * lathes; its receiver and light are dropped for this measurement, which times the
- * march alone). Each is rendered once to warm up (the kernel variant compiles), then
+ * march alone), and the Luneburg lens as 128^3 voxels (luneburg_lens.json) and filling its
+ * exact sphere (luneburg_lens_exact.json). Each is rendered once to warm up (the kernel variant compiles), then
  * repeated while the budget lasts (1..7 times); the median GPU time (dispatch to
  * glFinish) is reported, with the ratio to the voxel sphere at the same size.
  */
@@ -109,15 +110,22 @@ int main(int argc, char **argv)
         return 1;
     }
     ico_volume = (struct scene_volume){.mesh = ico};
-    struct scene *scenes[4] = {
+    enum { SCENES = 6 };
+    struct scene *scenes[SCENES] = {
         bench_load_example("refract-surfaces", "proto/examples/glass_sphere_voxels.json", 128),
         bench_load_example("refract-surfaces", "proto/examples/glass_sphere.json", 128),
         NULL,
         bench_load_example("refract-surfaces", "proto/examples/wine_glass.json", 0),
+        bench_load_example("refract-surfaces", "proto/examples/luneburg_lens.json", 128),
+        bench_load_example("refract-surfaces", "proto/examples/luneburg_lens_exact.json", 128),
     };
-    const char *names[4] = {"glass sphere, 128^3 voxels", "glass sphere, exact",
-                            "glass sphere, 327,680-triangle icosphere", "wine glass with wine"};
-    const char *ids[4] = {"voxels", "sphere", "ico", "wine"};
+    const char *names[SCENES] = {"glass sphere, 128^3 voxels",
+                                 "glass sphere, exact",
+                                 "glass sphere, 327,680-triangle icosphere",
+                                 "wine glass with wine",
+                                 "Luneburg lens, 128^3 voxels",
+                                 "Luneburg lens in its exact sphere (field inside)"};
+    const char *ids[SCENES] = {"voxels", "sphere", "ico", "wine", "luneburg", "luneburg_exact"};
     /* The icosphere: glass_sphere.json's sphere with the mesh in its place. */
     if (scenes[1] != NULL) {
         const char *doc =
@@ -149,7 +157,7 @@ int main(int argc, char **argv)
         if (sscanf(p, "%dx%d", &w, &h) != 2)
             break;
         double base = -1.0;
-        for (int k = 0; k < 4; k++) {
+        for (int k = 0; k < SCENES; k++) {
             if (scenes[k] == NULL)
                 continue;
             double ms = time_scene(gpu, &j, ids[k], scenes[k], w, h, budget_ms);
@@ -168,7 +176,7 @@ int main(int argc, char **argv)
     free(j.result.rgba);
     on_gpu(gpu, &j, 2);
     gpu_destroy(gpu, NULL);
-    for (int k = 0; k < 4; k++)
+    for (int k = 0; k < SCENES; k++)
         scene_destroy(scenes[k]);
     mesh_destroy(ico);
     return 0;

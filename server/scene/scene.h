@@ -366,8 +366,9 @@ int scene_missing_meshes(const struct scene *s, scene_volume_lookup_fn lookup, v
  * z; scene_channel_components(ch) floats per voxel). Voxel (i,j,k) has its centre at
  * bounds_min + (i + 0.5) * (bounds_max - bounds_min) / resolution. Borrows everything
  * until return. Fails only on a missing or mismatched volume or a missing mesh
- * (REFRACT_E_CONFLICT), or OUT_OF_MEMORY for a mesh layer's coverage grid. Mesh layers
- * are voxelized here, in parallel on all CPUs (mesh_voxelize). */
+ * (REFRACT_E_CONFLICT), or OUT_OF_MEMORY for a mesh layer's coverage grid or a bound
+ * object's mask. Mesh layers are voxelized here, in parallel on all CPUs (mesh_voxelize). A
+ * bound object's field is continued beyond its surface (scene_field_extend_bound). */
 enum refract_code scene_field_eval(const struct scene *s, const struct scene_object *obj,
                                    enum scene_channel ch, scene_volume_lookup_fn lookup, void *ctx,
                                    float *out, struct err *e);

@@ -17,6 +17,9 @@
  * remembers its last grid (mesh_voxelize_memo), so the other channels of the object
  * and the light simulator's fields copy it instead of voxelizing again.
  *
+ * An object bound to a surface (docs/scenes.md "Surfaces", medium "object") has its field
+ * continued beyond the surface afterwards (scene_field_bound.c), which allocates a mask.
+ *
  * Not here: smoothing and gradients of the ior (the GPU module does those, tracing.md).
  */
 #include "scene.h"

@@ -302,6 +302,36 @@ static enum refract_code bind_objects(struct scene *s, struct err *e)
     return REFRACT_E_OK;
 }
 
+/* Voxels added on each side of a bound object's grid. */
+#define BOUND_PAD_VOXELS 2
+
+/* A bound object's grid grows by BOUND_PAD_VOXELS on each side, with the same voxel size
+ * (so the voxel centres, and every sample inside the old bounds, stay where they were):
+ * where its bounds touch its surface (a lens in bounds +-1 around its sphere of radius 1),
+ * the trilinear samples of the last half voxel would otherwise be clamped at the bounds
+ * face, and the continued field (scene_field_bound.c) needs voxels beyond the surface to
+ * live in. The object is seen only inside its surface, so the larger bounds are invisible.
+ * An axis already at the resolution limit keeps its grid (the march then takes n at the
+ * face from |w|, docs/tracing.md "The rim"). After the rules, which see the document's
+ * bounds; not counted against max_voxels (at most (1 + 4 / res)^3 more). */
+static void pad_bound_objects(struct scene *s, const struct scene_limits *lim)
+{
+    for (size_t k = 0; k < s->object_count; k++) {
+        struct scene_object *o = &s->objects[k];
+        if (!o->bound)
+            continue;
+        vec3 vs = scene_object_voxel_size(o);
+        for (int a = 0; a < 3; a++) {
+            if (o->resolution[a] + 2 * BOUND_PAD_VOXELS > lim->max_resolution)
+                continue;
+            double pad = BOUND_PAD_VOXELS * vec3_get(vs, a);
+            vec3_set(&o->bounds_min, a, vec3_get(o->bounds_min, a) - pad);
+            vec3_set(&o->bounds_max, a, vec3_get(o->bounds_max, a) + pad);
+            o->resolution[a] += 2 * BOUND_PAD_VOXELS;
+        }
+    }
+}
+
 static enum refract_code check_rules(const struct scene *s, struct err *e)
 {
     for (size_t i = 0; i < s->surface_count; i++) {
@@ -408,5 +438,9 @@ enum refract_code scene_parse_surfaces(const cJSON *arr, const struct scene_limi
     }
     qsort(s->surfaces, s->surface_count, sizeof *s->surfaces, by_priority);
     enum refract_code rc = bind_objects(s, e);
-    return rc == REFRACT_E_OK ? check_rules(s, e) : rc;
+    if (rc == REFRACT_E_OK)
+        rc = check_rules(s, e);
+    if (rc == REFRACT_E_OK)
+        pad_bound_objects(s, lim);
+    return rc;
 }

@@ -10,7 +10,9 @@
  *     lens's (proto/examples/luneburg_lens.json) plus its rim error; the exit directions
  *     agree with Dormand-Prince on the exact field in the exact sphere;
  *   - field_continued_beyond_surface_helps: the same bundle with the bound object's field
- *     left as the layers give it (n = 1 outside R) focuses worse (measured, printed);
+ *     left as the layers give it (n = 1 outside R) focuses worse, median and worst;
+ * The lens has no smoothing (smoothing_sigma 0, as proto/examples/luneburg_lens.json), so
+ * the voxels hold the profile and the errors are those of the boundary treatment.
  *   - step_cut_lands_on_surface: every surface event of a field-filled sphere lies on the
  *     sphere to 1e-12 and within 1e-6 of the step of the end of the ray-equation step cut
  *     there (reftrace_event.step_gap), for every stepper;
@@ -74,8 +76,8 @@ static struct scene *lens_scene(double half, bool bounded)
     char doc[768];
     snprintf(doc, sizeof doc,
              "{\"objects\": [{\"name\": \"lens\", \"bounds\": {\"min\": [%g, %g, %g], \"max\": "
-             "[%g, %g, %g]}, \"resolution\": %d, \"ior\": {\"profile\": \"luneburg\", "
-             "\"center\": [0, 0, 0], \"radius\": 1.0}}]%s}",
+             "[%g, %g, %g]}, \"resolution\": %d, \"smoothing_sigma\": 0, \"ior\": "
+             "{\"profile\": \"luneburg\", \"center\": [0, 0, 0], \"radius\": 1.0}}]%s}",
              -half, -half, -half, half, half, half, resolution(),
              bounded ? ", \"surfaces\": [{\"name\": \"ball\", \"shape\": \"sphere\", \"center\": "
                        "[0, 0, 0], \"radius\": 1, \"medium\": {\"object\": \"lens\"}}]"
@@ -160,8 +162,13 @@ static void test_luneburg_bounded_by_sphere_focuses_on_far_side(void)
     /* The exact surface removes the voxel lens's staircase rim: not worse than it. */
     CHECK_MSG(margin.median <= 1.5 * voxel.median + 1e-3, "bounded %g vs voxel-only %g",
               margin.median, voxel.median);
-    CHECK_MSG(touch.dir_median < 0.5 && margin.dir_median < 0.5, "directions %g, %g deg",
-              touch.dir_median, margin.dir_median);
+    /* 0.02 deg at 96^3, twice that at 48^3 (first order in the voxel size). */
+    double dir_bound = 0.02 * 96.0 / resolution();
+    CHECK_MSG(touch.dir_median < dir_bound && margin.dir_median < dir_bound,
+              "directions %g, %g deg", touch.dir_median, margin.dir_median);
+    CHECK_MSG(touch.dir_median <= 3.0 * margin.dir_median + 1e-3 &&
+                  margin.dir_median <= 3.0 * touch.dir_median + 1e-3,
+              "layouts' directions disagree: %g vs %g deg", touch.dir_median, margin.dir_median);
     scene_destroy(touch_s);
     scene_destroy(margin_s);
     scene_destroy(voxel_s);
@@ -191,7 +198,8 @@ static void test_field_continued_beyond_surface_helps(void)
     double median = 0.5 * (err[RAYS / 2 - 1] + err[RAYS / 2]);
     printf("touching, field as the layers give it: focus error median %.3g, worst %.3g\n", median,
            err[RAYS - 1]);
-    CHECK_MSG(with.worst < err[RAYS - 1], "worst: continued %g vs raw %g", with.worst,
+    CHECK_MSG(with.median < median && with.worst < err[RAYS - 1],
+              "continued %g, worst %g vs raw %g, worst %g", with.median, with.worst, median,
               err[RAYS - 1]);
     scene_reference_free(&raw);
     scene_destroy(s);

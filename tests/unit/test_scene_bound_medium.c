@@ -33,6 +33,7 @@ static void test_accepts_touching_and_margin_bounds(void)
         CHECK_INT(s->surfaces[0].medium.object, 0);
         CHECK(s->objects[0].bound);
         CHECK_INT(s->objects[0].bound_surface, 0);
+        CHECK_INT(s->objects[0].resolution[1], 20); /* padded by two voxels a side */
         CHECK(!scene_ior_constant(&s->objects[0]));
         scene_destroy(s);
     }
@@ -103,24 +104,27 @@ static void test_field_continues_beyond_surface(void)
     if (s == NULL || free_s == NULL)
         return;
     float *bound = eval(s, SCENE_CH_IOR, NULL, NULL), *raw = eval(free_s, SCENE_CH_IOR, NULL, NULL);
-    const struct scene_object *o = &s->objects[0];
+    const struct scene_object *o = &s->objects[0], *fo = &free_s->objects[0];
+    /* The bound grid has two more voxels on each side, at the same voxel centres. */
+    CHECK_INT(o->resolution[0], fo->resolution[0] + 4);
+    CHECK_NEAR(o->bounds_max.x, fo->bounds_max.x + 2 * 2.5 / 16, 1e-12);
     int j = 8, k = 8, first_out = -1;
     double yz = -1.25 + (j + 0.5) * 2.5 / 16;
     for (int i = 8; i < 16; i++) {
         double x = -1.25 + (i + 0.5) * 2.5 / 16;
         double r = sqrt(x * x + 2.0 * yz * yz);
-        size_t v = voxel_index(o, i, j, k);
+        size_t vb = voxel_index(o, i + 2, j + 2, k + 2), v = voxel_index(fo, i, j, k);
         if (r < 1.0) {
-            CHECK_NEAR(bound[v], raw[v], 0.0); /* inside: untouched */
+            CHECK_NEAR(bound[vb], raw[v], 0.0); /* inside: untouched */
             continue;
         }
         CHECK_MSG(raw[v] == 1.0f, "the layers give n = 1 outside, got %g", raw[v]);
         if (first_out < 0) {
             first_out = i;
-            CHECK_NEAR(bound[v], 2.0 * raw[v - 1] - raw[v - 2], 1e-6);
+            CHECK_NEAR(bound[vb], 2.0 * raw[v - 1] - raw[v - 2], 1e-6);
         } else {
-            CHECK_MSG(bound[v] < bound[v - 1], "x = %g: n %g not below %g", x, bound[v],
-                      bound[v - 1]);
+            CHECK_MSG(bound[vb] < bound[vb - 1], "x = %g: n %g not below %g", x, bound[vb],
+                      bound[vb - 1]);
         }
     }
     CHECK(first_out > 8 && first_out < 15);
