@@ -28,13 +28,13 @@
 #include "reftrace_integrate.h"
 #include "reftrace_march.h"
 
-#define CUT_REL 1e-6      /* the cut's residual, relative to the step (world units) */
-#define CUT_MAX_ITER 64   /* secant/bisection iterations of one cut */
+#define CUT_REL 1e-6       /* the cut's residual, relative to the step (world units) */
+#define CUT_MAX_ITER 64    /* secant/bisection iterations of one cut */
 #define CONTROL_SAFETY 0.9 /* the adaptive steppers' controllers, as reftrace.c */
 #define CONTROL_SHRINK 0.2
 #define CONTROL_GROW 5.0
-#define BS23_FLOOR 1e-3        /* smallest BS23 step, in units of the largest */
-#define DOPRI_FLOOR_REL 1e-9   /* smallest Dormand-Prince step, relative to the extent */
+#define BS23_FLOOR 1e-3      /* smallest BS23 step, in units of the largest */
+#define DOPRI_FLOOR_REL 1e-9 /* smallest Dormand-Prince step, relative to the extent */
 
 struct bound_frame {
     const struct reftrace_object *o;
@@ -153,8 +153,8 @@ static void accumulate(struct march *m, const struct bound_frame *b, vec3 p0,
  * the step's end. Writes the step's end direction to *w_end and returns the surface; *hit
  * and *x_hit are the last hit, *gap its distance from the step's end (world units). */
 static int cut_step(struct march *m, const struct bound_frame *b, vec3 p, vec3 w, double h,
-                    vec3 w_h, int k, double len, int last, int64_t last_prim,
-                    struct geom_hit *hit, vec3 *x_hit, vec3 *w_end, double *gap)
+                    vec3 w_h, int k, double len, int last, int64_t last_prim, struct geom_hit *hit,
+                    vec3 *x_hit, vec3 *w_end, double *gap)
 {
     const struct reftrace_object *o = b->o;
     double lo = 0.0, hi = h, tol = CUT_REL * h * b->scale;
@@ -243,8 +243,8 @@ int reftrace_bound_march(struct march *m, int med, int last, int64_t last_prim,
         }
         double len;
         vec3 x_hit;
-        int k = chord_hit(set, m->x, xform_point_to_world(&o->xf, p1), last, last_prim, hit,
-                          &x_hit, &len);
+        int k = chord_hit(set, m->x, xform_point_to_world(&o->xf, p1), last, last_prim, hit, &x_hit,
+                          &len);
         if (k >= 0) {
             vec3 w_end;
             k = cut_step(m, &b, p, w, hs, w1, k, len, last, last_prim, hit, &x_hit, &w_end,

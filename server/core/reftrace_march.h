@@ -53,9 +53,7 @@ static inline void stop(struct march *m, enum ray_status status)
 /* The absorbed cut-off: render.min_throughput, the default 1e-6 for 0, never for < 0. */
 static inline double reftrace_absorbed_cut(const struct reftrace_settings *set)
 {
-    return set->min_throughput > 0.0 ? set->min_throughput
-           : set->min_throughput < 0.0 ? 0.0
-                                       : 1e-6;
+    return set->min_throughput > 0.0 ? set->min_throughput : set->min_throughput < 0.0 ? 0.0 : 1e-6;
 }
 
 /* The nearest surface crossing of the world ray x + t d (unit d), t < t_max; -1 when none.

@@ -50,11 +50,11 @@ static void mark_inside(const struct scene_object *obj, const struct geom_surfac
 
 /* The continued value of voxel (i, j, k) from the known voxels; false when it has no
  * known neighbour. */
-static bool continue_voxel(const int *n, const uint8_t *known, const float *out, int comps,
-                           int i, int j, int k, float *value)
+static bool continue_voxel(const int *n, const uint8_t *known, const float *out, int comps, int i,
+                           int j, int k, float *value)
 {
-    static const int dirs[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0},
-                                   {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    static const int dirs[6][3] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                   {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
     double lin[4] = {0, 0, 0, 0}, near[4] = {0, 0, 0, 0};
     int n_lin = 0, n_near = 0;
     for (int d = 0; d < 6; d++) {
@@ -101,8 +101,9 @@ enum refract_code scene_field_extend_bound(const struct scene *s, const struct s
     if (known == NULL || next == NULL) {
         free(known);
         free(next);
-        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "objects: out of memory continuing the field "
-                                                   "of \"%s\" beyond its surface",
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY,
+                       "objects: out of memory continuing the field "
+                       "of \"%s\" beyond its surface",
                        obj->name);
     }
     mark_inside(obj, &g, known);

@@ -22,8 +22,9 @@
 
 #define RES 32
 #define LENS(half)                                                                                 \
-    "{\"name\": \"lens\", \"bounds\": {\"min\": [-" half ", -" half ", -" half "], \"max\": ["    \
-    half ", " half ", " half "]}, \"resolution\": 32, \"smoothing_sigma\": 0, \"ior\": "          \
+    "{\"name\": \"lens\", \"bounds\": {\"min\": [-" half ", -" half ", -" half                     \
+    "], \"max\": [" half ", " half ", " half                                                       \
+    "]}, \"resolution\": 32, \"smoothing_sigma\": 0, \"ior\": "                                    \
     "{\"profile\": \"luneburg\", \"center\": [0, 0, 0], \"radius\": 1.0}}"
 #define BALL(medium)                                                                               \
     "{\"name\": \"ball\", \"shape\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 1, "           \
@@ -47,8 +48,9 @@ static void lens_scene(struct test_daemon *d)
 {
     section("bounded lens");
     const char *doc = "{\"name\": \"lens\", \"camera\": {\"eye\": [0, 1.2, 4.5], \"look_at\": [0, "
-                      "0, 0], \"width\": 48, \"height\": 36}, \"objects\": [" LENS("1") "], "
-                      "\"surfaces\": [" BALL("{\"object\": \"lens\"}") "]}";
+                      "0, 0], \"width\": 48, \"height\": 36}, \"objects\": [" LENS(
+                          "1") "], "
+                               "\"surfaces\": [" BALL("{\"object\": \"lens\"}") "]}";
     char id[128], path[256];
     CHECK(test_create_scene(d, doc, id));
     snprintf(path, sizeof path, "/v1/scenes/%s/render", id);

@@ -95,8 +95,8 @@ static double focus_miss(const struct reftrace_result *r)
 }
 
 struct focus {
-    double median, worst;     /* |exit point - (0, 0, 1)| */
-    double dir_median;        /* exit direction against the exact reference, deg */
+    double median, worst; /* |exit point - (0, 0, 1)| */
+    double dir_median;    /* exit direction against the exact reference, deg */
 };
 
 /* Traces the bundle through the reference of s; exact: the analytic field's reference to

@@ -11,12 +11,12 @@
 #include "scene_test_util.h"
 #include "test.h"
 
-#define LENS(bounds) \
-    "{\"name\": \"lens\", \"bounds\": {\"min\": [-" bounds ", -" bounds ", -" bounds "], " \
-    "\"max\": [" bounds ", " bounds ", " bounds "]}, \"resolution\": 16, \"ior\": {\"profile\": " \
+#define LENS(bounds)                                                                               \
+    "{\"name\": \"lens\", \"bounds\": {\"min\": [-" bounds ", -" bounds ", -" bounds "], "         \
+    "\"max\": [" bounds ", " bounds ", " bounds "]}, \"resolution\": 16, \"ior\": {\"profile\": "  \
     "\"luneburg\", \"center\": [0, 0, 0], \"radius\": 1.0}}"
-#define BALL(medium) \
-    "{\"name\": \"ball\", \"shape\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 1, " \
+#define BALL(medium)                                                                               \
+    "{\"name\": \"ball\", \"shape\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 1, "           \
     "\"medium\": " medium "}"
 
 static void test_accepts_touching_and_margin_bounds(void)
@@ -57,29 +57,36 @@ static void test_refuses_bad_bindings(void)
          NULL},
         /* Does not cover the sphere. */
         {"{\"objects\": [" LENS("0.9") "], \"surfaces\": [" BALL("{\"object\": \"lens\"}") "]}",
-         REFRACT_E_INVALID_FIELD, "surfaces[0].medium.object: objects[0] (\"lens\")'s bounds do "
-                                  "not cover the surface's solid",
+         REFRACT_E_INVALID_FIELD,
+         "surfaces[0].medium.object: objects[0] (\"lens\")'s bounds do "
+         "not cover the surface's solid",
          "contain that box"},
         /* One object, two surfaces. */
-        {"{\"objects\": [" LENS("3") "], \"surfaces\": [" BALL("{\"object\": \"lens\"}") ", "
-         "{\"shape\": \"box\", \"center\": [0, 0, 2.5], \"size\": [1, 1, 1], \"medium\": "
-         "{\"object\": \"lens\"}}]}",
-         REFRACT_E_INVALID_FIELD, "surfaces[0].medium.object: objects[0] (\"lens\") already fills "
-                                  "surfaces[1]",
+        {"{\"objects\": [" LENS("3") "], \"surfaces\": [" BALL(
+             "{\"object\": \"lens\"}") ", "
+                                       "{\"shape\": \"box\", \"center\": [0, 0, 2.5], \"size\": "
+                                       "[1, 1, 1], \"medium\": "
+                                       "{\"object\": \"lens\"}}]}",
+         REFRACT_E_INVALID_FIELD,
+         "surfaces[0].medium.object: objects[0] (\"lens\") already fills "
+         "surfaces[1]",
          NULL},
         /* A plane's solid is unbounded. */
         {"{\"objects\": [" LENS("1") "], \"surfaces\": [{\"shape\": \"plane\", \"normal\": [0, 1, "
-         "0], \"medium\": {\"object\": \"lens\"}}]}",
+                                     "0], \"medium\": {\"object\": \"lens\"}}]}",
          REFRACT_E_INVALID_FIELD, "surfaces[0].medium.object: the plane's solid is unbounded",
          NULL},
         /* Another surface still may not overlap the bound object. */
-        {"{\"objects\": [" LENS("1.5") "], \"surfaces\": [" BALL("{\"object\": \"lens\"}") ", "
-         "{\"shape\": \"box\", \"center\": [1.2, 0, 0], \"size\": [0.2, 0.2, 0.2], \"medium\": "
-         "{\"ior\": 1.5}}]}",
+        {"{\"objects\": [" LENS("1.5") "], \"surfaces\": [" BALL(
+             "{\"object\": \"lens\"}") ", "
+                                       "{\"shape\": \"box\", \"center\": [1.2, 0, 0], \"size\": "
+                                       "[0.2, 0.2, 0.2], \"medium\": "
+                                       "{\"ior\": 1.5}}]}",
          REFRACT_E_INVALID_FIELD, "surfaces[1]: its solid may overlap objects[0] (\"lens\")", NULL},
         /* The light simulator does not bend inside surfaces. */
-        {"{\"objects\": [" LENS("1") "], \"surfaces\": [" BALL("{\"object\": \"lens\"}") "], "
-         "\"receiver\": {\"height\": -1.5}}",
+        {"{\"objects\": [" LENS("1") "], \"surfaces\": [" BALL(
+             "{\"object\": \"lens\"}") "], "
+                                       "\"receiver\": {\"height\": -1.5}}",
          REFRACT_E_INVALID_FIELD, "receiver: needs the light simulator", "\"lens\""},
         /* Opaque embeddings are not modelled inside a surface. */
         {"{\"objects\": [{\"name\": \"lens\", " BOUNDS ", \"resolution\": 8, \"ior\": 1.5, "
@@ -98,8 +105,8 @@ static void test_refuses_bad_bindings(void)
  * layers say n = 1. */
 static void test_field_continues_beyond_surface(void)
 {
-    struct scene *s = parse_ok("{\"objects\": [" LENS("1.25") "], \"surfaces\": [" BALL(
-        "{\"object\": \"lens\"}") "]}");
+    struct scene *s = parse_ok(
+        "{\"objects\": [" LENS("1.25") "], \"surfaces\": [" BALL("{\"object\": \"lens\"}") "]}");
     struct scene *free_s = parse_ok("{\"objects\": [" LENS("1.25") "]}");
     if (s == NULL || free_s == NULL)
         return;
@@ -138,23 +145,26 @@ static void test_field_continues_beyond_surface(void)
  * as before. */
 static void test_transport_hash_covers_binding(void)
 {
-    struct scene *a = parse_ok("{\"objects\": [" LENS("1") ", {\"name\": \"other\", \"bounds\": "
-                               "{\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 16, "
-                               "\"ior\": {\"profile\": \"luneburg\", \"center\": [0, 0, 0], "
-                               "\"radius\": 1.0}, \"transform\": {\"translate\": [5, 0, 0]}}], "
-                               "\"surfaces\": [" BALL("{\"object\": \"lens\"}") "]}");
-    struct scene *b = parse_ok("{\"objects\": [" LENS("1") ", {\"name\": \"other\", \"bounds\": "
-                               "{\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 16, "
-                               "\"ior\": {\"profile\": \"luneburg\", \"center\": [0, 0, 0], "
-                               "\"radius\": 1.0}, \"transform\": {\"translate\": [5, 0, 0]}}], "
-                               "\"surfaces\": [{\"name\": \"ball\", \"shape\": \"sphere\", "
-                               "\"center\": [5, 0, 0], \"radius\": 1, \"medium\": {\"object\": "
-                               "\"other\"}}]}");
-    struct scene *c = parse_ok("{\"objects\": [" LENS("1") ", {\"name\": \"other\", \"bounds\": "
-                               "{\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 16, "
-                               "\"ior\": {\"profile\": \"luneburg\", \"center\": [0, 0, 0], "
-                               "\"radius\": 1.0}, \"transform\": {\"translate\": [5, 0, 0]}}], "
-                               "\"surfaces\": [" BALL("{\"object\": \"lens\"}") "]}");
+    struct scene *a = parse_ok("{\"objects\": [" LENS(
+        "1") ", {\"name\": \"other\", \"bounds\": "
+             "{\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 16, "
+             "\"ior\": {\"profile\": \"luneburg\", \"center\": [0, 0, 0], "
+             "\"radius\": 1.0}, \"transform\": {\"translate\": [5, 0, 0]}}], "
+             "\"surfaces\": [" BALL("{\"object\": \"lens\"}") "]}");
+    struct scene *b = parse_ok("{\"objects\": [" LENS(
+        "1") ", {\"name\": \"other\", \"bounds\": "
+             "{\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 16, "
+             "\"ior\": {\"profile\": \"luneburg\", \"center\": [0, 0, 0], "
+             "\"radius\": 1.0}, \"transform\": {\"translate\": [5, 0, 0]}}], "
+             "\"surfaces\": [{\"name\": \"ball\", \"shape\": \"sphere\", "
+             "\"center\": [5, 0, 0], \"radius\": 1, \"medium\": {\"object\": "
+             "\"other\"}}]}");
+    struct scene *c = parse_ok("{\"objects\": [" LENS(
+        "1") ", {\"name\": \"other\", \"bounds\": "
+             "{\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 16, "
+             "\"ior\": {\"profile\": \"luneburg\", \"center\": [0, 0, 0], "
+             "\"radius\": 1.0}, \"transform\": {\"translate\": [5, 0, 0]}}], "
+             "\"surfaces\": [" BALL("{\"object\": \"lens\"}") "]}");
     /* Only the binding differs between a and b; a and c are the same scene. */
     if (a && b && c) {
         CHECK(scene_transport_hash(a) != scene_transport_hash(b));
