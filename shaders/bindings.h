@@ -69,6 +69,7 @@
 #define GEOM_PLANE 3
 #define GEOM_LATHE 4
 #define GEOM_MESH 5
+#define GEOM_ROUNDED_BOX 6
 #define BIND_SSBO_TRACE_EVENTS 25 /* trace_rays: trace_event_out[TRACE_MAX_EVENTS] per ray */
 #define TRACE_MAX_EVENTS 16       /* surface events recorded per traced ray ("events": true) */
 #define TRACE_EVENT_REFRACTED 0

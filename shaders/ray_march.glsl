@@ -17,17 +17,7 @@
 // MARCH_SCATTERING, MARCH_LIGHTS and MARCH_SKIP are set in march_bindings.glsl.
 
 #if MARCH_SURFACES
-#include "geom/geom_hit.glsl"
-#include "geom/surface.glsl"
-#include "geom/sphere.glsl"
-#include "geom/box.glsl"
-#include "geom/cylinder.glsl"
-#include "geom/plane.glsl"
-#include "geom/lathe.glsl"
-#if MARCH_MESHES
-#include "geom/mesh.glsl"
-#endif
-#include "geom/surface_dispatch.glsl"
+#include "geom/kinds.glsl"
 #include "interface.glsl"
 #endif
 

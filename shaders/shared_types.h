@@ -76,9 +76,10 @@ struct surface_params {
     ivec4 kind;     /* x: GEOM_*; y: axis (cylinder, lathe); z: lathe's first profile point;
                        w: lathe's point count */
     ivec4 mesh;     /* GEOM_MESH: x first node, y first triangle, z first vertex */
-    vec4 shape0;    /* sphere: centre, radius; box, cylinder: centre (w: cylinder radius);
+    vec4 shape0;    /* sphere: centre, radius; box, cylinder, rounded box: centre (w: cylinder
+                       or corner radius);
                        plane: a point; lathe: base (w: +1 counter-clockwise profile, -1 not) */
-    vec4 shape1;    /* box: full sizes; cylinder: x full height; plane: unit normal;
+    vec4 shape1;    /* box, rounded box: full sizes; cylinder: x full height; plane: unit normal;
                        lathe: x largest r, y lowest h, z highest h of the profile */
     vec4 medium;    /* x: n inside; y: scale (world units per object unit); z: offset past
                        the surface just left (world units); w: 1 = absorbs in every channel */

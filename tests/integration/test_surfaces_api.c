@@ -262,11 +262,17 @@ static void bad_input(struct test_daemon *d)
     strcat(many, "]}");
     const struct json_error_case cases[] = {
         {__LINE__,
-         SURF("{\"shape\": \"rounded_box\", \"size\": [1, 1, 1], \"radius\": 0.1, "
+         SURF("{\"shape\": \"text\", \"text\": \"A\", \"height\": 1, \"depth\": 0.2, "
               "\"medium\": {\"ior\": 1.5}}"),
          400,
          "invalid_field",
-         {"surfaces[0].shape", "rounded_box", "mesh"}},
+         {"surfaces[0].shape", "\"text\" has no exact surface", "mesh"}},
+        {__LINE__,
+         SURF("{\"shape\": \"rounded_box\", \"size\": [1, 1, 0.4], \"radius\": 0.3, "
+              "\"medium\": {\"ior\": 1.5}}"),
+         400,
+         "invalid_field",
+         {"surfaces[0].radius", "0.3", "0..0.2"}},
         {__LINE__,
          SURF("{\"shape\": \"sphere\", \"radius\": 0.5}"),
          400,
