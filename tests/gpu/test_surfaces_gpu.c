@@ -134,10 +134,13 @@ static void sphere_band(struct gpu *gpu, double n, double b_lo, double b_hi, boo
         wrong_status += t->hits[i].status != want || through == miss;
         err[n_err++] = angle_between(v3(t->hits[i].exit_direction), miss ? d : xd) * DEG;
     }
+    double mean = 0.0;
+    for (int i = 0; i < n_err; i++)
+        mean += err[i] / n_err;
     qsort(err, (size_t)n_err, sizeof err[0], cmp_double);
     double med = err[n_err / 2], worst = err[n_err - 1];
-    printf("GPU sphere n=%.2f %s: median %.3g deg, worst %.3g deg over %d rays\n", n, what, med,
-           worst, n_err);
+    printf("GPU sphere n=%.2f %s: median %.3g deg, worst %.3g deg, mean %.3g rad over %d rays\n",
+           n, what, med, worst, mean / DEG, n_err);
     CHECK_INT(wrong_status, 0);
     if (miss) {
         CHECK_MSG(worst <= 1e-5, "n=%g %s: worst %g deg", n, what, worst);
