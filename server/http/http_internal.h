@@ -127,7 +127,7 @@ enum refract_code http_parse_body(const char *body, size_t len, cJSON **root, st
  * (def, or the values *exposure_ev, *tonemap, *jpeg_quality hold on entry) and changes
  * only what root names; limits are the cfg's, with messages naming the flag.
  *   camera: "camera" {eye, look_at, up, fov_y_deg} (merged into def), "width", "height";
- *   settings: "integrator", "step", "max_steps", "boundary_threshold";
+ *   settings: "stepper", "step", "max_steps", "boundary_threshold";
  *   image options: "exposure", "tonemap", "jpeg_quality". */
 enum refract_code http_parse_camera(const cJSON *root, const struct scene_camera *def,
                                     const struct http_config *cfg, struct scene_camera *out,
@@ -228,7 +228,8 @@ void http_publish_scene(const struct http_app *app, const char *type, const char
 /* The irradiance status body (docs/api.md) of a version. */
 cJSON *http_irradiance_status(const struct http_app *app, struct store_scene *v);
 /* A version as render and irradiance source: render_request_scene_source and
- * render_request_irradiance_source (server/request/render_request.h, shared with the view sessions). */
+ * render_request_irradiance_source (server/request/render_request.h, shared with the view
+ * sessions). */
 
 /* Looks up the scene named by the first path parameter; answers 404 and returns NULL when
  * it does not exist. Returns a new reference. */

@@ -259,6 +259,20 @@ enum refract_code jr_string(const cJSON *obj, const char *path, const char *key,
     return REFRACT_E_OK;
 }
 
+enum refract_code jr_renamed(const cJSON *obj, const char *path, const char *key,
+                             const char *old_key, const char **use, struct err *e)
+{
+    bool now = get(obj, key) != NULL, before = get(obj, old_key) != NULL;
+    *use = before && !now ? old_key : key;
+    if (now && before) {
+        char p[256];
+        return err_set(e, REFRACT_E_INVALID_FIELD,
+                       "%s: \"%s\" is the old name of \"%s\"; give only \"%s\"",
+                       jr_path(p, sizeof p, path, old_key), old_key, key, key);
+    }
+    return REFRACT_E_OK;
+}
+
 enum refract_code jr_enum(const cJSON *obj, const char *path, const char *key, bool required,
                           int def, const char *const *names, int *out, struct err *e)
 {

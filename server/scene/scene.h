@@ -139,11 +139,11 @@ struct scene_environment {
     double rotation_deg; /* rotation of the environment about world +y */
 };
 
-enum scene_integrator {
-    SCENE_INTEGRATOR_EULER = 0,    /* tevs2007 eqs. 5.11/5.12 */
-    SCENE_INTEGRATOR_RK4 = 1,      /* classical Runge-Kutta */
-    SCENE_INTEGRATOR_RK2 = 2,      /* explicit midpoint */
-    SCENE_INTEGRATOR_ADAPTIVE = 3, /* Bogacki-Shampine 3(2), step control by tolerance */
+enum scene_stepper {
+    SCENE_STEPPER_EULER = 0,    /* tevs2007 eqs. 5.11/5.12 */
+    SCENE_STEPPER_RK4 = 1,      /* classical Runge-Kutta */
+    SCENE_STEPPER_RK2 = 2,      /* explicit midpoint */
+    SCENE_STEPPER_ADAPTIVE = 3, /* Bogacki-Shampine 3(2), step control by tolerance */
 };
 /* Storage of the index+gradient atlas (docs/tracing.md "Precision"). */
 enum scene_ior_texture { SCENE_IOR_FLOAT32 = 0, SCENE_IOR_FLOAT16 = 1 };
@@ -153,14 +153,17 @@ enum scene_tonemap { SCENE_TONEMAP_CLAMP = 0, SCENE_TONEMAP_FILMIC = 1 };
 
 /* The JSON words of these enums, indexed by value, NULL-terminated (scene_words.c): the one
  * table each that parsers (jr_enum) and status answers share. */
-extern const char *const scene_integrator_words[];
+extern const char *const scene_stepper_words[];
+/* The stepper's key was "integrator" (renamed: "integrator" is kept for a light-transport
+ * algorithm); documents and requests that use the old key keep working (jr_renamed). */
+#define SCENE_STEPPER_OLD_KEY "integrator" /* renamed: the old key */
 extern const char *const scene_ior_texture_words[];
 extern const char *const scene_ior_filter_words[];
 extern const char *const scene_tonemap_words[];
 
 /* Render defaults of a scene; a render request may override each. */
 struct scene_render_settings {
-    enum scene_integrator integrator;
+    enum scene_stepper stepper;
     double step_voxels;                 /* integration step, in voxels of the object being crossed;
                                            adaptive: the largest step */
     double tolerance_voxels;            /* adaptive: error per step, voxels (1e-6..1; 1e-3) */
@@ -250,7 +253,7 @@ struct scene_surface {
     int priority; /* nesting priority: the higher wins where solids overlap */
     struct scene_medium medium;
     struct scene_brdf brdf; /* reflection of lights where the surface refracts (eq. 5.6) */
-    int document_index; /* position in the document's "surfaces" (messages) */
+    int document_index;     /* position in the document's "surfaces" (messages) */
 };
 
 struct scene {

@@ -168,19 +168,31 @@ static enum refract_code parse_camera(const cJSON *root, const struct scene_limi
 static enum refract_code parse_render(const cJSON *root, const struct scene_limits *lim,
                                       struct scene_render_settings *r, struct err *e)
 {
-    static const char *const keys[] = {
-        "integrator",         "step",    "tolerance",   "max_steps",  "exposure",
-        "boundary_threshold", "tonemap", "ior_texture", "ior_filter", "empty_space_skipping",
-        "min_throughput",     NULL};
-    /* Order as enum scene_integrator / scene_ior_texture / scene_ior_filter. */
+    static const char *const keys[] = {"stepper",
+                                       "step",
+                                       "tolerance",
+                                       "max_steps",
+                                       "exposure",
+                                       "boundary_threshold",
+                                       "tonemap",
+                                       "ior_texture",
+                                       "ior_filter",
+                                       "empty_space_skipping",
+                                       "min_throughput",
+                                       SCENE_STEPPER_OLD_KEY,
+                                       NULL};
+    /* Order as enum scene_stepper / scene_ior_texture / scene_ior_filter. */
     const cJSON *o;
-    int integrator = SCENE_INTEGRATOR_RK4, tonemap = SCENE_TONEMAP_CLAMP;
+    int stepper = SCENE_STEPPER_RK4, tonemap = SCENE_TONEMAP_CLAMP;
     int ior_texture = SCENE_IOR_FLOAT32, ior_filter = SCENE_FILTER_TRILINEAR;
     int def_steps = lim->max_steps < 20000 ? lim->max_steps : 20000;
     enum refract_code rc = sub_object(root, "render", keys, &o, e);
+    const char *stepper_key = "stepper";
     if (rc == REFRACT_E_OK)
-        rc = jr_enum(o, "render", "integrator", false, SCENE_INTEGRATOR_RK4, scene_integrator_words,
-                     &integrator, e);
+        rc = jr_renamed(o, "render", "stepper", SCENE_STEPPER_OLD_KEY, &stepper_key, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_enum(o, "render", stepper_key, false, SCENE_STEPPER_RK4, scene_stepper_words,
+                     &stepper, e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(o, "render", "step", false, 0.5, 0.01, 8.0, &r->step_voxels, e);
     if (rc == REFRACT_E_OK)
@@ -207,7 +219,7 @@ static enum refract_code parse_render(const cJSON *root, const struct scene_limi
         rc = jr_enum(o, "render", "ior_filter", false, SCENE_FILTER_TRILINEAR,
                      scene_ior_filter_words, &ior_filter, e);
     r->ior_filter = (enum scene_ior_filter)ior_filter;
-    r->integrator = (enum scene_integrator)integrator;
+    r->stepper = (enum scene_stepper)stepper;
     r->tonemap = (enum scene_tonemap)tonemap;
     r->ior_texture = (enum scene_ior_texture)ior_texture;
     return rc;

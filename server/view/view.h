@@ -72,7 +72,7 @@ struct view_settings {
     double exposure_ev;
     enum scene_tonemap tonemap;
     enum view_quality quality;
-    bool has_integrator, has_step, has_max_steps, has_boundary_threshold;
+    bool has_stepper, has_step, has_max_steps, has_boundary_threshold;
     struct scene_render_settings overrides; /* only the has_* members count */
     int jpeg_quality;                       /* 1..100 */
     double max_fps;                         /* 0.1..120 */

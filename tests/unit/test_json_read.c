@@ -254,11 +254,11 @@ static void string_checks_type_and_length(void)
 static void enum_lists_the_names_it_accepts(void)
 {
     static const char *const names[] = {"euler", "rk4", NULL};
-    cJSON *o = doc("{\"integrator\": \"rk5\", \"ok\": \"euler\"}");
+    cJSON *o = doc("{\"stepper\": \"rk5\", \"ok\": \"euler\"}");
     struct err e;
     int v = -1;
-    CHECK_INT(jr_enum(o, "render", "integrator", false, 1, names, &v, &e), REFRACT_E_INVALID_FIELD);
-    CHECK_STR(e.msg, "render.integrator: expected one of \"euler\", \"rk4\", got \"rk5\"");
+    CHECK_INT(jr_enum(o, "render", "stepper", false, 1, names, &v, &e), REFRACT_E_INVALID_FIELD);
+    CHECK_STR(e.msg, "render.stepper: expected one of \"euler\", \"rk4\", got \"rk5\"");
     CHECK_INT(jr_enum(o, "render", "ok", false, 1, names, &v, &e), REFRACT_E_OK);
     CHECK_INT(v, 0);
     CHECK_INT(jr_enum(o, "render", "absent", false, 1, names, &v, &e), REFRACT_E_OK);
