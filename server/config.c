@@ -70,6 +70,8 @@ static const struct option_def options[] = {
     {"max-env-pixels", OPT_SIZE, 1, 1ll << 30, "N",
      "pixels of an uploaded environment image (default 64M)"},
     {"max-steps", OPT_INT, 1, 10000000, "N", "integration steps per ray (default 100000)"},
+    {"max-samples-per-pixel", OPT_INT, 1, 4096, "N",
+     "jittered rays per pixel of a render or view (default 64)"},
     {"max-mesh-triangles", OPT_SIZE, 1, 1ll << 31, "N",
      "triangles of an uploaded mesh, after splitting polygons (default 2M)"},
     {"max-scenes", OPT_INT, 1, 1000000, "N", "scenes held (default 64)"},
@@ -222,6 +224,8 @@ static void store_int(struct config *c, const char *name, long long v)
         l->max_image_dim = (int)v;
     else if (!strcmp(name, "max-steps"))
         l->max_steps = (int)v;
+    else if (!strcmp(name, "max-samples-per-pixel"))
+        l->max_samples_per_pixel = (int)v;
     else if (!strcmp(name, "max-mesh-triangles"))
         l->max_mesh_triangles = v;
     else if (!strcmp(name, "max-scenes"))

@@ -54,7 +54,8 @@ struct march_params {
     vec4 settings_f;  /* x: step (voxels); y: boundary threshold (dn per voxel);
                          z: ambient n; w: environment intensity */
     vec4 env;         /* x: environment rotation about +y (degrees) */
-    vec4 settings_f2; /* x: adaptive stepper's tolerance per step (voxels) */
+    vec4 settings_f2; /* x: adaptive stepper's tolerance per step (voxels); y: view rays per
+                         pixel (render_view.comp; a square number, as a float) */
     object_params objects[MAX_OBJECTS];
     /* Only what a scene needs (docs/tracing.md "Empty space"); appended to keep the
      * members above where they were. */

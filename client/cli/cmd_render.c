@@ -32,6 +32,7 @@
     "  --exposure EV          exposure in stops (0 = unchanged)\n"                                 \
     "  --stepper NAME         ray equation stepper: euler, rk2, rk4 or adaptive\n"                 \
     "  --step VOXELS          integration step, in voxels of the finest object\n"                  \
+    "  --samples N            rays per pixel, a square (1, 4, 9, 16, ...): anti-aliasing\n"        \
     "  --eye X,Y,Z            camera position, world space\n"                                      \
     "  --look-at X,Y,Z        the point the camera looks at, world space\n"                        \
     "  --up X,Y,Z             the camera's up direction\n"                                         \
@@ -61,6 +62,7 @@ enum render_opt {
     OPT_EXPOSURE,
     OPT_STEPPER,
     OPT_STEP,
+    OPT_SAMPLES,
     OPT_EYE,
     OPT_LOOK_AT,
     OPT_UP,
@@ -78,10 +80,15 @@ static const struct {
     enum value_kind kind;
     bool in_camera; /* a member of "camera" rather than of the request */
 } flag_keys[] = {
-    {OPT_WIDTH, "width", KIND_SIZE, false},         {OPT_HEIGHT, "height", KIND_SIZE, false},
-    {OPT_EXPOSURE, "exposure", KIND_NUMBER, false}, {OPT_STEPPER, "stepper", KIND_STRING, false},
-    {OPT_STEP, "step", KIND_NUMBER, false},         {OPT_EYE, "eye", KIND_VEC3, true},
-    {OPT_LOOK_AT, "look_at", KIND_VEC3, true},      {OPT_UP, "up", KIND_VEC3, true},
+    {OPT_WIDTH, "width", KIND_SIZE, false},
+    {OPT_HEIGHT, "height", KIND_SIZE, false},
+    {OPT_EXPOSURE, "exposure", KIND_NUMBER, false},
+    {OPT_STEPPER, "stepper", KIND_STRING, false},
+    {OPT_STEP, "step", KIND_NUMBER, false},
+    {OPT_SAMPLES, "samples_per_pixel", KIND_SIZE, false},
+    {OPT_EYE, "eye", KIND_VEC3, true},
+    {OPT_LOOK_AT, "look_at", KIND_VEC3, true},
+    {OPT_UP, "up", KIND_VEC3, true},
     {OPT_FOV, "fov_y_deg", KIND_NUMBER, true},
 };
 
@@ -269,6 +276,7 @@ static int run_render(struct cli *cli, int argc, char **argv)
                          .alias = "--integrator", /* renamed: the old flag keeps working */
                          .takes_value = true},
         [OPT_STEP] = {.name = "--step", .takes_value = true},
+        [OPT_SAMPLES] = {.name = "--samples", .takes_value = true},
         [OPT_EYE] = {.name = "--eye", .takes_value = true},
         [OPT_LOOK_AT] = {.name = "--look-at", .takes_value = true},
         [OPT_UP] = {.name = "--up", .takes_value = true},

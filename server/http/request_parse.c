@@ -62,6 +62,11 @@ enum refract_code http_parse_settings(const cJSON *root, const struct scene_rend
     if (rc == REFRACT_E_OK)
         rc = jr_number(root, "", "boundary_threshold", false, st->boundary_threshold, 1e-6, 10.0,
                        &st->boundary_threshold, e);
+    if (rc == REFRACT_E_OK)
+        rc = scene_read_samples_per_pixel(cJSON_GetObjectItemCaseSensitive(root,
+                                                                           "samples_per_pixel"),
+                                          "samples_per_pixel", st->samples_per_pixel,
+                                          &cfg->limits, &st->samples_per_pixel, e);
     st->stepper = (enum scene_stepper)stepper;
     st->ior_filter = (enum scene_ior_filter)ior_filter;
     return rc;
@@ -147,6 +152,7 @@ enum refract_code http_parse_render_request(const char *body, size_t len, const 
                                        "jpeg_quality",
                                        "boundary_threshold",
                                        "ior_filter",
+                                       "samples_per_pixel",
                                        SCENE_STEPPER_OLD_KEY,
                                        NULL};
     memset(out, 0, sizeof *out);

@@ -22,7 +22,8 @@ static enum refract_code parse_overrides(const cJSON *root, const struct scene *
                                          struct err *e)
 {
     if (has(root, "quality"))
-        st->has_stepper = st->has_step = st->has_max_steps = st->has_boundary_threshold = false;
+        st->has_stepper = st->has_step = st->has_max_steps = st->has_boundary_threshold =
+            st->has_samples_per_pixel = false;
     struct scene_render_settings preset, parsed;
     view_settings_render(st, scene, &preset);
     enum refract_code rc = http_parse_settings(root, &preset, cfg, &parsed, e);
@@ -43,6 +44,10 @@ static enum refract_code parse_overrides(const cJSON *root, const struct scene *
     if (has(root, "boundary_threshold")) {
         st->has_boundary_threshold = true;
         st->overrides.boundary_threshold = parsed.boundary_threshold;
+    }
+    if (has(root, "samples_per_pixel")) {
+        st->has_samples_per_pixel = true;
+        st->overrides.samples_per_pixel = parsed.samples_per_pixel;
     }
     return REFRACT_E_OK;
 }
@@ -65,6 +70,7 @@ enum refract_code http_parse_view_settings(const char *body, size_t len, const s
                                        "jpeg_quality",
                                        "max_fps",
                                        "progressive",
+                                       "samples_per_pixel",
                                        SCENE_STEPPER_OLD_KEY,
                                        NULL};
     *out = *current;

@@ -228,7 +228,8 @@ static void fill_settings(struct march_params *mp, const struct scene *s,
     mp->settings_f = (vec4){(float)st->step_voxels, (float)st->boundary_threshold,
                             (float)s->ambient_ior, (float)s->environment.intensity};
     mp->env = (vec4){(float)s->environment.rotation_deg, 0.0f, 0.0f, 0.0f};
-    mp->settings_f2 = (vec4){(float)st->tolerance_voxels, 0.0f, 0.0f, 0.0f};
+    int spp = st->samples_per_pixel > 1 ? st->samples_per_pixel : 1;
+    mp->settings_f2 = (vec4){(float)st->tolerance_voxels, (float)spp, 0.0f, 0.0f};
     mp->settings_f3.x = (float)st->min_throughput;
 }
 

@@ -179,6 +179,9 @@ struct scene_render_settings {
     double min_throughput;            /* T_f max(exp(-alpha)) below this ends a ray as absorbed
                                          (0..0.5; default 1e-6; 0: never) */
     enum scene_ior_filter ior_filter; /* trilinear (default) or tricubic Catmull-Rom */
+    int samples_per_pixel;            /* view renders: jittered rays per pixel, a square
+                                         (1, 4, 9, ...; default 1), box filter
+                                         (docs/tracing.md "Anti-aliasing") */
 };
 
 /* ---- lights, receiver and light simulation (tevs2007 ch. 4.2, 6.2) ---- */
@@ -299,7 +302,15 @@ struct scene_limits {
     int max_image_dim; /* camera width/height */
     int max_steps;
     int64_t max_mesh_triangles; /* per uploaded mesh, after splitting polygons */
+    int max_samples_per_pixel;  /* view renders' jittered rays per pixel */
 };
+
+/* render.samples_per_pixel and its request twins (render and view requests): a square
+ * number (k x k equal strata) in 1..lim->max_samples_per_pixel; def when item is NULL. */
+struct cJSON;
+enum refract_code scene_read_samples_per_pixel(const struct cJSON *item, const char *path,
+                                               int def, const struct scene_limits *lim, int *out,
+                                               struct err *e);
 
 /* Defaults: 512, 64M voxels, 8 objects, 64 layers, 1024 points, 64 chars, 4096, 100000,
  * 2M triangles. */

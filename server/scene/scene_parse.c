@@ -36,6 +36,7 @@ struct scene_limits scene_limits_default(void)
         .max_image_dim = 4096,
         .max_steps = 100000,
         .max_mesh_triangles = 2000000,
+        .max_samples_per_pixel = 64,
     };
 }
 
@@ -67,6 +68,26 @@ enum refract_code scene_read_limited_int(const cJSON *item, const char *path, in
         return scene_limit_error(e, path, given, limit_name, limit, flag);
     }
     *out = (int)v;
+    return REFRACT_E_OK;
+}
+
+enum refract_code scene_read_samples_per_pixel(const cJSON *item, const char *path, int def,
+                                               const struct scene_limits *lim, int *out,
+                                               struct err *e)
+{
+    enum refract_code rc =
+        scene_read_limited_int(item, path, def, 1, lim->max_samples_per_pixel,
+                               "max_samples_per_pixel", "--max-samples-per-pixel", out, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    /* k x k strata of equal size: a box filter that weights the pixel evenly. */
+    int k = (int)floor(sqrt((double)*out) + 0.5);
+    if (k * k != *out)
+        return err_set(e, REFRACT_E_INVALID_FIELD,
+                       "%s: %d is not a square number; the pixel is split into k x k equal "
+                       "strata, so use 1, 4, 9, 16, 25, ... (%d or %d)",
+                       path, *out, (k - (k * k > *out)) * (k - (k * k > *out)),
+                       (k + (k * k < *out)) * (k + (k * k < *out)));
     return REFRACT_E_OK;
 }
 
@@ -179,6 +200,7 @@ static enum refract_code parse_render(const cJSON *root, const struct scene_limi
                                        "ior_filter",
                                        "empty_space_skipping",
                                        "min_throughput",
+                                       "samples_per_pixel",
                                        SCENE_STEPPER_OLD_KEY,
                                        NULL};
     /* Order as enum scene_stepper / scene_ior_texture / scene_ior_filter. */
@@ -218,6 +240,9 @@ static enum refract_code parse_render(const cJSON *root, const struct scene_limi
     if (rc == REFRACT_E_OK)
         rc = jr_enum(o, "render", "ior_filter", false, SCENE_FILTER_TRILINEAR,
                      scene_ior_filter_words, &ior_filter, e);
+    if (rc == REFRACT_E_OK)
+        rc = scene_read_samples_per_pixel(member(o, "samples_per_pixel"), "render.samples_per_pixel",
+                                          1, lim, &r->samples_per_pixel, e);
     r->ior_filter = (enum scene_ior_filter)ior_filter;
     r->stepper = (enum scene_stepper)stepper;
     r->tonemap = (enum scene_tonemap)tonemap;

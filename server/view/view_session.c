@@ -35,6 +35,9 @@ void view_settings_render(const struct view_settings *st, const struct scene *s,
     } else if (st->quality == VIEW_QUALITY_FINAL) {
         out->step_voxels = out->step_voxels * 0.5 < 0.01 ? 0.01 : out->step_voxels * 0.5;
         out->stepper = SCENE_STEPPER_RK4;
+        /* Final frames are looked at still: 2 x 2 jittered rays per pixel at least. */
+        if (out->samples_per_pixel < VIEW_FINAL_SAMPLES_PER_PIXEL)
+            out->samples_per_pixel = VIEW_FINAL_SAMPLES_PER_PIXEL;
     }
     if (st->has_stepper)
         out->stepper = st->overrides.stepper;
@@ -44,6 +47,8 @@ void view_settings_render(const struct view_settings *st, const struct scene *s,
         out->max_steps = st->overrides.max_steps;
     if (st->has_boundary_threshold)
         out->boundary_threshold = st->overrides.boundary_threshold;
+    if (st->has_samples_per_pixel)
+        out->samples_per_pixel = st->overrides.samples_per_pixel;
     out->exposure_ev = st->exposure_ev;
     out->tonemap = st->tonemap;
 }
@@ -121,7 +126,9 @@ static bool render_settings_equal(const struct view_settings *a, const struct vi
            a->has_max_steps == b->has_max_steps &&
            (!a->has_max_steps || oa->max_steps == ob->max_steps) &&
            a->has_boundary_threshold == b->has_boundary_threshold &&
-           (!a->has_boundary_threshold || oa->boundary_threshold == ob->boundary_threshold);
+           (!a->has_boundary_threshold || oa->boundary_threshold == ob->boundary_threshold) &&
+           a->has_samples_per_pixel == b->has_samples_per_pixel &&
+           (!a->has_samples_per_pixel || oa->samples_per_pixel == ob->samples_per_pixel);
 }
 
 static bool settings_equal(const struct view_settings *a, const struct view_settings *b)
@@ -258,6 +265,7 @@ static void add_settings(cJSON *o, const struct view_settings *st,
     cJSON_AddNumberToObject(o, "step", rs->step_voxels);
     cJSON_AddNumberToObject(o, "max_steps", rs->max_steps);
     cJSON_AddNumberToObject(o, "boundary_threshold", rs->boundary_threshold);
+    cJSON_AddNumberToObject(o, "samples_per_pixel", rs->samples_per_pixel);
     cJSON_AddNumberToObject(o, "jpeg_quality", st->jpeg_quality);
     cJSON_AddNumberToObject(o, "max_fps", st->max_fps);
     cJSON_AddBoolToObject(o, "progressive", st->progressive);
