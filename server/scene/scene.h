@@ -296,10 +296,13 @@ struct scene_limits {
     int max_image_dim; /* camera width/height */
     int max_steps;
     int64_t max_mesh_triangles; /* per uploaded mesh, after splitting polygons */
+    /* Decoded voxels of one uploaded volume. A gzip NRRD of 62 KB decodes to 64M voxels
+     * (256 MB as float32), so this, not the body size, bounds what an upload costs. */
+    int64_t max_upload_voxels;
 };
 
 /* Defaults: 512, 64M voxels, 8 objects, 64 layers, 1024 points, 64 chars, 4096, 100000,
- * 2M triangles. */
+ * 2M triangles, 32M voxels per upload. */
 struct scene_limits scene_limits_default(void);
 
 /* Parses and validates a whole scene document (not NUL-terminated; len bytes).
