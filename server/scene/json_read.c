@@ -23,6 +23,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../core/utf8.h"
+
 /* Longest excerpt of a string value or key that a message quotes back. */
 #define QUOTE_MAX 48
 
@@ -493,6 +495,17 @@ enum refract_code jr_parse(const char *text, size_t len, cJSON **out, struct err
     *out = NULL;
     if (text == NULL)
         return parse_clean(text, len, out, e);
+    /* JSON text is UTF-8 (RFC 8259 sect. 8.1). cJSON copies other bytes into strings
+     * unchecked; stored in a scene name they would make every later listing invalid JSON. */
+    size_t invalid = utf8_invalid_at(text, len);
+    if (invalid < len) {
+        char what[160];
+        snprintf(what, sizeof what,
+                 "byte 0x%02x is not valid UTF-8 (JSON text must be UTF-8; non-ASCII "
+                 "characters may also be sent as \\u escapes)",
+                 (unsigned char)text[invalid]);
+        return syntax_error(text, len, invalid, what, e);
+    }
     size_t nul_escapes = 0, bad = scan_strings(text, len, &nul_escapes, NULL);
     if (bad < len) {
         char what[96];
