@@ -36,6 +36,7 @@ static enum MHD_Result queue(struct http_request *req, unsigned status, void *by
     enum MHD_Result r = MHD_queue_response(req->conn, status, resp);
     MHD_destroy_response(resp);
     req->phase = HTTP_PHASE_ANSWERED;
+    req->status = (int)status;
     return r;
 }
 
