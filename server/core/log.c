@@ -53,7 +53,7 @@ void log_msg(enum log_level level, const char *module, const char *fmt, ...)
     va_end(ap);
     if (n > 0 && (size_t)n < sizeof line && m >= 0) {
         size_t mlen = (size_t)m < sizeof message ? (size_t)m : sizeof message - 1;
-        utf8_escape(line + n, sizeof line - (size_t)n, message, mlen);
+        utf8_escape(line + n, sizeof line - (size_t)n, message, mlen, NULL);
     }
     fprintf(stderr, "%s\n", line);
 }

@@ -14,9 +14,9 @@ const double metrics_bucket_le[METRICS_BUCKETS - 1] = {
 /* The statuses refractd and libmicrohttpd answer with. One that is not listed counts
  * under the first listed status of its class (a 418 as 400), so the table stays fixed;
  * 0 is a connection that ended without an answer. */
-static const int status_codes[] = {0,   200, 201, 202, 204, 206, 301, 302, 304, 400, 401, 403,
-                                   404, 405, 406, 409, 410, 413, 414, 415, 416, 421, 422, 429,
-                                   431, 500, 501, 502, 503, 504, 505, 507};
+static const int status_codes[] = {0,   200, 201, 202, 204, 206, 301, 302, 304, 400, 401,
+                                   403, 404, 405, 406, 409, 410, 413, 414, 415, 416, 421,
+                                   422, 429, 431, 500, 501, 502, 503, 504, 505, 507};
 #define STATUS_SLOTS (sizeof status_codes / sizeof status_codes[0])
 
 struct histogram {

@@ -34,7 +34,12 @@ extern const double metrics_bucket_le[METRICS_BUCKETS - 1];
 #define METRICS_GPU_KINDS 4
 
 enum metrics_cache { METRICS_CACHE_IRRADIANCE = 0, METRICS_CACHE_GPU_SCENE = 1, METRICS_CACHES };
-enum metrics_cache_event { METRICS_HIT = 0, METRICS_MISS = 1, METRICS_EVICTION = 2, METRICS_EVENTS };
+enum metrics_cache_event {
+    METRICS_HIT = 0,
+    METRICS_MISS = 1,
+    METRICS_EVICTION = 2,
+    METRICS_EVENTS
+};
 
 struct metrics_histogram {
     unsigned long long bucket[METRICS_BUCKETS]; /* counts per bucket, NOT cumulative */

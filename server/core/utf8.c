@@ -73,14 +73,16 @@ static bool printable(uint32_t cp)
     return cp >= 0x20 && cp != 0x7f && !(cp >= 0x80 && cp <= 0x9f);
 }
 
-size_t utf8_escape(char *dst, size_t size, const char *src, size_t len)
+size_t utf8_escape(char *dst, size_t size, const char *src, size_t len, size_t *consumed)
 {
     static const char hex[] = "0123456789abcdef";
     const unsigned char *u = (const unsigned char *)src;
-    size_t o = 0;
+    size_t o = 0, i = 0;
+    if (consumed)
+        *consumed = 0;
     if (size == 0)
         return 0;
-    for (size_t i = 0; i < len;) {
+    while (i < len) {
         uint32_t cp = 0;
         size_t n = sequence_at(u + i, len - i, &cp);
         if (n > 0 && printable(cp)) {
@@ -106,5 +108,7 @@ size_t utf8_escape(char *dst, size_t size, const char *src, size_t len)
         i += bytes;
     }
     dst[o] = '\0';
+    if (consumed)
+        *consumed = i;
     return o;
 }

@@ -28,8 +28,9 @@ bool utf8_valid(const char *s, size_t len);
  * each byte that is not printable UTF-8 as the four characters \xNN (lower-case hex):
  * control characters (U+0000..U+001F, U+007F, U+0080..U+009F) and every byte of an
  * ill-formed sequence. Printable characters, ASCII or not, are copied unchanged. Stops
- * before a character or escape that would not fit whole. Returns the bytes written
- * (without the NUL). A src that is already clean comes out identical. */
-size_t utf8_escape(char *dst, size_t size, const char *src, size_t len);
+ * before a character or escape that would not fit whole; *consumed (when not NULL) gets
+ * the bytes of src that were written out. Returns the bytes written (without the NUL).
+ * A src that is already clean comes out identical. */
+size_t utf8_escape(char *dst, size_t size, const char *src, size_t len, size_t *consumed);
 
 #endif

@@ -92,8 +92,8 @@ static void http_families(struct text *t)
         size_t n = metrics_http_statuses(index, status, count, 64);
         for (size_t i = 0; i < n; i++)
             put(t, "refractd_http_requests_total{method=\"%s\",route=\"%s\",status=\"%d\"} %llu\n",
-                r < route_count ? routes[r].method : "", r < route_count ? routes[r].pattern : "none",
-                status[i], count[i]);
+                r < route_count ? routes[r].method : "",
+                r < route_count ? routes[r].pattern : "none", status[i], count[i]);
     }
     family(t, "refractd_http_request_duration_seconds", "histogram",
            "Time from a request's first byte to its completion (for streams: how long they "
@@ -106,7 +106,8 @@ static void http_families(struct text *t)
             continue;
         char labels[160];
         snprintf(labels, sizeof labels, "method=\"%s\",route=\"%s\",",
-                 r < route_count ? routes[r].method : "", r < route_count ? routes[r].pattern : "none");
+                 r < route_count ? routes[r].method : "",
+                 r < route_count ? routes[r].pattern : "none");
         histogram(t, "refractd_http_request_duration_seconds", labels, &h);
     }
 }
@@ -174,7 +175,8 @@ static void cache_families(struct text *t, const struct http_app *app)
            "Bytes of irradiance volumes held, by tier (gpu, host, disk).");
     put(t, "refractd_irradiance_cache_bytes{tier=\"gpu\"} %zu\n", c.gpu_bytes);
     put(t, "refractd_irradiance_cache_bytes{tier=\"host\"} %zu\n", c.host_bytes);
-    put(t, "refractd_irradiance_cache_bytes{tier=\"disk\"} %llu\n", (unsigned long long)c.disk_bytes);
+    put(t, "refractd_irradiance_cache_bytes{tier=\"disk\"} %llu\n",
+        (unsigned long long)c.disk_bytes);
 }
 
 static void state_families(struct text *t, struct http_request *req)

@@ -75,7 +75,7 @@ static enum MHD_Result respond_error_text(struct http_request *req, enum refract
     /* Messages quote what clients sent (URL parts, file headers): what is not printable
      * UTF-8 is written as \xNN, so the body is valid JSON and shows every byte. */
     char message[ERR_MSG_MAX * 4];
-    utf8_escape(message, sizeof message, raw_message, strlen(raw_message));
+    utf8_escape(message, sizeof message, raw_message, strlen(raw_message), NULL);
     int status = err_code_http_status(code);
     const char *route = req->route ? req->route->pattern : "(no route)";
     if (status >= 500)

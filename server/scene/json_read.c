@@ -49,28 +49,41 @@ static const char *shown(const char *path)
     return (path == NULL || path[0] == '\0') ? "(root)" : path;
 }
 
-/* Writes s (at most n bytes of it) as a double-quoted, escaped, shortened literal. */
+/* Writes s (at most n bytes of it) as a double-quoted, shortened literal: a quote and a
+ * backslash get a backslash, and what is not printable UTF-8 becomes \xNN through
+ * utf8_escape (the one escaping function), so "gr\u00f6\u00dfe" reads as itself and a
+ * control character as its byte. At most QUOTE_MAX bytes of s are shown, cut at a
+ * character; "..." marks a cut. */
 static void quote(char *buf, size_t size, const char *s, size_t n)
 {
-    size_t o = 0;
     if (size < 8)
         return;
+    size_t len = strnlen(s, n), show = len < QUOTE_MAX ? len : QUOTE_MAX;
+    /* Cut between characters, and leave room for the closing quote, "..." and the NUL. */
+    while (show < len && show > 0 && ((unsigned char)s[show] & 0xc0) == 0x80)
+        show--;
+    size_t room = size - 5;
+    size_t o = 0, i = 0;
     buf[o++] = '"';
-    for (size_t i = 0; i < n && s[i] != '\0'; i++) {
-        if (o + 8 >= size || i >= QUOTE_MAX) {
-            memcpy(buf + o, "...", 3);
-            o += 3;
-            break;
-        }
-        unsigned char c = (unsigned char)s[i];
-        if (c == '"' || c == '\\') {
+    while (i < show) {
+        if (s[i] == '"' || s[i] == '\\') {
+            if (o + 2 > room)
+                break;
             buf[o++] = '\\';
-            buf[o++] = (char)c;
-        } else if (c >= 0x20 && c < 0x7f) {
-            buf[o++] = (char)c;
-        } else {
-            o += (size_t)snprintf(buf + o, size - o, "\\x%02x", c);
+            buf[o++] = s[i++];
+            continue;
         }
+        size_t run = i, used = 0;
+        while (run < show && s[run] != '"' && s[run] != '\\')
+            run++;
+        o += utf8_escape(buf + o, room - o + 1, s + i, run - i, &used);
+        i += used;
+        if (i < run)
+            break; /* the rest does not fit */
+    }
+    if (i < len) {
+        memcpy(buf + o, "...", 3);
+        o += 3;
     }
     buf[o++] = '"';
     buf[o] = '\0';

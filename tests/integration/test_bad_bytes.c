@@ -32,8 +32,8 @@
 #include "upload_util.h"
 
 #define SCENE_WITH_NAME(name)                                                                      \
-    "{\"name\": \"" name "\", \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, "  \
-    "1, 1]}, \"resolution\": 8, \"ior\": {\"shape\": \"sphere\", \"radius\": 0.8, \"inside\": "  \
+    "{\"name\": \"" name "\", \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, "    \
+    "1, 1]}, \"resolution\": 8, \"ior\": {\"shape\": \"sphere\", \"radius\": 0.8, \"inside\": "    \
     "1.5}}]}"
 
 /* True when body is well-formed UTF-8 and parses as JSON. */
@@ -49,7 +49,8 @@ static bool valid_json_text(const char *body)
 static void invalid_utf8_name_is_400_and_the_listing_stays_json(struct test_daemon *d)
 {
     char *body = NULL;
-    long status = test_request(d, "POST", "/v1/scenes", SCENE_WITH_NAME("bad \xff\xfe name"), &body);
+    long status =
+        test_request(d, "POST", "/v1/scenes", SCENE_WITH_NAME("bad \xff\xfe name"), &body);
     CHECK_INT(status, 400);
     CHECK(test_error_is(body, "invalid_json", "byte 0xff is not valid UTF-8"));
     CHECK(valid_json_text(body));
@@ -138,7 +139,8 @@ static int raw_http(int port, const char *req, size_t len, bool *json)
     }
     char reply[4096];
     size_t got = 0;
-    for (ssize_t n; got + 1 < sizeof reply && (n = recv(fd, reply + got, sizeof reply - 1 - got, 0)) > 0;)
+    for (ssize_t n;
+         got + 1 < sizeof reply && (n = recv(fd, reply + got, sizeof reply - 1 - got, 0)) > 0;)
         got += (size_t)n;
     reply[got] = '\0';
     close(fd);

@@ -27,7 +27,7 @@
 #define TOKEN "metrics-token-0123456789abcdef"
 #define SCENE                                                                                      \
     "{\"name\": \"m\", \"camera\": {\"eye\": [0, 0, 4], \"width\": 16, \"height\": 12}, "          \
-    "\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 8, " \
+    "\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 8, "  \
     "\"ior\": {\"shape\": \"sphere\", \"radius\": 0.8, \"inside\": 1.5}}]}"
 
 /* GET /metrics; returns the status, *text the body (new, caller frees). */
@@ -175,7 +175,8 @@ static void counters_follow_what_happened(struct test_daemon *d)
     }
     CHECK(sample(after, "refractd_cache_events_total{cache=\"gpu_scene\",event=\"miss\"}") >= 1);
     CHECK(sample(after, "refractd_cache_events_total{cache=\"gpu_scene\",event=\"hit\"}") >= 1);
-    CHECK(sample(after, "refractd_cache_events_total{cache=\"irradiance\",event=\"eviction\"}") >= 0);
+    CHECK(sample(after, "refractd_cache_events_total{cache=\"irradiance\",event=\"eviction\"}") >=
+          0);
     CHECK(sample(after, "refractd_gpu_busy_seconds_total{kind=\"interactive\"}") >
           sample(before, "refractd_gpu_busy_seconds_total{kind=\"interactive\"}"));
     CHECK(sample(after, "refractd_render_seconds_sum") > 0);

@@ -26,8 +26,8 @@
 #include "upload_util.h"
 
 #define BOMB_SCENE                                                                                 \
-    "{\"name\": \"bombs\", \"environment\": {\"type\": \"image\"}, \"objects\": [{\"bounds\": "  \
-    "{\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 16, \"ior\": {\"shape\": "      \
+    "{\"name\": \"bombs\", \"environment\": {\"type\": \"image\"}, \"objects\": [{\"bounds\": "    \
+    "{\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 16, \"ior\": {\"shape\": "       \
     "\"sphere\", \"radius\": 0.8, \"inside\": 1.5}}]}"
 
 static double now_s(void)
@@ -42,8 +42,8 @@ static unsigned char *nrrd_gzip_zeros(int x, int y, int z, size_t zeros, size_t 
 {
     char header[256];
     int hn = snprintf(header, sizeof header,
-                      "NRRD0004\ntype: uint8\ndimension: 3\nsizes: %d %d %d\nencoding: gzip\n\n",
-                      x, y, z);
+                      "NRRD0004\ntype: uint8\ndimension: 3\nsizes: %d %d %d\nencoding: gzip\n\n", x,
+                      y, z);
     unsigned char *raw = calloc(zeros, 1);
     size_t gz_len = 0;
     unsigned char *gz = raw ? upload_gzip(raw, zeros, &gz_len) : NULL;
@@ -67,8 +67,7 @@ static void put_be32(unsigned char *p, uint32_t v)
 }
 
 /* Appends a PNG chunk (length, type, data, CRC over type and data). */
-static size_t png_chunk(unsigned char *out, const char *type, const unsigned char *data,
-                        size_t len)
+static size_t png_chunk(unsigned char *out, const char *type, const unsigned char *data, size_t len)
 {
     put_be32(out, (uint32_t)len);
     memcpy(out + 4, type, 4);

@@ -25,10 +25,17 @@ static size_t bad_at(const char *s)
 
 static void well_formed_text_is_valid(void)
 {
-    static const char *const ok[] = {
-        "", "plain ascii", "caf\xc3\xa9", "\xc2\x80", "\xdf\xbf", "\xe0\xa0\x80",
-        "\xef\xbf\xbf", "\xf0\x90\x80\x80", "\xf4\x8f\xbf\xbf", "\xe2\x82\xac 10",
-        "\xf0\x9f\x94\xad telescope"};
+    static const char *const ok[] = {"",
+                                     "plain ascii",
+                                     "caf\xc3\xa9",
+                                     "\xc2\x80",
+                                     "\xdf\xbf",
+                                     "\xe0\xa0\x80",
+                                     "\xef\xbf\xbf",
+                                     "\xf0\x90\x80\x80",
+                                     "\xf4\x8f\xbf\xbf",
+                                     "\xe2\x82\xac 10",
+                                     "\xf0\x9f\x94\xad telescope"};
     for (size_t i = 0; i < sizeof ok / sizeof ok[0]; i++) {
         CHECK_MSG(utf8_valid(ok[i], strlen(ok[i])), "case %zu should be valid", i);
         CHECK_INT((long)bad_at(ok[i]), (long)strlen(ok[i]));
@@ -41,23 +48,22 @@ static void ill_formed_text_is_found_at_its_first_bad_byte(void)
         const char *text;
         size_t at;
     } bad[] = {
-        {"ab\xc0\xaf", 2},         /* overlong '/' */
-        {"\xc1\xbf", 0},           /* overlong */
-        {"x\xe0\x80\xaf", 1},      /* overlong 3-byte */
-        {"\xf0\x80\x80\xaf", 0},   /* overlong 4-byte */
-        {"ok\xed\xa0\x80", 2},     /* surrogate U+D800 */
-        {"\xed\xbf\xbf", 0},       /* surrogate U+DFFF */
-        {"\xf4\x90\x80\x80", 0},   /* U+110000 */
-        {"\xf5\x80\x80\x80", 0},   /* F5 never appears */
-        {"\xff", 0},               /* FF never appears */
-        {"a\x80", 1},              /* stray continuation */
-        {"caf\xc3", 3},            /* truncated at the end */
-        {"\xe2\x82 ", 0},          /* truncated by a space */
+        {"ab\xc0\xaf", 2},           /* overlong '/' */
+        {"\xc1\xbf", 0},             /* overlong */
+        {"x\xe0\x80\xaf", 1},        /* overlong 3-byte */
+        {"\xf0\x80\x80\xaf", 0},     /* overlong 4-byte */
+        {"ok\xed\xa0\x80", 2},       /* surrogate U+D800 */
+        {"\xed\xbf\xbf", 0},         /* surrogate U+DFFF */
+        {"\xf4\x90\x80\x80", 0},     /* U+110000 */
+        {"\xf5\x80\x80\x80", 0},     /* F5 never appears */
+        {"\xff", 0},                 /* FF never appears */
+        {"a\x80", 1},                /* stray continuation */
+        {"caf\xc3", 3},              /* truncated at the end */
+        {"\xe2\x82 ", 0},            /* truncated by a space */
         {"\xc3\xa9\xe2\x28\xa1", 2}, /* bad second byte after a valid character */
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        CHECK_MSG(!utf8_valid(bad[i].text, strlen(bad[i].text)), "case %zu should be invalid",
-                  i);
+        CHECK_MSG(!utf8_valid(bad[i].text, strlen(bad[i].text)), "case %zu should be invalid", i);
         CHECK_INT((long)bad_at(bad[i].text), (long)bad[i].at);
     }
 }
@@ -65,7 +71,7 @@ static void ill_formed_text_is_found_at_its_first_bad_byte(void)
 static void escape_is(const char *in, size_t len, const char *want)
 {
     char out[256];
-    size_t n = utf8_escape(out, sizeof out, in, len);
+    size_t n = utf8_escape(out, sizeof out, in, len, NULL);
     CHECK_STR(out, want);
     CHECK_INT((long)n, (long)strlen(want));
 }
@@ -103,7 +109,7 @@ static void escape_output_is_always_valid_and_one_line(void)
     int bad = 0;
     for (int b = 0; b < 256; b++) {
         char in[1] = {(char)b};
-        utf8_escape(out, sizeof out, in, 1);
+        utf8_escape(out, sizeof out, in, 1, NULL);
         bad += !clean_line(out);
     }
     CHECK_INT(bad, 0);
@@ -112,11 +118,11 @@ static void escape_output_is_always_valid_and_one_line(void)
     for (int round = 0; round < 20000; round++) {
         for (size_t i = 0; i < sizeof in; i++)
             in[i] = (char)(rand() & 0xff);
-        utf8_escape(big, sizeof big, in, sizeof in);
+        utf8_escape(big, sizeof big, in, sizeof in, NULL);
         bad += !clean_line(big);
         /* Escaping is idempotent: clean text comes out as it went in. */
         char again[sizeof big];
-        utf8_escape(again, sizeof again, big, strlen(big));
+        utf8_escape(again, sizeof again, big, strlen(big), NULL);
         bad += strcmp(again, big) != 0;
     }
     CHECK_INT(bad, 0);
@@ -125,12 +131,16 @@ static void escape_output_is_always_valid_and_one_line(void)
 static void escape_truncates_at_whole_units(void)
 {
     char out[6];
-    CHECK_INT((long)utf8_escape(out, sizeof out, "ab\ncd", 5), 2);
+    size_t used = 99;
+    CHECK_INT((long)utf8_escape(out, sizeof out, "ab\ncd", 5, &used), 2);
     CHECK_STR(out, "ab");
-    CHECK_INT((long)utf8_escape(out, 4, "a\xc3\xa9", 3), 3);
+    CHECK_INT((long)used, 2);
+    CHECK_INT((long)utf8_escape(out, 4, "a\xc3\xa9", 3, &used), 3);
     CHECK_STR(out, "a\xc3\xa9");
-    CHECK_INT((long)utf8_escape(out, 3, "a\xc3\xa9", 3), 1);
+    CHECK_INT((long)used, 3);
+    CHECK_INT((long)utf8_escape(out, 3, "a\xc3\xa9", 3, &used), 1);
     CHECK_STR(out, "a");
+    CHECK_INT((long)used, 1);
 }
 
 int main(void)
