@@ -155,7 +155,8 @@ static void unknown_key_keeps_printable_utf8_and_escapes_c1_controls(void)
     cJSON *o = doc("{\"gr\u00f6\u00dfe\\u0085\": 1}");
     struct err e;
     CHECK_INT(jr_check_object(o, "p", allowed, &e), REFRACT_E_UNKNOWN_FIELD);
-    CHECK_CONTAINS(e.msg, "\"gr\xc3\xb6\xc3\x9f" "e\\xc2\\x85\"");
+    CHECK_CONTAINS(e.msg, "\"gr\xc3\xb6\xc3\x9f"
+                          "e\\xc2\\x85\"");
     cJSON_Delete(o);
 }
 
