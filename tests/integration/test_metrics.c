@@ -9,7 +9,10 @@
  *     the request counter of each route and status grew by what was sent, the render
  *     histogram by 2, the GPU scene cache saw at least one miss then a hit, the GPU busy
  *     time grew, stored bytes equal GET /v1/storage's used_bytes, and the jobs and
- *     streams gauges are present; then an open view session shows as 1.
+ *     streams gauges are present; then an open view session shows as 1;
+ *   - light_simulation_and_irradiance_lookups_are_counted: a scene with a light is
+ *     simulated once (refractd_lightsim_seconds_count + 1, lightsim GPU busy time), its
+ *     first lookup missed and the render's lookup hit.
  * Every item the issue lists has a family here: requests by route and status, latency
  * histograms, GPU queue length and busy time, render and light-simulation times, cache
  * hits/misses/evictions, bytes stored, open views and streams, jobs by state.
@@ -200,6 +203,73 @@ static void counters_follow_what_happened(struct test_daemon *d)
     free(after);
 }
 
+/* A scene that needs light simulation: the beam of tests/integration/irradiance_util.h
+ * (a 16-voxel light grid, a fraction of a second on llvmpipe). */
+#define LIT_SCENE                                                                                  \
+    "{\"name\": \"beam\", \"camera\": {\"eye\": [0, 0.5, 4], \"look_at\": [0, -1, 0], "            \
+    "\"width\": 16, \"height\": 12}, \"environment\": {\"intensity\": 0}, \"objects\": "           \
+    "[{\"bounds\": {\"min\": [-0.5, -0.5, -0.5], \"max\": [0.5, 0.5, 0.5]}, \"resolution\": 8, "   \
+    "\"ior\": 1.0}], \"receiver\": {\"height\": -1, \"half_size\": 1, \"albedo\": 0.8}, "          \
+    "\"lights\": [{\"name\": \"sun\", \"type\": \"directional\", \"direction\": [0, -1, 0]}], "    \
+    "\"lightsim\": {\"resolution\": 16, \"initial_patches\": 8}}"
+
+/* Polls GET .../irradiance until every light is ready (true) or 60 s pass. */
+static bool wait_irradiance_ready(struct test_daemon *d, const char *id)
+{
+    char path[128];
+    snprintf(path, sizeof path, "/v1/scenes/%s/irradiance", id);
+    for (int i = 0; i < 3000; i++) {
+        char *body = NULL;
+        bool ready = false;
+        if (test_request(d, "GET", path, NULL, &body) == 200) {
+            cJSON *st = cJSON_Parse(body);
+            const cJSON *l = NULL;
+            ready = st != NULL;
+            int lights = 0;
+            cJSON_ArrayForEach(l, cJSON_GetObjectItemCaseSensitive(st, "lights"))
+            {
+                const cJSON *state = cJSON_GetObjectItemCaseSensitive(l, "state");
+                ready = ready && cJSON_IsString(state) && strcmp(state->valuestring, "ready") == 0;
+                lights++;
+            }
+            ready = ready && lights > 0;
+            cJSON_Delete(st);
+        }
+        free(body);
+        if (ready)
+            return true;
+        usleep(20000);
+    }
+    return false;
+}
+
+static void light_simulation_and_irradiance_lookups_are_counted(struct test_daemon *d)
+{
+    char *before = NULL, *after = NULL, *body = NULL, type[128], id[REFRACT_ID_SIZE];
+    CHECK_INT(get_metrics(d, &before, type, sizeof type), 200);
+    CHECK(test_create_scene(d, LIT_SCENE, id));
+    CHECK(wait_irradiance_ready(d, id));
+    char path[256];
+    snprintf(path, sizeof path, "/v1/scenes/%s/render", id);
+    CHECK_INT(test_request(d, "POST", path, "{}", &body), 200);
+    free(body);
+    CHECK_INT(get_metrics(d, &after, type, sizeof type), 200);
+    if (before && after) {
+        CHECK_NEAR(sample(after, "refractd_lightsim_seconds_count") -
+                       sample(before, "refractd_lightsim_seconds_count"),
+                   1, 0);
+        CHECK(sample(after, "refractd_lightsim_seconds_sum") > 0);
+        CHECK(sample(after, "refractd_gpu_busy_seconds_total{kind=\"lightsim\"}") > 0);
+        const char *miss = "refractd_cache_events_total{cache=\"irradiance\",event=\"miss\"}";
+        const char *hit = "refractd_cache_events_total{cache=\"irradiance\",event=\"hit\"}";
+        CHECK(sample(after, miss) - sample(before, miss) >= 1);
+        CHECK(sample(after, hit) - sample(before, hit) >= 1);
+        CHECK(sample(after, "refractd_irradiance_cache_bytes{tier=\"gpu\"}") > 0);
+    }
+    free(before);
+    free(after);
+}
+
 int main(void)
 {
     char token_file[512];
@@ -215,6 +285,7 @@ int main(void)
     }
     metrics_need_the_token(&d);
     counters_follow_what_happened(&d);
+    light_simulation_and_irradiance_lookups_are_counted(&d);
     CHECK_INT(test_daemon_stop(&d), 0);
     test_daemon_cleanup(&d);
     unlink(token_file);
