@@ -70,6 +70,7 @@ struct http_request {
     char upload_sha256[SHA256_HEX_SIZE];
     struct err upload_err; /* code != OK when writing the file failed (answered at the end) */
     enum http_phase phase;
+    int status; /* the status answered with (0 = none yet); GET /metrics counts it */
     double started_ms;
     /* Asynchronous GPU work (handler-specific). */
     struct gpu_work work;
@@ -201,6 +202,7 @@ enum MHD_Result http_handle_web_index(struct http_request *req);
 enum MHD_Result http_handle_web_viewer(struct http_request *req);
 enum MHD_Result http_handle_web_asset(struct http_request *req);
 enum MHD_Result http_handle_storage(struct http_request *req);
+enum MHD_Result http_handle_metrics(struct http_request *req);
 /* Batch jobs (h_jobs.c). */
 enum MHD_Result http_handle_job_create(struct http_request *req);
 enum MHD_Result http_handle_job_list(struct http_request *req);

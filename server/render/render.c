@@ -13,6 +13,7 @@
 
 #include "../core/interface.h"
 #include "../core/log.h"
+#include "../core/metrics.h"
 #include "../core/macrocell.h"
 #include "../core/ray_status.h"
 #include "../lightsim/gpu/lightsim_gpu.h"
@@ -141,6 +142,7 @@ static void cache_make_room(struct render *r, size_t incoming, const struct scen
                  "--gpu-scene-budget",
                  r->cache[oldest]->id, (double)r->cache[oldest]->bytes / 1048576.0);
         cache_remove_at(r, oldest);
+        metrics_cache(METRICS_CACHE_GPU_SCENE, METRICS_EVICTION);
     }
 }
 
@@ -158,6 +160,7 @@ static struct scene_gpu *cache_get(struct render *r, const struct render_scene_s
         }
     }
     bool built = false;
+    metrics_cache(METRICS_CACHE_GPU_SCENE, found ? METRICS_HIT : METRICS_MISS);
     if (found == NULL) {
         found = scene_gpu_build_cells(r->gpu, src, r->budget_bytes, r->skip_cell_voxels, e);
         if (found == NULL)

@@ -303,6 +303,9 @@ struct scene_limits {
     int max_steps;
     int64_t max_mesh_triangles; /* per uploaded mesh, after splitting polygons */
     int max_samples_per_pixel;  /* view renders' jittered rays per pixel */
+    /* Decoded voxels of one uploaded volume. A gzip NRRD of 62 KB decodes to 64M voxels
+     * (256 MB as float32), so this, not the body size, bounds what an upload costs. */
+    int64_t max_upload_voxels;
 };
 
 /* render.samples_per_pixel and its request twins (render and view requests): a square
@@ -313,7 +316,7 @@ enum refract_code scene_read_samples_per_pixel(const struct cJSON *item, const c
                                                struct err *e);
 
 /* Defaults: 512, 64M voxels, 8 objects, 64 layers, 1024 points, 64 chars, 4096, 100000,
- * 2M triangles. */
+ * 2M triangles, 32M voxels per upload. */
 struct scene_limits scene_limits_default(void);
 
 /* Parses and validates a whole scene document (not NUL-terminated; len bytes).

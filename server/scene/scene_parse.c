@@ -37,6 +37,7 @@ struct scene_limits scene_limits_default(void)
         .max_steps = 100000,
         .max_mesh_triangles = 2000000,
         .max_samples_per_pixel = 64,
+        .max_upload_voxels = 32ll * 1024 * 1024,
     };
 }
 

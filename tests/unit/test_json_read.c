@@ -149,6 +149,17 @@ static void unknown_key_is_quoted_with_escapes_and_shortened(void)
     cJSON_Delete(o);
 }
 
+static void unknown_key_keeps_printable_utf8_and_escapes_c1_controls(void)
+{
+    static const char *const allowed[] = {"a", NULL};
+    cJSON *o = doc("{\"gr\u00f6\u00dfe\\u0085\": 1}");
+    struct err e;
+    CHECK_INT(jr_check_object(o, "p", allowed, &e), REFRACT_E_UNKNOWN_FIELD);
+    CHECK_CONTAINS(e.msg, "\"gr\xc3\xb6\xc3\x9f"
+                          "e\\xc2\\x85\"");
+    cJSON_Delete(o);
+}
+
 static void number_applies_default_and_requires_when_asked(void)
 {
     cJSON *o = doc("{}");
@@ -323,6 +334,7 @@ int main(void)
     check_object_rejects_duplicate_keys();
     check_object_rejects_a_non_object_naming_what_it_got();
     unknown_key_is_quoted_with_escapes_and_shortened();
+    unknown_key_keeps_printable_utf8_and_escapes_c1_controls();
     number_applies_default_and_requires_when_asked();
     number_rejects_out_of_range_with_rule_and_value();
     number_rejects_overflow_to_infinity();
