@@ -15,6 +15,7 @@
  * The caller's thread runs the loop and waits for each frame (gpu_run_sync); lights are
  * waited for by polling the irradiance cache every JOB_BATCH_RETRY_MS, as the runner does.
  */
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -84,7 +85,7 @@ static enum refract_code read_spec(const char *path, char **out, size_t *len, st
 {
     FILE *f = fopen(path, "rb");
     if (f == NULL)
-        return err_set(e, REFRACT_E_IO, "--batch %s: cannot open it", path);
+        return err_set(e, REFRACT_E_IO, "--batch %s: cannot open it: %s", path, strerror(errno));
     size_t cap = 1 << 16, n = 0;
     char *buf = malloc(cap + 1);
     while (buf) {
