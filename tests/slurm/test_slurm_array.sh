@@ -47,7 +47,8 @@ W=320
 H=240
 T=$(mktemp -d "${TMPDIR:-/tmp}/refract-slurm.XXXXXX")
 chmod 711 "$T" # munged wants its socket's directory searchable by everyone
-mkdir -p "$T/state" "$T/spool" "$T/log" "$T/out" "$T/ref" "$T/daemon"
+# tmp: the tasks' private data directories (the killed one's stays until the cleanup)
+mkdir -p "$T/state" "$T/spool" "$T/log" "$T/out" "$T/ref" "$T/daemon" "$T/tmp"
 PIDS=()
 JOB=""
 export SLURM_CONF=$T/slurm.conf
@@ -82,7 +83,8 @@ PORT=$((20000 + ($$ * 7 + RANDOM) % 30000))
 while ! port_free "$PORT" || ! port_free $((PORT + 1)); do
     PORT=$((PORT + 2))
 done
-NODE=$(hostname -s)
+NODE=$(uname -n)
+NODE=${NODE%%.*} # slurmd names itself by the short host name
 
 # ---- munge and Slurm -------------------------------------------------------------------
 dd if=/dev/urandom of="$T/munge.key" bs=1024 count=1 status=none
@@ -165,12 +167,13 @@ RJ=$("$REFRACT_CLI" --url "$URL" job submit "$T/job.json")
 "$REFRACT_CLI" --url "$URL" job get "$RJ" --out "$T/ref" 2>/dev/null
 kill "$DAEMON"
 wait "$DAEMON" || true
-[ "$(ls "$T/ref" | wc -l)" -eq "$FRAMES" ] || fail "the reference job gave $(ls "$T/ref" | wc -l) frames"
+refs=$(find "$T/ref" -name 'frame_*.png' | wc -l)
+[ "$refs" -eq "$FRAMES" ] || fail "the reference job gave $refs frames"
 say "reference: $FRAMES frames from one daemon ($SECONDS s)"
 
 # ---- the array ------------------------------------------------------------------------
 JOB=$(sbatch --parsable --array=0-$((TASKS - 1)) --output="$T/log/task-%a.log" \
-    --export=ALL,REFRACT_JOB="$T/job.json",REFRACT_OUT="$T/out",REFRACTD="$REFRACTD" \
+    --export="ALL,REFRACT_JOB=$T/job.json,REFRACT_OUT=$T/out,REFRACTD=$REFRACTD,TMPDIR=$T/tmp" \
     "$SRC/deploy/slurm/refract-batch.sbatch")
 [ -n "$JOB" ] || fail "sbatch gave no job id"
 say "submitted array job $JOB"
@@ -227,6 +230,9 @@ for n in $(seq 0 $((FRAMES - 1))); do
 done
 leftover=$(find "$T/out" -name '*.tmp' | wc -l)
 [ "$leftover" -eq 0 ] || fail "$leftover temporary files left: $(find "$T/out" -name '*.tmp')"
+# Each task removes its private data directory at exit; only the SIGKILLed run cannot.
+left=$(find "$T/tmp" -mindepth 1 -maxdepth 1 -name 'refractd-batch-*' | wc -l)
+[ "$left" -le 1 ] || fail "$left private data directories left in TMPDIR, expected at most 1"
 for entry in "${before[@]}"; do
     f=${entry%:*}
     [ "$(stat -c %i "$f")" = "${entry##*:}" ] || fail "$f was written again after the requeue"
