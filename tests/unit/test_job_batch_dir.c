@@ -103,11 +103,10 @@ static void frames_appear_whole_and_temps_are_cleaned(const char *dir)
     CHECK_INT(job_batch_dir_prepare(dir, &e), REFRACT_E_OK);
     CHECK(!job_batch_frame_exists(dir, 2, JOB_FORMAT_PNG));
     const char bytes[] = "not really a PNG, but bytes";
-    CHECK_INT(job_batch_frame_write(dir, 2, JOB_FORMAT_PNG, bytes, sizeof bytes, &e),
-              REFRACT_E_OK);
+    CHECK_INT(job_batch_frame_write(dir, 2, JOB_FORMAT_PNG, bytes, sizeof bytes, &e), REFRACT_E_OK);
     CHECK(job_batch_frame_exists(dir, 2, JOB_FORMAT_PNG));
     CHECK(!job_batch_frame_exists(dir, 2, JOB_FORMAT_EXR));
-    char path[512];
+    char path[1024];
     job_batch_frame_path(dir, 2, JOB_FORMAT_PNG, path, sizeof path);
     CHECK_CONTAINS(path, "/frame_00002.png");
     char *back = read_file(path);
@@ -146,7 +145,7 @@ static void progress_counts_frames_and_tasks(const char *dir)
     /* frame 2 is there from the test above; two tasks of 3 frames */
     struct job_batch_task a = {.first = 0, .last = 2, .done = 1, .state = "running"};
     CHECK_INT(job_batch_progress_write(dir, &a, frames, 6, &e), REFRACT_E_OK);
-    char path[512];
+    char path[1024];
     snprintf(path, sizeof path, "%s/progress.json", dir);
     char *text = read_file(path);
     CHECK_CONTAINS(text, "\"frames_total\":\t6");
