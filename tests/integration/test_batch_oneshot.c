@@ -4,9 +4,9 @@
  * the same job run by a refractd daemon (POST /v1/jobs); progress.json then says done; a rerun
  * removes its range's leftover temporary file, skips the frames present and renders only
  * the one that is missing, byte-identical again; SIGTERM stops a task after the frame in
- * flight with exit status 143 and its record "stopped", leaving only complete frames; an
- * unknown field of the specification and a missing --out are refused with the documented
- * exit code and a message that names the problem.
+ * flight with exit status 143 and its record "stopped", leaving only complete frames; a
+ * missing --out and an unknown field of the specification (not in the sanitizer build) are
+ * refused with the documented exit code and a message that names the problem.
  *
  * The Slurm test (tests/slurm/test_slurm_array.sh) runs the same binary under a real
  * scheduler; this one runs everywhere, root or not.
@@ -204,15 +204,19 @@ static void bad_invocations_say_what_is_wrong(void)
 {
     /* (a bad range's messages: tests/unit/test_job_batch_dir.c) */
     char *log = NULL;
+    const char *no_out[] = {"--batch", spec_path, "--task", "0/2", NULL};
+    CHECK_INT(test_run_refractd(no_out, &log), REFRACT_E_USAGE);
+    CHECK_CONTAINS(log, "--batch needs --out DIR");
+    free(log);
+    /* The specification's errors are job_spec's, which test_jobs_api checks in full; the
+     * sanitizer build leaves out this run (another GPU start-up) to stay short. */
+    if (test_sanitized())
+        return;
     char bad_path[320];
     snprintf(bad_path, sizeof bad_path, "%s/bad.json", dir);
     CHECK(write_text(bad_path, "{\"turntable\": {\"frames\": 2}, \"scene\": {\"colour\": 1}}"));
     CHECK_INT(batch(bad_path, "--task", "0/1", &log), REFRACT_E_UNKNOWN_FIELD);
     CHECK_CONTAINS(log, "scene: unknown field \"colour\"");
-    free(log);
-    const char *no_out[] = {"--batch", spec_path, "--task", "0/2", NULL};
-    CHECK_INT(test_run_refractd(no_out, &log), REFRACT_E_USAGE);
-    CHECK_CONTAINS(log, "--batch needs --out DIR");
     free(log);
 }
 
