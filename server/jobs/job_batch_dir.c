@@ -117,6 +117,29 @@ enum refract_code job_batch_frame_write(const char *dir, int n, enum job_format 
     return rc;
 }
 
+/* Removes the entries of dir whose names start with prefix and end in ".tmp". */
+static int remove_temps(const char *dir, const char *prefix)
+{
+    DIR *d = opendir(dir);
+    if (d == NULL)
+        return 0;
+    int removed = 0;
+    size_t plen = strlen(prefix);
+    struct dirent *ent;
+    while ((ent = readdir(d)) != NULL) {
+        const char *name = ent->d_name;
+        size_t len = strlen(name);
+        if (len < plen + 4 || strncmp(name, prefix, plen) != 0 || strcmp(name + len - 4, ".tmp"))
+            continue;
+        char path[PATH_SIZE + 300];
+        snprintf(path, sizeof path, "%s/%s", dir, name);
+        if (unlink(path) == 0)
+            removed++;
+    }
+    closedir(d);
+    return removed;
+}
+
 int job_batch_clean_temps(const char *dir, int first, int last)
 {
     DIR *d = opendir(dir);
@@ -139,6 +162,14 @@ int job_batch_clean_temps(const char *dir, int first, int last)
             removed++;
     }
     closedir(d);
+    /* The progress files this range's killed run was replacing (their temporary names
+     * carry the range, see progress_tag). */
+    char prefix[64], sub[PATH_SIZE + 16];
+    snprintf(prefix, sizeof prefix, "progress.json.frames_%05d-%05d.", first, last);
+    removed += remove_temps(dir, prefix);
+    snprintf(prefix, sizeof prefix, "frames_%05d-%05d.json.", first, last);
+    snprintf(sub, sizeof sub, "%s/progress.d", dir);
+    removed += remove_temps(sub, prefix);
     return removed;
 }
 
@@ -174,14 +205,16 @@ enum refract_code job_batch_dir_prepare(const char *dir, struct err *e)
     return make_dirs(sub, e);
 }
 
-/* Writes text to dir/name through a temporary file of this process. */
-static enum refract_code replace_text(const char *dir, const char *name, const char *text,
-                                      struct err *e)
+/* Writes text to dir/name through a temporary file of this process whose name carries
+ * tag (the writer's range, "frames_AAAAA-BBBBB"), so that the range's next run can tell
+ * its own leftovers from another task's file in flight (job_batch_clean_temps). */
+static enum refract_code replace_text(const char *dir, const char *name, const char *tag,
+                                      const char *text, struct err *e)
 {
     char path[PATH_SIZE + 64], tmp[PATH_SIZE + 192], host[64];
     host_name(host, sizeof host);
     snprintf(path, sizeof path, "%s/%s", dir, name);
-    snprintf(tmp, sizeof tmp, "%s.%s.%ld.tmp", path, host, (long)getpid());
+    snprintf(tmp, sizeof tmp, "%s.%s.%s.%ld.tmp", path, tag, host, (long)getpid());
     return write_replace(tmp, path, text, strlen(text), e);
 }
 
@@ -290,12 +323,13 @@ static char *with_time(const char *text)
 enum refract_code job_batch_progress_write(const char *dir, const struct job_batch_task *t,
                                            const struct job_frame *frames, int total, struct err *e)
 {
-    char name[64];
-    snprintf(name, sizeof name, "progress.d/frames_%05d-%05d.json", t->first, t->last);
+    char name[64], tag[32];
+    snprintf(tag, sizeof tag, "frames_%05d-%05d", t->first, t->last);
+    snprintf(name, sizeof name, "progress.d/%s.json", tag);
     char *rec = task_text(t);
     if (rec == NULL)
         return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory writing progress");
-    enum refract_code rc = replace_text(dir, name, rec, e);
+    enum refract_code rc = replace_text(dir, name, tag, rec, e);
     free(rec);
     /* Rebuild until the directory says what we wrote: when two tasks finish together, the
      * one whose rename lands last saw the other's frames (see the file comment). Bounded:
@@ -313,7 +347,7 @@ enum refract_code job_batch_progress_write(const char *dir, const struct job_bat
             break;
         }
         char *stamped = with_time(text);
-        rc = stamped ? replace_text(dir, "progress.json", stamped, e)
+        rc = stamped ? replace_text(dir, "progress.json", tag, stamped, e)
                      : err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory writing progress");
         free(stamped);
         free(written);

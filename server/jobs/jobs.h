@@ -238,8 +238,10 @@ bool job_batch_frame_exists(const char *dir, int n, enum job_format f);
  * its final name, fsync dir. IO naming the file and the system's reason. */
 enum refract_code job_batch_frame_write(const char *dir, int n, enum job_format f,
                                         const void *bytes, size_t len, struct err *e);
-/* Removes temporary frame files (.frame_NNNNN.*.tmp) of frames first..last, which a killed
- * run left. Returns how many. Only this range's: other tasks may be writing theirs. */
+/* Removes the temporary files a killed run of range first..last left: its frames'
+ * (.frame_NNNNN.*.tmp) and its progress files' (progress.json.frames_A-B.*.tmp,
+ * progress.d/frames_A-B.json.*.tmp). Returns how many. Only this range's: other tasks may
+ * be writing theirs. */
 int job_batch_clean_temps(const char *dir, int first, int last);
 /* Creates dir and its parents (mode 0755) and dir/progress.d. IO when it cannot. */
 enum refract_code job_batch_dir_prepare(const char *dir, struct err *e);

@@ -3,7 +3,8 @@
  * (server/jobs/job_batch.c, job_batch_dir.c): N tasks' shares cover every frame exactly
  * once for any total and N; bad --frames / --task values are usage errors that name the
  * flag; a frame is written under its final name with its bytes and no temporary file; the
- * temporary files of a killed run are removed for the task's own range only; progress.json
+ * temporary files of a killed run (frames and progress files) are removed for the task's
+ * own range only; progress.json
  * counts the frames present and lists every task's record.
  */
 #include <dirent.h>
@@ -114,25 +115,34 @@ static void frames_appear_whole_and_temps_are_cleaned(const char *dir)
     free(back);
     CHECK_INT(count_entries(dir, ".tmp"), 0);
 
-    /* What killed runs leave: partial files of frames 1, 4 and 9 (and one of an empty
-     * frame file, which does not count as done). Task 3-5 removes only frame 4's. */
-    const char *partial[] = {".frame_00001.png.h.1.tmp", ".frame_00004.png.h.2.tmp",
-                             ".frame_00009.exr.h.3.tmp"};
-    for (size_t i = 0; i < 3; i++) {
+    /* What killed runs leave: partial files of frames 1, 4 and 9, of range 3-5's progress
+     * files and of range 0-2's progress.json (and an empty frame file, which does not count
+     * as done). Range 3-5 removes only its own. */
+    const char *partial[] = {".frame_00001.png.h.1.tmp",
+                             ".frame_00004.png.h.2.tmp",
+                             ".frame_00009.exr.h.3.tmp",
+                             "progress.json.frames_00003-00005.h.4.tmp",
+                             "progress.d/frames_00003-00005.json.frames_00003-00005.h.4.tmp",
+                             "progress.json.frames_00000-00002.h.5.tmp"};
+    for (size_t i = 0; i < sizeof partial / sizeof partial[0]; i++) {
         snprintf(path, sizeof path, "%s/%s", dir, partial[i]);
         FILE *f = fopen(path, "w");
         CHECK(f != NULL);
         if (f)
             fclose(f);
     }
+    char sub[1024];
+    snprintf(sub, sizeof sub, "%s/progress.d", dir);
     snprintf(path, sizeof path, "%s/frame_00005.png", dir);
     FILE *empty = fopen(path, "w");
     if (empty)
         fclose(empty);
     CHECK(!job_batch_frame_exists(dir, 5, JOB_FORMAT_PNG));
-    CHECK_INT(job_batch_clean_temps(dir, 3, 5), 1);
-    CHECK_INT(count_entries(dir, ".tmp"), 2);
-    CHECK_INT(job_batch_clean_temps(dir, 0, 10), 2);
+    CHECK_INT(job_batch_clean_temps(dir, 3, 5), 3);
+    CHECK_INT(count_entries(dir, ".tmp"), 3);
+    CHECK_INT(count_entries(sub, ".tmp"), 0);
+    CHECK_INT(job_batch_clean_temps(dir, 0, 10), 2); /* frames 1 and 9; not 0-2's progress */
+    CHECK_INT(job_batch_clean_temps(dir, 0, 2), 1);
     CHECK_INT(count_entries(dir, ".tmp"), 0);
     unlink(path);
 }
