@@ -50,8 +50,7 @@ static void every_option_is_in_the_shipped_config(void)
                          !strcmp(name, "token-file") || !strcmp(name, "allow-host") ||
                          !strcmp(name, "trusted-proxy") || !strcmp(name, "tls-cert") ||
                          !strcmp(name, "tls-key") || !strcmp(name, "batch") ||
-                         !strcmp(name, "frames") || !strcmp(name, "task") ||
-                         !strcmp(name, "out");
+                         !strcmp(name, "frames") || !strcmp(name, "task") || !strcmp(name, "out");
         char commented_line[80];
         snprintf(commented_line, sizeof commented_line, "# %s", name);
         if (commented ? strstr(conf, commented_line) == NULL : !conf_has_key(conf, name)) {
