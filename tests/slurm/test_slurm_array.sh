@@ -12,7 +12,8 @@
 #   - the frames task 1 had finished before the kill were not written again (same inode):
 #     the requeued run skipped them, and its log says so;
 #   - a partial temporary frame file left in task 1's range is removed;
-#   - progress.json says 24 of 24 done, and task 1's record says done after 1 restart.
+#   - progress.json says 24 of 24 done, and task 1's record says done after 1 restart;
+#   - every task's log ends its range, with no sanitizer report (the ASan build's run).
 #
 # Needs root (slurmd runs jobs as their user and must be root) and deploy/install-deps.sh's
 # slurm-wlm and munge. Not root: skipped (77) with a message, except under CI=1, where it
@@ -236,6 +237,12 @@ left=$(find "$T/tmp" -mindepth 1 -maxdepth 1 -name 'refractd-batch-*' | wc -l)
 for entry in "${before[@]}"; do
     f=${entry%:*}
     [ "$(stat -c %i "$f")" = "${entry##*:}" ] || fail "$f was written again after the requeue"
+done
+for t in $(seq 0 $((TASKS - 1))); do
+    grep -q "of $FRAMES: .* rendered" "$T/log/task-$t.log" || fail "task $t did not finish its range"
+    if grep -Eq 'Sanitizer|runtime error' "$T/log/task-$t.log"; then
+        fail "task $t: $(grep -m 3 -E 'Sanitizer|runtime error' "$T/log/task-$t.log")"
+    fi
 done
 summary=$(grep 'frames 6-11 of 24:' "$T/log/task-1.log" | tail -n 1)
 expect="$((6 - ${#before[@]})) rendered, ${#before[@]} already there"
