@@ -102,6 +102,14 @@ static const struct option_def options[] = {
      "threads that tone-map and JPEG-encode view frames (default 2)"},
     {"event-history", OPT_INT, 1, 1000000, "N",
      "events kept for SSE clients that reconnect with Last-Event-ID (default 1024)"},
+    {"batch", OPT_STRING, 0, 0, "JOB.json",
+     "one-shot: render frames of this job specification (POST /v1/jobs's) into --out, "
+     "without HTTP, then exit (docs/slurm.md)"},
+    {"frames", OPT_STRING, 0, 0, "A-B", "--batch: the frames to render (0-based, inclusive)"},
+    {"task", OPT_STRING, 0, 0, "I/N",
+     "--batch: render task I's share of N tasks (0-based; Slurm array, Kubernetes Indexed Job)"},
+    {"out", OPT_STRING, 0, 0, "DIR",
+     "--batch: the output directory the tasks share (frame_NNNNN.<ext>, progress.json)"},
     {"log-level", OPT_LOG, 0, 0, "debug|info|warn|error", "log verbosity (default info)"},
     {"config", OPT_CONFIG, 0, 0, "FILE", "read 'key value' lines with these option names"},
     {"help", OPT_FLAG, 0, 0, NULL, "print this help"},
@@ -339,6 +347,15 @@ static enum refract_code apply(struct config *c, const struct option_def *o, con
             c->http.bind_address = bind;
         } else if (!strcmp(o->name, "data-dir")) {
             copy_str(c->data_dir, sizeof c->data_dir, value);
+            c->data_dir_given = true;
+        } else if (!strcmp(o->name, "batch")) {
+            copy_str(c->batch, sizeof c->batch, value);
+        } else if (!strcmp(o->name, "frames")) {
+            copy_str(c->batch_frames, sizeof c->batch_frames, value);
+        } else if (!strcmp(o->name, "task")) {
+            copy_str(c->batch_task, sizeof c->batch_task, value);
+        } else if (!strcmp(o->name, "out")) {
+            copy_str(c->batch_out, sizeof c->batch_out, value);
         } else if (!strcmp(o->name, "scene-dir")) {
             copy_str(c->scene_dir, sizeof c->scene_dir, value);
         } else if (!strcmp(o->name, "shader-dir")) {
@@ -452,6 +469,12 @@ enum refract_code config_parse_args(struct config *c, int argc, char **argv, str
         if (rc != REFRACT_E_OK)
             return rc;
     }
+    if (!c->batch[0] && (c->batch_frames[0] || c->batch_task[0] || c->batch_out[0]))
+        return err_set(e, REFRACT_E_USAGE,
+                       "--frames, --task and --out belong to --batch JOB.json (docs/slurm.md)");
+    if (c->batch[0] && !c->batch_out[0])
+        return err_set(e, REFRACT_E_USAGE,
+                       "--batch needs --out DIR: the directory that receives the frames");
     /* A misspelt REFRACT_GPU must not silently mean auto. */
     const char *env = getenv("REFRACT_GPU");
     if (env != NULL && env[0] != '\0' && gpu_device_pref_parse(env) < 0)
