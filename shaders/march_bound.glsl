@@ -25,11 +25,11 @@ float march_bound_step(int obj, vec4 s0, float h, float extent, vec3 p, vec3 w, 
         p1 = p + h * normalize(w);
         return 0.0;
     }
-#if MARCH_INTEGRATOR == INTEGRATOR_EULER
+#if MARCH_STEPPER == STEPPER_EULER
     ray_equation_step_euler(obj, s0, h, p1, w1);
-#elif MARCH_INTEGRATOR == INTEGRATOR_RK2
+#elif MARCH_STEPPER == STEPPER_RK2
     ray_equation_step_rk2(obj, s0, h, p1, w1);
-#elif MARCH_INTEGRATOR == INTEGRATOR_ADAPTIVE
+#elif MARCH_STEPPER == STEPPER_ADAPTIVE
     return ray_equation_step_bs23(obj, s0, h, extent, p1, w1);
 #else
     ray_equation_step_rk4(obj, s0, h, p1, w1);
@@ -134,7 +134,7 @@ int march_through_bound(inout march_state s, int med, int last, int last_prim, o
     float h_max = params.settings_f.x * h_min;
     float h = h_max;
     float extent = 0.0;
-#if MARCH_INTEGRATOR == INTEGRATOR_ADAPTIVE
+#if MARCH_STEPPER == STEPPER_ADAPTIVE
     bool adaptive = (params.objects[obj].resolution.w & OBJECT_IOR_CONSTANT) == 0;
     float tol = params.settings_f2.x * h_min;
     vec3 extent3 = params.objects[obj].bounds_max.xyz - params.objects[obj].bounds_min.xyz;
@@ -175,7 +175,7 @@ int march_through_bound(inout march_state s, int med, int last, int last_prim, o
             hs = h;
             float err = march_bound_step(obj, s0, hs, extent, p, w, p1, w1);
             s.steps++; // a rejected attempt counts against the budget too
-#if MARCH_INTEGRATOR == INTEGRATOR_ADAPTIVE
+#if MARCH_STEPPER == STEPPER_ADAPTIVE
             if (adaptive) {
                 h = ray_equation_next_step(hs, err, tol, h_max);
                 if (err > tol && hs > RAY_BS23_FLOOR * h_max * 1.0001)

@@ -59,11 +59,11 @@ static struct bound_frame frame_of(const struct reftrace_settings *set,
     };
     if (o->ior_constant)
         return b;
-    if (set->integrator == REFTRACE_BS23) {
+    if (set->stepper == REFTRACE_BS23) {
         b.adaptive = true;
         b.tol = set->tolerance_voxels * h_min;
         b.floor = BS23_FLOOR * b.h_max;
-    } else if (set->integrator == REFTRACE_ADAPTIVE) {
+    } else if (set->stepper == REFTRACE_ADAPTIVE) {
         b.adaptive = true;
         b.tol = set->tolerance;
         b.floor = DOPRI_FLOOR_REL * b.extent;
@@ -83,7 +83,7 @@ static double raw_step(const struct reftrace_settings *set, const struct bound_f
         *p1 = vec3_madd(p, vec3_normalize(w), h);
         return 0.0;
     }
-    switch (set->integrator) {
+    switch (set->stepper) {
     case REFTRACE_EULER:
         reftrace_step_euler(b->o, h, p1, w1);
         return 0.0;
@@ -111,7 +111,7 @@ static double raw_step(const struct reftrace_settings *set, const struct bound_f
 static double next_step(const struct reftrace_settings *set, const struct bound_frame *b, double h,
                         double err)
 {
-    double expo = set->integrator == REFTRACE_BS23 ? 1.0 / 3.0 : 0.2;
+    double expo = set->stepper == REFTRACE_BS23 ? 1.0 / 3.0 : 0.2;
     double fac = err > 0.0 ? CONTROL_SAFETY * pow(b->tol / err, expo) : CONTROL_GROW;
     fac = fmin(fmax(fac, CONTROL_SHRINK), CONTROL_GROW);
     return fmin(fmax(h * fac, b->floor), b->h_max);

@@ -98,18 +98,18 @@ static double focus_miss(vec3 origin, vec3 dir)
 }
 
 /* Returns the GPU's median focus miss. */
-static double check_layout(struct gpu *gpu, double half, const char *integrator, double pos_bound,
+static double check_layout(struct gpu *gpu, double half, const char *stepper, double pos_bound,
                            double dir_bound)
 {
     char doc[768], label[64];
     snprintf(doc, sizeof doc,
-             "{\"render\": {\"integrator\": \"%s\"}, \"objects\": [{\"name\": \"lens\", "
+             "{\"render\": {\"stepper\": \"%s\"}, \"objects\": [{\"name\": \"lens\", "
              "\"bounds\": {\"min\": [%g, %g, %g], \"max\": [%g, %g, %g]}, \"resolution\": %d, "
              "\"ior\": {\"profile\": \"luneburg\", \"center\": [0, 0, 0], \"radius\": 1.0}}], "
              "\"surfaces\": [{\"name\": \"ball\", \"shape\": \"sphere\", \"center\": [0, 0, 0], "
              "\"radius\": 1, \"medium\": {\"object\": \"lens\"}}]}",
-             integrator, -half, -half, -half, half, half, half, RES);
-    snprintf(label, sizeof label, "bounded luneburg +-%g %s", half, integrator);
+             stepper, -half, -half, -half, half, half, half, RES);
+    snprintf(label, sizeof label, "bounded luneburg +-%g %s", half, stepper);
     struct scene *s = parse_ok(doc);
     if (s == NULL)
         return INFINITY;
@@ -288,12 +288,12 @@ int main(void)
     struct gpu *gpu = test_gpu_create("test_bound_field_gpu");
     bool software = strstr(gpu_info(gpu)->renderer, "llvmpipe") != NULL;
     double pos = software ? 2e-4 : 2e-3, dir = software ? 5e-4 : 5e-3;
-    static const char *const integrators[2] = {"rk4", "adaptive"};
+    static const char *const steppers[2] = {"rk4", "adaptive"};
     for (int i = 0; i < (test_sanitized() ? 1 : 2); i++) {
-        double touch = check_layout(gpu, 1.0, integrators[i], pos, dir);
-        double margin = check_layout(gpu, 1.05, integrators[i], pos, dir);
+        double touch = check_layout(gpu, 1.0, steppers[i], pos, dir);
+        double margin = check_layout(gpu, 1.05, steppers[i], pos, dir);
         CHECK_MSG(touch <= 3.0 * margin + 1e-4 && margin <= 3.0 * touch + 1e-4,
-                  "%s: touching %g vs margin %g", integrators[i], touch, margin);
+                  "%s: touching %g vs margin %g", steppers[i], touch, margin);
     }
     check_scene(gpu, coloured_doc, "coloured", true);
     check_scene(gpu, kinds_doc, "cylinder and lathe", false);

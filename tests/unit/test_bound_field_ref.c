@@ -110,7 +110,7 @@ static struct focus measure(const char *label, struct scene *s, bool against_exa
     CHECK_INT(scene_reference_build(s, SCENE_REFERENCE_ANALYTIC, NULL, NULL, &exact, &e),
               REFRACT_E_OK);
     struct reftrace_settings st = exact.settings;
-    st.integrator = REFTRACE_ADAPTIVE;
+    st.stepper = REFTRACE_ADAPTIVE;
     st.tolerance = 1e-10;
     st.step_voxels = 1.0;
     st.max_steps = 10000000;
@@ -213,12 +213,12 @@ static void test_step_cut_lands_on_surface(void)
     struct scene_reference ref;
     struct err e = {0};
     CHECK_INT(scene_reference_build(s, SCENE_REFERENCE_VOXELS, NULL, NULL, &ref, &e), REFRACT_E_OK);
-    static const enum reftrace_integrator steppers[] = {REFTRACE_EULER, REFTRACE_RK2, REFTRACE_RK4,
+    static const enum reftrace_stepper steppers[] = {REFTRACE_EULER, REFTRACE_RK2, REFTRACE_RK4,
                                                         REFTRACE_BS23, REFTRACE_ADAPTIVE};
     double h_world = ref.settings.step_voxels * 2.0 / resolution();
     for (size_t i = 0; i < sizeof steppers / sizeof steppers[0]; i++) {
         struct reftrace_settings st = ref.settings;
-        st.integrator = steppers[i];
+        st.stepper = steppers[i];
         st.tolerance = 1e-8;
         double worst_gap = 0.0, worst_r = 0.0;
         int events = 0;
@@ -281,7 +281,7 @@ static void test_constant_n_attenuation_field_is_straight_beer_lambert(void)
     box.geom.center = vec3_make(0, 0, 0);
     box.geom.size = vec3_make(1.6, 1.6, 1.6); /* inside the voxel centres' hull: exact */
     struct reftrace_settings st = {
-        .integrator = REFTRACE_RK4,
+        .stepper = REFTRACE_RK4,
         .step_voxels = 0.5,
         .max_steps = 100000,
         .ambient_ior = 1.0,
