@@ -37,7 +37,6 @@
 /* docs/tracing.md constants. */
 #define INDEX_EPS 1e-6       /* |n - ambient_n| at or below this: no interface */
 #define EXIT_EPS_VOXELS 1e-3 /* an object counts only if its exit is further than this */
-#define ABSORBED_EPS 1e-6    /* T_f * max(exp(-alpha)) below this: absorbed */
 #define RAMP_SLOPE_RATIO 0.5 /* zone sides keep this much of the slope: a ramp, no event */
 #define SKIP_EXIT_PAD 1e-3   /* voxels: a skip to the bounds ends this far past them */
 /* Adaptive stepper: step-size factors per step and the smallest step relative to
@@ -559,9 +558,7 @@ static void march_object(struct march *m, const struct object_frame *fr, vec3 p,
     bool can_skip = set->empty_space_skipping && fr->o->cells != NULL && fr->o->grid != NULL &&
                     set->stepper != REFTRACE_ADAPTIVE;
     bool skipped = false; /* the last step was a skip: integrate once before the next */
-    double cut = set->min_throughput > 0.0   ? set->min_throughput
-                 : set->min_throughput < 0.0 ? 0.0
-                                             : ABSORBED_EPS;
+    double cut = reftrace_absorbed_cut(set);
     for (;;) {
         /* The budget is checked before each step (as the GLSL twin). */
         if (m->steps >= set->max_steps) {

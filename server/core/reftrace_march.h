@@ -50,10 +50,15 @@ static inline void stop(struct march *m, enum ray_status status)
     m->running = false;
 }
 
-/* The absorbed cut-off: render.min_throughput, the default 1e-6 for 0, never for < 0. */
+/* T_f * max(exp(-alpha)) below this: absorbed (docs/tracing.md constants). */
+#define REFTRACE_ABSORBED_EPS 1e-6
+
+/* The absorbed cut-off: render.min_throughput, REFTRACE_ABSORBED_EPS for 0, never for < 0. */
 static inline double reftrace_absorbed_cut(const struct reftrace_settings *set)
 {
-    return set->min_throughput > 0.0 ? set->min_throughput : set->min_throughput < 0.0 ? 0.0 : 1e-6;
+    return set->min_throughput > 0.0   ? set->min_throughput
+           : set->min_throughput < 0.0 ? 0.0
+                                       : REFTRACE_ABSORBED_EPS;
 }
 
 /* The nearest surface crossing of the world ray x + t d (unit d), t < t_max; -1 when none.
