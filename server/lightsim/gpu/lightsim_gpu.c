@@ -229,14 +229,23 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
     };
     GLint64 max_block = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
-    for (int i = 0; i < BUFFER_COUNT; i++)
-        if (max_block > 0 && bufs[i].bytes > (size_t)max_block)
+    for (int i = 0; i < BUFFER_COUNT; i++) {
+        if (max_block <= 0 || bufs[i].bytes <= (size_t)max_block)
+            continue;
+        if (i == MESHES)
+            rc = err_set(e, REFRACT_E_LIMIT_EXCEEDED,
+                         "lightsim: the mesh surfaces' hierarchies, triangles and vertices would "
+                         "need %zu bytes (about 45 a triangle), more than this GPU's largest "
+                         "storage block (%lld bytes); use meshes with fewer triangles",
+                         bufs[i].bytes, (long long)max_block);
+        else
             rc = err_set(e, REFRACT_E_LIMIT_EXCEEDED,
                          "lightsim: the %s buffer would need %zu bytes, more than this GPU's "
                          "largest storage block (%lld bytes); lower lightsim.resolution (now %d "
                          "voxels on the longest axis) or lightsim.max_patches (now %d)",
                          bufs[i].label, bufs[i].bytes, (long long)max_block, longest_axis(&f->grid),
                          set->max_patches);
+    }
     for (int i = 0; i < BUFFER_COUNT && rc == REFRACT_E_OK; i++)
         rc = gpu_buffer_create(bufs[i].label, bufs[i].bytes, bufs[i].data, &r->buf[i], e);
     if (rc == REFRACT_E_OK)
