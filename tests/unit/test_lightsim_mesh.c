@@ -116,11 +116,11 @@ static void test_owned_copy(void)
     /* the domain: the mesh's world box, x from 0.1 - 0.4 to 0.1 + 0.4 */
     struct light_grid g;
     lightsim_domain_lookup(s, lookup, NULL, &g);
-    printf("domain with the mesh: bmin (%.4f, %.4f, %.4f) dims %d x %d x %d voxel %.4f\n",
-           g.bmin.x, g.bmin.y, g.bmin.z, g.dims[0], g.dims[1], g.dims[2], g.voxel);
+    printf("domain with the mesh: bmin (%.4f, %.4f, %.4f) dims %d x %d x %d voxel %.4f\n", g.bmin.x,
+           g.bmin.y, g.bmin.z, g.dims[0], g.dims[1], g.dims[2], g.voxel);
     CHECK_NEAR(g.bmin.y, -0.8, 1e-12);
-    CHECK(g.bmin.y + g.dims[1] * g.voxel >= 0.4);     /* the mesh's top */
-    CHECK(g.bmin.x + g.dims[0] * g.voxel >= 0.5);     /* its +x side */
+    CHECK(g.bmin.y + g.dims[1] * g.voxel >= 0.4); /* the mesh's top */
+    CHECK(g.bmin.x + g.dims[0] * g.voxel >= 0.5); /* its +x side */
     struct light_grid blind;
     lightsim_domain(s, &blind); /* without the upload: the receiver alone */
     CHECK(blind.bmin.y + blind.dims[1] * blind.voxel < 0.4);
@@ -139,7 +139,8 @@ static void test_errors(void)
         "{\"objects\": [{\"bounds\": {\"min\": [1, -1, -0.5], \"max\": [2, 0, 0.5]}, "
         "\"resolution\": 8, \"scattering\": 0.5}],"
         " \"surfaces\": [{\"shape\": \"mesh\", \"mesh\": \"ico\", \"center\": [0, 0, 0], "
-        "\"scale\": 0.5, \"medium\": {\"ior\": 1.5}}], \"receiver\": {\"height\": -1, \"half_size\": 3}}";
+        "\"scale\": 0.5, \"medium\": {\"ior\": 1.5}}], \"receiver\": {\"height\": -1, "
+        "\"half_size\": 3}}";
     struct scene *s = NULL;
     struct err e = {0};
     CHECK_INT(scene_parse(scattering, strlen(scattering), NULL, &s, &e), REFRACT_E_OK);
