@@ -527,8 +527,6 @@ static enum refract_code parse_document(const cJSON *root, const struct scene_li
     /* After the objects: the receiver's default size depends on where they are. */
     if (rc == REFRACT_E_OK)
         rc = scene_parse_receiver(member(root, "receiver"), s, e);
-    if (rc == REFRACT_E_OK && s->receiver.enabled)
-        rc = scene_check_lightsim_surfaces(s, "receiver", e);
     return rc;
 }
 

@@ -48,10 +48,6 @@ enum refract_code scene_parse_transform(const cJSON *obj, const char *path, stru
  * checks the surfaces against. */
 enum refract_code scene_parse_surfaces(const cJSON *arr, const struct scene_limits *lim,
                                        struct scene *s, struct err *e);
-/* INVALID_FIELD naming path (what needs the light simulator: the receiver, a scattering
- * object) when s has a surface the light simulator does not trace (a mesh). */
-enum refract_code scene_check_lightsim_surfaces(const struct scene *s, const char *path,
-                                                struct err *e);
 
 /* Frees what a field owns (layers, lathe profiles, text) and zeroes it. */
 void scene_field_fini(struct scene_field *f);

@@ -11,9 +11,10 @@
  *   - two surfaces of equal priority must not overlap (their world boxes are disjoint;
  *     for meshes, whose boxes come with the upload, equal priorities are refused);
  *   - voxel objects lie in the ambient medium: an object's world box must not overlap a
- *     surface's (a GRIN medium inside an exact surface is not supported yet);
- *   - the light simulator traces every kind but meshes (docs/lightsim.md "Surfaces"), so
- *     a scene with a mesh surface may not ask for it (no receiver, no scattering objects).
+ *     surface's (a GRIN medium inside an exact surface is not supported yet).
+ * The light simulator traces every kind (docs/lightsim.md "Surfaces"); a receiver must
+ * not cut a mesh either, which only the light fields can check (the mesh's extent comes
+ * with its upload).
  * The surfaces are stored sorted by priority, highest first (core/interface.h).
  */
 #include <math.h>
@@ -227,26 +228,6 @@ static enum refract_code check_rules(const struct scene *s, struct err *e)
                                a->document_index, k, o->name);
         }
     }
-    for (size_t k = 0; k < s->object_count; k++)
-        if (scene_channel_used(&s->objects[k], SCENE_CH_SCATTERING)) {
-            char path[48];
-            snprintf(path, sizeof path, "objects[%zu].scattering", k);
-            enum refract_code rc = scene_check_lightsim_surfaces(s, path, e);
-            if (rc != REFRACT_E_OK)
-                return rc;
-        }
-    return REFRACT_E_OK;
-}
-
-enum refract_code scene_check_lightsim_surfaces(const struct scene *s, const char *path,
-                                                struct err *e)
-{
-    for (size_t k = 0; k < s->surface_count; k++)
-        if (s->surfaces[k].shape.kind == SCENE_SHAPE_MESH)
-            return err_set(e, REFRACT_E_INVALID_FIELD,
-                           "%s: needs the light simulator, which does not trace mesh surfaces "
-                           "yet, and surfaces[%d] is a mesh; remove one of them",
-                           path, s->surfaces[k].document_index);
     return REFRACT_E_OK;
 }
 
