@@ -17,16 +17,23 @@
  * on a shared machine it says more than the wall time. culled and reflected are
  * fractions of flux_in (green).
  * Scenes are read from proto/examples/<name>.json with every object's voxel resolution
- * replaced by --object-resolution and "lightsim" settings by the options.
+ * replaced by --object-resolution and "lightsim" settings by the options. A name ending in
+ * "@ico<S>" (e.g. ball_lens_caustic@ico5) is that scene with every sphere surface replaced
+ * by a mesh surface of the same centre and radius: the unit icosphere of S subdivisions
+ * (mesh_make_icosphere, 20 4^S triangles), so mesh and exact sphere compare in one run.
  */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
+#include <cjson/cJSON.h>
+
 #include "example_scene.h"
 #include "gpu/queue.h"
 #include "lightsim/gpu/lightsim_gpu.h"
+#include "mesh/mesh.h"
+#include "mesh/mesh_rt.h"
 #include "scene/scene.h"
 
 #define MAX_LIST 16
@@ -88,14 +95,81 @@ static void run_on_gpu(struct gpu_work *w, struct gpu *gpu)
     lightsim_gpu_run_destroy(run);
 }
 
+/* The icosphere of an "@ico<S>" scene, found as mesh "ico". */
+static struct scene_volume ico_volume;
+
+static const struct scene_volume *ico_lookup(void *ctx, const char *name)
+{
+    (void)ctx;
+    return ico_volume.mesh && strcmp(name, SCENE_MESH_LOOKUP_PREFIX "ico") == 0 ? &ico_volume
+                                                                               : NULL;
+}
+
+/* Example `base` (a file name without .json) with its sphere surfaces as mesh "ico". */
+static struct scene *load_with_mesh_spheres(const char *dir, const char *base)
+{
+    char path[1200];
+    snprintf(path, sizeof path, "%.600s/%.500s.json", dir, base);
+    FILE *fp = fopen(path, "rb");
+    char *text = NULL;
+    long n = -1;
+    if (fp && fseek(fp, 0, SEEK_END) == 0 && (n = ftell(fp)) >= 0 && fseek(fp, 0, SEEK_SET) == 0) {
+        text = calloc((size_t)n + 1, 1);
+        if (text && fread(text, 1, (size_t)n, fp) != (size_t)n)
+            n = -1;
+    }
+    if (fp)
+        fclose(fp);
+    cJSON *root = n >= 0 && text ? cJSON_Parse(text) : NULL;
+    free(text);
+    cJSON *sf;
+    cJSON_ArrayForEach(sf, cJSON_GetObjectItemCaseSensitive(root, "surfaces"))
+    {
+        const cJSON *shape = cJSON_GetObjectItemCaseSensitive(sf, "shape");
+        const cJSON *radius = cJSON_GetObjectItemCaseSensitive(sf, "radius");
+        if (!cJSON_IsString(shape) || strcmp(shape->valuestring, "sphere") != 0 ||
+            !cJSON_IsNumber(radius))
+            continue;
+        double r = radius->valuedouble;
+        cJSON_ReplaceItemInObjectCaseSensitive(sf, "shape", cJSON_CreateString("mesh"));
+        cJSON_DeleteItemFromObjectCaseSensitive(sf, "radius");
+        cJSON_AddStringToObject(sf, "mesh", "ico");
+        cJSON_AddNumberToObject(sf, "scale", r);
+    }
+    char *json = root ? cJSON_PrintUnformatted(root) : NULL;
+    cJSON_Delete(root);
+    struct scene *s = NULL;
+    struct err e = {0};
+    if (json == NULL || scene_parse(json, strlen(json), NULL, &s, &e) != REFRACT_E_OK)
+        fprintf(stderr, "refract-lightsim: %s: %s\n", path, json ? e.msg : "not read");
+    free(json);
+    return s;
+}
+
 static void bench_case(struct gpu *gpu, const char *dir, const char *name, int res, int obj_res,
                        const struct list *patches, int max_patches, int chunk)
 {
-    char path[1200];
-    snprintf(path, sizeof path, "%.600s/%.500s.json", dir, name);
-    struct scene *s = bench_load_example("refract-lightsim", path, obj_res);
-    if (s == NULL)
+    char path[1200], base[64];
+    const char *at = strstr(name, "@ico");
+    struct scene *s = NULL;
+    struct mesh *ico = NULL;
+    if (at) {
+        struct err me = {0};
+        snprintf(base, sizeof base, "%.*s", (int)(at - name), name);
+        if (mesh_make_icosphere(atoi(at + 4), 1.0, &ico, &me) != REFRACT_E_OK) {
+            fprintf(stderr, "refract-lightsim: %s: %s\n", name, me.msg);
+            return;
+        }
+        ico_volume = (struct scene_volume){.mesh = ico};
+        s = load_with_mesh_spheres(dir, base);
+    } else {
+        snprintf(path, sizeof path, "%.600s/%.500s.json", dir, name);
+        s = bench_load_example("refract-lightsim", path, obj_res);
+    }
+    if (s == NULL) {
+        mesh_destroy(ico);
         return;
+    }
     s->lightsim.resolution = res;
     s->lightsim.max_patches = max_patches;
     struct scene_light light = {.kind = SCENE_LIGHT_DIRECTIONAL,
@@ -107,9 +181,10 @@ static void bench_case(struct gpu *gpu, const char *dir, const char *name, int r
     struct err e = {0};
     struct lightsim_fields f;
     double t0 = gpu_time_ms();
-    if (lightsim_fields_build(s, NULL, NULL, &f, &e) != REFRACT_E_OK) {
+    if (lightsim_fields_build(s, ico_lookup, NULL, &f, &e) != REFRACT_E_OK) {
         fprintf(stderr, "refract-lightsim: %s: %s\n", name, e.msg);
         scene_destroy(s);
+        mesh_destroy(ico);
         return;
     }
     double fields_ms = gpu_time_ms() - t0;
@@ -136,6 +211,8 @@ static void bench_case(struct gpu *gpu, const char *dir, const char *name, int r
     }
     lightsim_fields_free(&f);
     scene_destroy(s);
+    mesh_destroy(ico); /* the fields had their own copy */
+    ico_volume.mesh = NULL;
 }
 
 int main(int argc, char **argv)

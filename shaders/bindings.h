@@ -114,12 +114,14 @@
 #define BIND_SSBO_LS_COUNTS 7      /* uint per patch: outputs 0, 1 or 4 */
 #define BIND_SSBO_LS_OFFSETS 8     /* uint per patch: exclusive prefix sum of counts */
 #define BIND_SSBO_LS_BLOCK_SUMS 9  /* uint per scan block, scanned in place */
-#define BIND_SSBO_LS_CONTROL 10    /* ls_control: indirect arguments and counters */
-#define BIND_SSBO_LS_ACCUM 11      /* float[LS_ACC_COUNT], one step's flux sums */
+#define BIND_SSBO_LS_CONTROL 10    /* ls_control: indirect arguments and counters, then
+                                      float[LS_ACC_COUNT], one step's flux sums (11 is free:
+                                      they had a block of their own) */
 #define BIND_SSBO_LS_TOTALS 12     /* double[LS_TOT_COUNT], the run's totals */
 #define BIND_SSBO_LS_TWINS 26      /* ls_patch[] by live index: surface events' reflected twins
-                                      (docs/lightsim.md "Surfaces"); 20-22 are the meshes',
-                                      25 the trace events' */
+                                      (docs/lightsim.md "Surfaces"); 20-22 are the meshes'
+                                      (the light simulator packs them into 20), 25 the
+                                      trace events' */
 #define BIND_SSBO_LS_DEPOSIT 13    /* .. + 5: one float per light voxel and deposit channel
                                       (one buffer each: GL guarantees only 128 MiB a block) */
 #define UNIT_LS_IOR_GRAD 5         /* sampler3D: rgb grad n (world units), a = n */

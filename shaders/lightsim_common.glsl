@@ -16,27 +16,26 @@ layout(std140, binding = BIND_UBO_LIGHTSIM) uniform lightsim_params_block
     lightsim_params ls;
 };
 
+// The control counters and one step's flux sums (ls_accum, LS_ACC_COUNT floats after
+// control: one storage block for both, so that the step kernel among mesh surfaces stays
+// within the 16 a compute shader is guaranteed). With GL_NV_shader_atomic_float the sums
+// are added natively, else by a compare-and-swap loop on their bits (both give the same
+// sums up to the order of the additions).
+#ifdef LS_NATIVE_FLOAT_ATOMICS
 layout(std430, binding = BIND_SSBO_LS_CONTROL) buffer ls_control_block
 {
     ls_control control;
-};
-
-// One step's flux sums. With GL_NV_shader_atomic_float they are added natively, else by
-// a compare-and-swap loop on their bits (both give the same sums up to the order of the
-// additions).
-#ifdef LS_NATIVE_FLOAT_ATOMICS
-layout(std430, binding = BIND_SSBO_LS_ACCUM) buffer ls_accum_block
-{
-    float ls_accum[];
+    float ls_accum[LS_ACC_COUNT];
 };
 void accum_add(int slot, float v)
 {
     atomicAdd(ls_accum[slot], v);
 }
 #else
-layout(std430, binding = BIND_SSBO_LS_ACCUM) buffer ls_accum_block
+layout(std430, binding = BIND_SSBO_LS_CONTROL) buffer ls_control_block
 {
-    uint ls_accum[];
+    ls_control control;
+    uint ls_accum[LS_ACC_COUNT];
 };
 void accum_add(int slot, float v)
 {

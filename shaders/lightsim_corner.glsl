@@ -15,6 +15,16 @@
 #include "cylinder.glsl"
 #include "plane.glsl"
 #include "lathe.glsl"
+// LS_MESHES (a preamble #define, the "(meshes)" programs): mesh surfaces, traced by the
+// view renderer's BVH code from one packed buffer (the step kernel has no storage block
+// to spare for three).
+#if LS_MESHES
+#define MESH_RT_PACKED 1
+#include "mesh.glsl"
+#define MARCH_MESHES 1
+#else
+#define MARCH_MESHES 0
+#endif
 #include "surface_dispatch.glsl"
 #include "interface.glsl"
 
@@ -23,7 +33,8 @@ const int LS_MAX_LEGS = 8;
 const float LS_INDEX_EPS = 1e-6;
 
 // Is the world point p inside surface k's solid. Kinds with a closed-form test use it;
-// a lathe counts its crossings along a fixed ray (the solid is closed: odd = inside).
+// a lathe or a mesh counts its crossings along a fixed ray (the solid is closed: odd =
+// inside; the CPU reference asks a mesh's winding number, which agrees off the surface).
 bool geom_surface_inside(int k, vec3 p_world)
 {
     surface_params sp = surfaces[k];

@@ -39,8 +39,12 @@ struct light_grid {
 
 /* The light domain of a scene (docs/lightsim.md "Domain"): the union of the objects' and
  * the surfaces' world bounding boxes and the receiver square, padded by two voxels, with cubic voxels
- * and set->resolution voxels along its longest axis. Light-independent. */
+ * and set->resolution voxels along its longest axis. Light-independent. A mesh surface's
+ * box comes with its upload: lightsim_domain_lookup finds it through lookup (as
+ * lightsim_fields_build does); lightsim_domain, and a mesh lookup cannot find, add none. */
 void lightsim_domain(const struct scene *s, struct light_grid *out);
+void lightsim_domain_lookup(const struct scene *s, scene_volume_lookup_fn lookup, void *ctx,
+                            struct light_grid *out);
 
 /* How many time steps a patch accumulates before a flux deposit (docs/lightsim.md step
  * 5): max(1, floor(1 / step_voxels)), so deposits lie about one voxel apart. */
@@ -63,10 +67,16 @@ struct lightsim_fields {
     struct reftrace_surface *surfaces; /* owned; NULL when surface_count is 0 */
     int surface_count;
     double (*profile_points)[2]; /* owned copies of the lathes' profiles */
+    /* Owned copies of the mesh surfaces' meshes (the fields outlive the scene version
+     * whose uploads they were made from), each once; the surfaces' geom.mesh point here. */
+    struct mesh **meshes;
+    int mesh_count;
 };
 
 /* Builds the fields from the scene (docs/lightsim.md "Fields"). CONFLICT for a missing
- * volume, OUT_OF_MEMORY. Free with lightsim_fields_free. */
+ * volume or mesh, INVALID_MESH for a mesh surface whose mesh cannot bound a medium,
+ * INVALID_FIELD for a receiver above a mesh surface's bottom, OUT_OF_MEMORY. Free with
+ * lightsim_fields_free. */
 enum refract_code lightsim_fields_build(const struct scene *s, scene_volume_lookup_fn lookup,
                                         void *ctx, struct lightsim_fields *out, struct err *e);
 void lightsim_fields_free(struct lightsim_fields *f);

@@ -1,7 +1,7 @@
 /*
  * lightsim_domain.c - the light grid of a scene (docs/lightsim.md "Domain"): the union of
- * the objects' and the surfaces' world boxes and the receiver square, clipped below at the receiver plane,
- * padded by two cubic voxels.
+ * the objects' and the surfaces' world boxes (a mesh surface's from its upload) and the
+ * receiver square, clipped below at the receiver plane, padded by two cubic voxels.
  */
 #include <math.h>
 
@@ -21,6 +21,12 @@ static void grow(vec3 *lo, vec3 *hi, vec3 p)
 
 void lightsim_domain(const struct scene *s, struct light_grid *out)
 {
+    lightsim_domain_lookup(s, NULL, NULL, out);
+}
+
+void lightsim_domain_lookup(const struct scene *s, scene_volume_lookup_fn lookup, void *ctx,
+                            struct light_grid *out)
+{
     vec3 lo = {INFINITY, INFINITY, INFINITY}, hi = {-INFINITY, -INFINITY, -INFINITY};
     for (size_t i = 0; i < s->object_count; i++) {
         const struct scene_object *o = &s->objects[i];
@@ -37,9 +43,8 @@ void lightsim_domain(const struct scene *s, struct light_grid *out)
     for (size_t k = 0; k < s->surface_count; k++) {
         struct geom_surface g;
         vec3 blo, bhi;
-        scene_surface_geom(&s->surfaces[k], &g);
-        if (g.kind == GEOM_MESH)
-            continue; /* refused by lightsim_fields_build */
+        if (!scene_surface_geom_lookup(&s->surfaces[k], lookup, ctx, &g))
+            continue; /* a mesh not found: lightsim_fields_build refuses it */
         geom_surface_bounds(&g, &blo, &bhi);
         for (int a = 0; a < 3; a++) {
             double l = vec3_get(blo, a), h = vec3_get(bhi, a);

@@ -67,7 +67,7 @@ enum refract_code lightsim_fields_build(const struct scene *s, scene_volume_look
                                         void *ctx, struct lightsim_fields *out, struct err *e)
 {
     memset(out, 0, sizeof *out);
-    lightsim_domain(s, &out->grid);
+    lightsim_domain_lookup(s, lookup, ctx, &out->grid);
     out->ambient_ior = s->ambient_ior;
     out->boundary_threshold = s->render.boundary_threshold;
     double sigma_max = 0.0;
@@ -113,7 +113,7 @@ enum refract_code lightsim_fields_build(const struct scene *s, scene_volume_look
     scene_reference_free(ref);
     free(ref);
     if (rc == REFRACT_E_OK)
-        rc = ls_surfaces_build(s, out, e);
+        rc = ls_surfaces_build(s, lookup, ctx, out, e);
     if (rc != REFRACT_E_OK)
         lightsim_fields_free(out);
     return rc;

@@ -21,10 +21,12 @@
 #define LS_SURFACE_EPS_SAME 1e-9
 #define LS_SURFACE_EPS_OTHER 1e-13
 
-/* Copies s's surfaces into f (f->surfaces, f->profile_points). INVALID_FIELD for a mesh
- * surface (the light simulator does not trace meshes yet), OUT_OF_MEMORY. */
-enum refract_code ls_surfaces_build(const struct scene *s, struct lightsim_fields *f,
-                                    struct err *e);
+/* Copies s's surfaces into f (f->surfaces, f->profile_points, and f->meshes: a copy of
+ * each mesh surface's mesh, found through lookup). CONFLICT for a mesh not uploaded,
+ * INVALID_MESH for one that cannot bound a medium (mesh_rt.h), INVALID_FIELD for a
+ * receiver above a mesh's bottom, OUT_OF_MEMORY; f then holds nothing. */
+enum refract_code ls_surfaces_build(const struct scene *s, scene_volume_lookup_fn lookup,
+                                    void *ctx, struct lightsim_fields *f, struct err *e);
 void ls_surfaces_free(struct lightsim_fields *f);
 
 /* The set of surfaces whose solids contain p (bit k: f->surfaces[k]). */

@@ -42,8 +42,9 @@ static bool transport_channel(int ch)
            ch == SCENE_CH_OPAQUE;
 }
 
-/* FNV-1a over the names and content checksums of the uploads the transport uses, in the
- * order the scene references them: an upload with new content is a new transport. */
+/* FNV-1a over the content checksums of the uploads the transport uses (objects' volume
+ * and mesh layers, mesh surfaces), in the order the scene references them: an upload with
+ * new content is a new transport. */
 static uint64_t uploads_hash(const struct store_scene *v)
 {
     uint64_t h = 14695981039346656037ull;
@@ -70,6 +71,18 @@ static uint64_t uploads_hash(const struct store_scene *v)
                     h = (h ^ p[b]) * 1099511628211ull;
             }
         }
+    }
+    /* Mesh surfaces bound media the light simulator traces (docs/lightsim.md "Surfaces"). */
+    for (size_t k = 0; k < s->surface_count; k++) {
+        if (s->surfaces[k].shape.kind != SCENE_SHAPE_MESH)
+            continue;
+        uint64_t sum = 0;
+        for (size_t i = 0; i < v->mesh_count; i++)
+            if (strcmp(v->meshes[i]->name, s->surfaces[k].shape.mesh) == 0)
+                sum = v->meshes[i]->checksum;
+        const unsigned char *p = (const unsigned char *)&sum;
+        for (size_t b = 0; b < sizeof sum; b++)
+            h = (h ^ p[b]) * 1099511628211ull;
     }
     return h;
 }

@@ -48,8 +48,9 @@ enum refract_code scene_parse_transform(const cJSON *obj, const char *path, stru
  * checks the surfaces against. */
 enum refract_code scene_parse_surfaces(const cJSON *arr, const struct scene_limits *lim,
                                        struct scene *s, struct err *e);
-/* INVALID_FIELD naming path (what needs the light simulator: the receiver, a scattering
- * object) when s has a surface the light simulator does not trace (a mesh). */
+/* Refuses, naming `path` (what asks for the light simulator: "receiver",
+ * "objects[2].scattering"), a scene whose surfaces include one filled by an object's field
+ * (medium "object"): the light simulator's wavefront does not bend inside surfaces yet. */
 enum refract_code scene_check_lightsim_surfaces(const struct scene *s, const char *path,
                                                 struct err *e);
 

@@ -16,9 +16,10 @@
  *     nowhere else ("bound"), it has no opaque embeddings, and the scene does not ask for
  *     the light simulator, whose wavefront does not bend inside surfaces yet;
  *   - voxel objects lie in the ambient medium: an object's world box must not overlap a
- *     surface's, except the surface the object fills;
- *   - the light simulator traces every kind but meshes (docs/lightsim.md "Surfaces"), so
- *     a scene with a mesh surface may not ask for it (no receiver, no scattering objects).
+ *     surface's, except the surface the object fills.
+ * The light simulator traces every kind (docs/lightsim.md "Surfaces"); a receiver must
+ * not cut a mesh either, which only the light fields can check (the mesh's extent comes
+ * with its upload).
  * The surfaces are stored sorted by priority, highest first (core/interface.h).
  */
 #include <math.h>
@@ -386,12 +387,7 @@ static enum refract_code check_rules(const struct scene *s, struct err *e)
 enum refract_code scene_check_lightsim_surfaces(const struct scene *s, const char *path,
                                                 struct err *e)
 {
-    for (size_t k = 0; k < s->surface_count; k++) {
-        if (s->surfaces[k].shape.kind == SCENE_SHAPE_MESH)
-            return err_set(e, REFRACT_E_INVALID_FIELD,
-                           "%s: needs the light simulator, which does not trace mesh surfaces "
-                           "yet, and surfaces[%d] is a mesh; remove one of them",
-                           path, s->surfaces[k].document_index);
+    for (size_t k = 0; k < s->surface_count; k++)
         if (s->surfaces[k].medium.has_object)
             return err_set(e, REFRACT_E_INVALID_FIELD,
                            "%s: needs the light simulator, whose wavefront does not bend by a "
@@ -400,7 +396,6 @@ enum refract_code scene_check_lightsim_surfaces(const struct scene *s, const cha
                            "them",
                            path, s->surfaces[k].document_index,
                            s->objects[s->surfaces[k].medium.object].name);
-    }
     return REFRACT_E_OK;
 }
 

@@ -30,8 +30,23 @@
 //
 // The stack holds MESH_RT_MAX_DEPTH entries (bindings.h); the builder guarantees no path
 // is longer (mesh_rt_build.c), so it cannot overflow.
+//
+// MESH_RT_PACKED (defined by the includer): the three arrays lie in one buffer,
+// vec4 mesh_packed[] at BIND_SSBO_MESH_NODES, nodes first (so mesh.x still counts nodes),
+// and mesh.y, mesh.z are the 16-byte record index of the mesh's first triangle and first
+// vertex in it. The light simulator's step kernel uses it: it has no storage block to
+// spare for two more (GL guarantees a compute shader 16, and it uses them all).
 #include "bindings.h"
 
+#ifdef MESH_RT_PACKED
+layout(std430, binding = BIND_SSBO_MESH_NODES) readonly buffer mesh_packed_block
+{
+    vec4 mesh_packed[];
+};
+#define MESH_RT_NODE(i) mesh_packed[i]
+#define MESH_RT_TRI(i) floatBitsToUint(mesh_packed[i])
+#define MESH_RT_VERT(i) mesh_packed[i]
+#else
 layout(std430, binding = BIND_SSBO_MESH_NODES) readonly buffer mesh_nodes_block
 {
     vec4 mesh_nodes[];
@@ -44,6 +59,10 @@ layout(std430, binding = BIND_SSBO_MESH_VERTS) readonly buffer mesh_verts_block
 {
     vec4 mesh_verts[];
 };
+#define MESH_RT_NODE(i) mesh_nodes[i]
+#define MESH_RT_TRI(i) mesh_tris[i]
+#define MESH_RT_VERT(i) mesh_verts[i]
+#endif
 
 // Ize 2013's 2 gamma(3) for float is 3.6e-7; a GPU's reciprocal may be off by 2.5 ulp
 // more than correctly rounded division, so the far slab is pushed out by 1e-6 of itself.
@@ -63,8 +82,8 @@ vec3 mesh_rt_oct_decode(uint bits)
 // The ray's entry into a node's box (absolute node index) within [tmin, tmax], or false.
 bool mesh_rt_box(int node, vec3 o, vec3 inv, float tmin, float tmax, out float t_near)
 {
-    vec3 a = (mesh_nodes[2 * node].xyz - o) * inv;
-    vec3 b = (mesh_nodes[2 * node + 1].xyz - o) * inv;
+    vec3 a = (MESH_RT_NODE(2 * node).xyz - o) * inv;
+    vec3 b = (MESH_RT_NODE(2 * node + 1).xyz - o) * inv;
     vec3 tn = min(a, b), tf = max(a, b);
     tf += abs(tf) * MESH_RT_BOX_GROW;
     t_near = max(max(tmin, tn.x), max(tn.y, tn.z));
@@ -107,16 +126,16 @@ bool mesh_rt_intersect(ivec4 mesh, vec3 o, vec3 d, float tmin, float tmax, int s
         return false;
     int node = 0;
     for (;;) {
-        vec4 lo = mesh_nodes[2 * (mesh.x + node)], hi = mesh_nodes[2 * (mesh.x + node) + 1];
+        vec4 lo = MESH_RT_NODE(2 * (mesh.x + node)), hi = MESH_RT_NODE(2 * (mesh.x + node) + 1);
         int first = int(floatBitsToUint(lo.w)), count = int(floatBitsToUint(hi.w));
         if (count > 0) {
             for (int i = first; i < first + count; i++) {
-                uvec4 tr = mesh_tris[mesh.y + i];
+                uvec4 tr = MESH_RT_TRI(mesh.y + i);
                 if (int(tr.w) == skip_tri)
                     continue;
-                vec3 A = mesh_verts[mesh.z + int(tr.x)].xyz - o;
-                vec3 B = mesh_verts[mesh.z + int(tr.y)].xyz - o;
-                vec3 C = mesh_verts[mesh.z + int(tr.z)].xyz - o;
+                vec3 A = MESH_RT_VERT(mesh.z + int(tr.x)).xyz - o;
+                vec3 B = MESH_RT_VERT(mesh.z + int(tr.y)).xyz - o;
+                vec3 C = MESH_RT_VERT(mesh.z + int(tr.z)).xyz - o;
                 precise float ax = A[kx] - sx * A[kz], ay = A[ky] - sy * A[kz];
                 precise float bx = B[kx] - sx * B[kz], by = B[ky] - sy * B[kz];
                 precise float cx = C[kx] - sx * C[kz], cy = C[ky] - sy * C[kz];
@@ -168,9 +187,9 @@ bool mesh_rt_intersect(ivec4 mesh, vec3 o, vec3 d, float tmin, float tmax, int s
     }
     if (best_slot < 0)
         return false;
-    uvec4 tr = mesh_tris[best_slot];
-    vec4 p0 = mesh_verts[mesh.z + int(tr.x)], p1 = mesh_verts[mesh.z + int(tr.y)],
-         p2 = mesh_verts[mesh.z + int(tr.z)];
+    uvec4 tr = MESH_RT_TRI(best_slot);
+    vec4 p0 = MESH_RT_VERT(mesh.z + int(tr.x)), p1 = MESH_RT_VERT(mesh.z + int(tr.y)),
+         p2 = MESH_RT_VERT(mesh.z + int(tr.z));
     vec3 bary = best.xyz / best.w;
     n_geom = normalize(cross(p1.xyz - p0.xyz, p2.xyz - p0.xyz));
     uint b0 = floatBitsToUint(p0.w), b1 = floatBitsToUint(p1.w), b2 = floatBitsToUint(p2.w);

@@ -260,11 +260,12 @@ static void lifecycle_run(struct gpu_work *w, struct gpu *gpu)
         return;
     size_t voxels = (size_t)f->grid.dims[0] * f->grid.dims[1] * f->grid.dims[2];
     size_t cap = 5000, blocks = (cap + LS_SCAN_BLOCK - 1) / LS_SCAN_BLOCK;
-    /* without surfaces the twin list, the surface records (surface_params: 224 bytes) and
-     * the lathe points are one stand-in element each */
+    /* without surfaces the twin list, the surface records (surface_params: 224 bytes), the
+     * lathe points and the meshes' packed records (16 bytes) are one stand-in element
+     * each; the control block holds the step sums after its 80 bytes */
     size_t stepping = 2 * cap * 256 + /* ls_gpu_patch: 256 bytes */ 2 * cap * 4 + blocks * 4 + 80 +
                       LS_ACC_COUNT * 4 + LS_TOT_COUNT * 8 + voxels * LS_DEPOSIT_CHANNELS * 4 + 96 +
-                      2 * voxels * 16 + 256 + sizeof(surface_params) + 8;
+                      2 * voxels * 16 + 256 + sizeof(surface_params) + 8 + 16;
     printf("life cycle: %zu bytes while stepping (expected %zu)\n", lightsim_gpu_run_bytes(run),
            stepping);
     LC_CHECK(lightsim_gpu_run_bytes(run) == stepping);
@@ -286,7 +287,7 @@ static void lifecycle_run(struct gpu_work *w, struct gpu *gpu)
     }
     LC_CHECK(done);
     size_t out = voxels * (16 + 8);
-    size_t after = 80 + LS_TOT_COUNT * 8 + 96 + out;
+    size_t after = 80 + LS_ACC_COUNT * 4 + LS_TOT_COUNT * 8 + 96 + out;
     LC_CHECK(lightsim_gpu_run_bytes(run) == after);
     LC_CHECK(lightsim_gpu_run_peak_bytes(run) == stepping + out);
     struct lightsim_stats st;

@@ -323,12 +323,6 @@ static void bad_input(struct test_daemon *d)
          "invalid_field",
          {"surfaces[0]", "objects[0]"}},
         {__LINE__,
-         "{\"receiver\": {\"height\": -1, \"half_size\": 2}, \"surfaces\": [{\"shape\": "
-         "\"mesh\", \"mesh\": \"gem\", \"medium\": {\"ior\": 1.5}}]}",
-         400,
-         "invalid_field",
-         {"receiver", "mesh surfaces", "surfaces[0]"}},
-        {__LINE__,
          "{\"receiver\": {\"height\": 0, \"half_size\": 2}, \"surfaces\": [" BALL "]}",
          400,
          "invalid_field",

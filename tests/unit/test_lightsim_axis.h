@@ -67,17 +67,19 @@ static inline double axis_focus(const struct irradiance_volume *v, double y_hi, 
     return fabs(u0) <= half_width ? y_best + u0 : y_best;
 }
 
-/* The ball lens scene of issue 12's acceptance: a sphere of radius R and index n at the
+/* The ball lens scene of issue 12's acceptance: a ball of radius R and index n at the
  * origin, stopped down by an absorbing plate (a box surface of index 1, sigma 2000) with a
  * cylinder of air of higher priority as its hole of radius a, over a receiver 0.12 below
- * the paraxial focus n R / (2 (n - 1)). No voxel object. */
-static inline void ball_lens_json(char *json, size_t size, double R, double n, double a)
+ * the paraxial focus n R / (2 (n - 1)). No voxel object. ball: the ball surface's shape
+ * keys (ball_lens_json: the exact sphere; a mesh of the unit sphere scaled by R works
+ * too). */
+static inline void ball_lens_json_shape(char *json, size_t size, const char *ball, double R,
+                                        double n, double a)
 {
     double f_eff = n * R / (2.0 * (n - 1.0));
     snprintf(json, size,
              "{\"surfaces\": ["
-             "{\"name\": \"ball\", \"shape\": \"sphere\", \"center\": [0, 0, 0], \"radius\": %g, "
-             "\"medium\": {\"ior\": %.17g}},"
+             "{\"name\": \"ball\", %s, \"medium\": {\"ior\": %.17g}},"
              "{\"name\": \"stop\", \"shape\": \"box\", \"center\": [0, %.17g, 0], "
              "\"size\": [%.17g, 0.03, %.17g], \"priority\": 1, "
              "\"medium\": {\"ior\": 1, \"attenuation\": [2000, 2000, 2000]}},"
@@ -85,7 +87,15 @@ static inline void ball_lens_json(char *json, size_t size, double R, double n, d
              "\"radius\": %g, \"height\": 0.06, \"axis\": \"y\", \"priority\": 2, "
              "\"medium\": {\"ior\": 1}}],"
              " \"receiver\": {\"height\": %.17g, \"half_size\": %.17g}}",
-             R, n, R + 0.07, 2.0 * R + 0.04, 2.0 * R + 0.04, R + 0.07, a, -f_eff - 0.12, R + 0.02);
+             ball, n, R + 0.07, 2.0 * R + 0.04, 2.0 * R + 0.04, R + 0.07, a, -f_eff - 0.12, R + 0.02);
+}
+
+static inline void ball_lens_json(char *json, size_t size, double R, double n, double a)
+{
+    char ball[128];
+    snprintf(ball, sizeof ball, "\"shape\": \"sphere\", \"center\": [0, 0, 0], \"radius\": %g",
+             R);
+    ball_lens_json_shape(json, size, ball, R, n, a);
 }
 
 #endif

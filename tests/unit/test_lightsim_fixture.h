@@ -65,14 +65,15 @@ static inline double fx_seconds(void)
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-/* Builds the fields of s with s->lightsim = *set and runs light l. */
-static inline void fx_run(struct scene *s, const struct scene_light *l,
-                          const struct scene_lightsim *set, struct lightsim_fields *f,
-                          struct irradiance_volume *v)
+/* Builds the fields of s (its uploads found through lookup, which may be NULL) with
+ * s->lightsim = *set and runs light l. */
+static inline void fx_run_lookup(struct scene *s, scene_volume_lookup_fn lookup, void *ctx,
+                                 const struct scene_light *l, const struct scene_lightsim *set,
+                                 struct lightsim_fields *f, struct irradiance_volume *v)
 {
     struct err e = {0};
     s->lightsim = *set;
-    if (lightsim_fields_build(s, NULL, NULL, f, &e) != REFRACT_E_OK) {
+    if (lightsim_fields_build(s, lookup, ctx, f, &e) != REFRACT_E_OK) {
         fprintf(stderr, "fields: %s\n", e.msg);
         test_setup_failed("lightsim", "lightsim_fields_build failed");
     }
@@ -80,6 +81,13 @@ static inline void fx_run(struct scene *s, const struct scene_light *l,
         fprintf(stderr, "run: %s\n", e.msg);
         test_setup_failed("lightsim", "lightsim_ref_run failed");
     }
+}
+
+static inline void fx_run(struct scene *s, const struct scene_light *l,
+                          const struct scene_lightsim *set, struct lightsim_fields *f,
+                          struct irradiance_volume *v)
+{
+    fx_run_lookup(s, NULL, NULL, l, set, f, v);
 }
 
 static inline size_t fx_index(const struct light_grid *g, int i, int j, int k)

@@ -29,12 +29,12 @@ enum {
     COUNTS,
     OFFSETS,
     BLOCK_SUMS,
-    CONTROL,
-    ACCUM,
+    CONTROL, /* ls_control, then the step's float sums (LS_ACC_COUNT) */
     TOTALS,
     TWINS,    /* surface events' reflected twins, by live index */
     SURFACES, /* surface_params[] (uploaded, never cleared) */
     PROFILES, /* the lathes' profile points */
+    MESHES,   /* the mesh surfaces' BVH nodes, triangles and vertices in one buffer */
     DEPOSIT,
     BUFFER_COUNT = DEPOSIT + LS_DEPOSIT_CHANNELS
 };
@@ -47,6 +47,7 @@ struct lightsim_gpu_run {
     bool have_out;
     int current; /* LIST_A or LIST_B: the live list */
     bool surfaces; /* the scene has exact surfaces: the LS_SURFACES kernels */
+    bool meshes;   /* ... and mesh surfaces among them: the LS_MESHES kernels */
     struct light_grid grid;
     long long max_steps, steps_issued;
     double dt, t_sweep;
@@ -131,11 +132,11 @@ static void bind_all(const struct lightsim_gpu_run *r)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_LS_OFFSETS, r->buf[OFFSETS].buf);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_LS_BLOCK_SUMS, r->buf[BLOCK_SUMS].buf);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_LS_CONTROL, r->buf[CONTROL].buf);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_LS_ACCUM, r->buf[ACCUM].buf);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_LS_TOTALS, r->buf[TOTALS].buf);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_LS_TWINS, r->buf[TWINS].buf);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_SURFACES, r->buf[SURFACES].buf);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_SURFACE_PROFILES, r->buf[PROFILES].buf);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_MESH_NODES, r->buf[MESHES].buf);
     for (int c = 0; c < LS_DEPOSIT_CHANNELS; c++)
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_LS_DEPOSIT + c,
                          r->buf[DEPOSIT + c].buf);
@@ -162,6 +163,7 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
     r->grid = f->grid;
     r->current = LIST_A;
     r->surfaces = f->surface_count > 0;
+    r->meshes = f->mesh_count > 0;
     struct lightsim_wavefront w;
     rc = lightsim_wavefront_build(f, l, set, &w, e);
     if (rc != REFRACT_E_OK) {
@@ -174,16 +176,25 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
     size_t cap = (size_t)set->max_patches;
     size_t blocks = (cap + LS_SCAN_BLOCK - 1) / LS_SCAN_BLOCK;
     size_t voxels = (size_t)f->grid.dims[0] * f->grid.dims[1] * f->grid.dims[2];
+    struct {
+        ls_control c;
+        float accum[LS_ACC_COUNT]; /* zero: the sums of the first step */
+    } control_block;
+    memset(&control_block, 0, sizeof control_block);
     ls_control control;
     memset(&control, 0, sizeof control);
     control.dispatch_patches = (ivec4){(w.count + LS_LOCAL_X - 1) / LS_LOCAL_X, 1, 1, 0};
     control.dispatch_blocks = (ivec4){(w.count + LS_SCAN_BLOCK - 1) / LS_SCAN_BLOCK, 1, 1, 0};
     control.counts = (ivec4){w.count, 0, 0, w.count};
     lightsim_params params = make_params(f, set, r->dt, set->energy_threshold * w.mean_max_power);
+    control_block.c = control;
     surface_params *surfs = NULL;
     float *points = NULL;
     size_t point_count = 0;
-    if (!lightsim_gpu_pack_surfaces(f, &surfs, &points, &point_count)) {
+    void *mesh_data = NULL;
+    size_t mesh_records = 0;
+    if (!lightsim_gpu_pack_surfaces(f, &surfs, &points, &point_count, &mesh_data,
+                                    &mesh_records)) {
         lightsim_wavefront_free(&w);
         free(r);
         return err_set(e, REFRACT_E_OUT_OF_MEMORY, "no host memory to pack the surfaces");
@@ -199,8 +210,8 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
         [COUNTS] = {"lightsim counts", cap * sizeof(uint32_t), NULL},
         [OFFSETS] = {"lightsim offsets", cap * sizeof(uint32_t), NULL},
         [BLOCK_SUMS] = {"lightsim block sums", blocks * sizeof(uint32_t), NULL},
-        [CONTROL] = {"lightsim control", sizeof control, &control},
-        [ACCUM] = {"lightsim step sums", LS_ACC_COUNT * sizeof(float), NULL},
+        [CONTROL] = {"lightsim control and step sums",
+                     sizeof control + LS_ACC_COUNT * sizeof(float), &control_block},
         [TOTALS] = {"lightsim totals", LS_TOT_COUNT * sizeof(double), NULL},
         [TWINS] = {"lightsim twins", twins * sizeof(ls_gpu_patch), NULL},
         [SURFACES] = {"lightsim surfaces",
@@ -208,6 +219,7 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
                       surfs},
         [PROFILES] = {"lightsim surface profiles",
                       (point_count ? point_count : 1) * 2 * sizeof *points, points},
+        [MESHES] = {"lightsim mesh surfaces", mesh_records * 16, mesh_data},
         [DEPOSIT] = {"lightsim deposit irradiance r", voxels * sizeof(float), NULL},
         [DEPOSIT + 1] = {"lightsim deposit irradiance g", voxels * sizeof(float), NULL},
         [DEPOSIT + 2] = {"lightsim deposit irradiance b", voxels * sizeof(float), NULL},
@@ -217,14 +229,23 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
     };
     GLint64 max_block = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
-    for (int i = 0; i < BUFFER_COUNT; i++)
-        if (max_block > 0 && bufs[i].bytes > (size_t)max_block)
+    for (int i = 0; i < BUFFER_COUNT; i++) {
+        if (max_block <= 0 || bufs[i].bytes <= (size_t)max_block)
+            continue;
+        if (i == MESHES)
+            rc = err_set(e, REFRACT_E_LIMIT_EXCEEDED,
+                         "lightsim: the mesh surfaces' hierarchies, triangles and vertices would "
+                         "need %zu bytes (about 45 a triangle), more than this GPU's largest "
+                         "storage block (%lld bytes); use meshes with fewer triangles",
+                         bufs[i].bytes, (long long)max_block);
+        else
             rc = err_set(e, REFRACT_E_LIMIT_EXCEEDED,
                          "lightsim: the %s buffer would need %zu bytes, more than this GPU's "
                          "largest storage block (%lld bytes); lower lightsim.resolution (now %d "
                          "voxels on the longest axis) or lightsim.max_patches (now %d)",
                          bufs[i].label, bufs[i].bytes, (long long)max_block, longest_axis(&f->grid),
                          set->max_patches);
+    }
     for (int i = 0; i < BUFFER_COUNT && rc == REFRACT_E_OK; i++)
         rc = gpu_buffer_create(bufs[i].label, bufs[i].bytes, bufs[i].data, &r->buf[i], e);
     if (rc == REFRACT_E_OK)
@@ -233,8 +254,8 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
         rc = upload_fields(r, f, e);
     if (rc == REFRACT_E_OK) {
         uint32_t zero = 0;
-        for (int i = ACCUM; i < BUFFER_COUNT; i++)
-            if (i != CONTROL && i != SURFACES && i != PROFILES)
+        for (int i = TOTALS; i < BUFFER_COUNT; i++)
+            if (i != SURFACES && i != PROFILES && i != MESHES)
                 glClearNamedBufferData(r->buf[i].buf, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT,
                                        &zero);
         if (w.count > 0)
@@ -261,6 +282,7 @@ enum refract_code lightsim_gpu_begin(struct gpu *gpu, const struct lightsim_fiel
     lightsim_wavefront_free(&w);
     free(surfs);
     free(points);
+    free(mesh_data);
     r->peak_bytes = lightsim_gpu_run_bytes(r);
     if (rc == REFRACT_E_OK && r->stats.done) /* nothing aimed at the domain: dark volumes */
         rc = finish(r, lightsim_gpu_programs(), e);
@@ -278,11 +300,11 @@ static void record_step(struct lightsim_gpu_run *r, const struct lightsim_gpu_pr
     const GLintptr patches = (GLintptr)offsetof(ls_control, dispatch_patches);
     const GLbitfield barrier = GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT;
     bind_all(r);
-    glUseProgram(r->surfaces ? p->step_surfaces : p->step);
+    glUseProgram(r->meshes ? p->step_meshes : r->surfaces ? p->step_surfaces : p->step);
     glDispatchComputeIndirect(patches);
     glMemoryBarrier(barrier);
     lightsim_gpu_scan_record(p);
-    glUseProgram(r->surfaces ? p->emit_surfaces : p->emit);
+    glUseProgram(r->meshes ? p->emit_meshes : r->surfaces ? p->emit_surfaces : p->emit);
     glDispatchComputeIndirect(patches);
     glMemoryBarrier(barrier);
     glUseProgram(p->args);

@@ -43,6 +43,10 @@ enum refract_code lightsim_gpu_init(struct gpu *gpu, struct err *e)
          "#define LS_SURFACES 1"},
         {&programs.emit_surfaces, "lightsim emit (surfaces)", "lightsim_emit.comp",
          "#define LS_SURFACES 1"},
+        {&programs.step_meshes, "lightsim step (meshes)", "lightsim_step.comp",
+         "#define LS_SURFACES 1\n#define LS_MESHES 1"},
+        {&programs.emit_meshes, "lightsim emit (meshes)", "lightsim_emit.comp",
+         "#define LS_SURFACES 1\n#define LS_MESHES 1"},
         {&programs.scan[0], "lightsim scan blocks", "lightsim_scan.comp",
          "#define LS_SCAN_STAGE 0"},
         {&programs.scan[1], "lightsim scan sums", "lightsim_scan.comp", "#define LS_SCAN_STAGE 1"},
@@ -76,9 +80,10 @@ bool lightsim_gpu_programs_use_cas(void)
 
 void lightsim_gpu_shutdown(void)
 {
-    GLuint *all[] = {&programs.step,    &programs.emit, &programs.step_surfaces,
-                     &programs.emit_surfaces, &programs.scan[0], &programs.scan[1],
-                     &programs.scan[2], &programs.args, &programs.finish};
+    GLuint *all[] = {&programs.step,          &programs.emit,        &programs.step_surfaces,
+                     &programs.emit_surfaces, &programs.step_meshes, &programs.emit_meshes,
+                     &programs.scan[0],       &programs.scan[1],     &programs.scan[2],
+                     &programs.args,          &programs.finish};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++) {
         if (*all[i])
             glDeleteProgram(*all[i]);

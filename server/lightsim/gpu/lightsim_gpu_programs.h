@@ -18,6 +18,9 @@ struct lightsim_gpu_programs {
      * surfaces: the surface code, though never entered, made llvmpipe run the voxel
      * scenes' steps 2-4x slower. */
     GLuint step_surfaces, emit_surfaces;
+    /* With LS_MESHES 1 as well, for scenes with mesh surfaces: the BVH traversal (its
+     * 64-entry stack) is compiled only where a mesh may be met. */
+    GLuint step_meshes, emit_meshes;
     GLuint scan[3]; /* lightsim_scan.comp, LS_SCAN_STAGE 0, 1, 2 */
     GLuint args;    /* lightsim_args.comp */
     GLuint finish;  /* lightsim_finish.comp */

@@ -14,9 +14,13 @@
 #include "shared_types.h"
 #undef REFRACT_HOST_C
 
-/* New arrays: *records (max(1, surface_count) records) and *points (2 floats per lathe
- * profile point, at least 2); *point_count floats pairs. Free both. false: out of memory. */
+/* New arrays: *records (max(1, surface_count) records), *points (2 floats per lathe
+ * profile point, at least 2; *point_count float pairs) and *meshes (*mesh_records >= 1
+ * 16-byte records: the fields' meshes' BVH nodes, then triangles, then vertices, as
+ * shaders/geom/mesh.glsl reads them with MESH_RT_PACKED; each mesh record's surface_params
+ * .mesh says where its own begin). Free all three. false: out of memory. */
 bool lightsim_gpu_pack_surfaces(const struct lightsim_fields *f, surface_params **records,
-                                float **points, size_t *point_count);
+                                float **points, size_t *point_count, void **meshes,
+                                size_t *mesh_records);
 
 #endif
