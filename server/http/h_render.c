@@ -10,6 +10,12 @@
  * what is missing, reads back what is on disk), then, on the GPU thread, gathers the best
  * volume of each light: the current pose's, else the previous pose's while the new one is
  * computed. It never waits for a recompute; X-Refract-Irradiance says what it used.
+ *
+ * A render larger than --render-tile-pixels is drawn in tiles of whole rows, one per turn
+ * of its GPU work item (gpu_work.again), so that work queued behind it runs between its
+ * tiles: a small render waits for one tile, not for the whole large one. The tiles equal
+ * a render made at once (render_view_rows). Before each turn the queue drops the render
+ * when its client has gone, or when its deadline (--request-timeout-ms) has passed.
  */
 #include <math.h>
 #include <stdio.h>
@@ -29,6 +35,12 @@ struct render_job {
     struct render_view_result result;
     struct render_light lights[SCENE_MAX_LIGHTS];
     const char *irradiance; /* X-Refract-Irradiance: ready|stale|missing|not-needed */
+    /* Tiles (GPU thread): the next row to draw, rows per tile, and the irradiance the
+     * first tile used, which every later tile must use too. */
+    int next_row, tile_rows;
+    const struct irradiance_gpu *volumes[SCENE_MAX_LIGHTS];
+    int volume_count;
+    int restarts;
 };
 
 static void render_job_free(void *p)
@@ -39,14 +51,48 @@ static void render_job_free(void *p)
     free(job);
 }
 
+/* True when this tile gathered other irradiance volumes than the first tile (one became
+ * ready in between); the first tile remembers them. */
+static bool volumes_changed(struct render_job *job, int row0)
+{
+    const struct render_view_request *v = &job->request.view;
+    bool changed = row0 != 0 && v->light_count != job->volume_count;
+    for (int j = 0; j < v->light_count && j < SCENE_MAX_LIGHTS; j++) {
+        if (row0 == 0)
+            job->volumes[j] = v->lights[j].volume;
+        else if (job->volumes[j] != v->lights[j].volume)
+            changed = true;
+    }
+    if (row0 == 0)
+        job->volume_count = v->light_count;
+    return changed;
+}
+
+/* One tile per turn; asks for another turn until every row is drawn. */
 static void render_run(struct gpu_work *w, struct gpu *gpu)
 {
     (void)gpu;
     struct http_request *req = w->user;
     struct render_job *job = req->job;
-    render_request_version(req->app->render, req->app->irradiance, req->app->store, job->version,
-                           &job->request.view, job->lights, &job->result, &job->irradiance,
-                           &w->err);
+    int height = job->request.view.camera.height;
+    int row0 = job->next_row;
+    int rows = height - row0 < job->tile_rows ? height - row0 : job->tile_rows;
+    if (render_request_version_rows(req->app->render, req->app->irradiance, req->app->store,
+                                    job->version, &job->request.view, job->lights, row0, rows,
+                                    &job->result, &job->irradiance, &w->err) != REFRACT_E_OK)
+        return;
+    /* A picture lit by two states of the irradiance would be wrong everywhere the tiles
+     * meet: start again (a few times at most; a light changing faster than that is
+     * rendered with what it has, as the next render would be). */
+    if (volumes_changed(job, row0) && job->restarts < 3) {
+        job->restarts++;
+        job->next_row = 0;
+        job->result.gpu_ms = 0.0;
+        w->again = true;
+        return;
+    }
+    job->next_row = row0 + rows;
+    w->again = job->next_row < height;
 }
 
 static enum refract_code encode(const struct render_job *job, void **bytes, size_t *len,
@@ -120,6 +166,14 @@ enum MHD_Result http_handle_render(struct http_request *req)
     if (http_parse_render_request(req->body, req->body_len, v->scene, req->cfg, &job->request,
                                   &e) != REFRACT_E_OK)
         return http_respond_err(req, &e);
+    const struct scene_camera *cam = &job->request.view.camera;
+    job->result.rgba = malloc((size_t)cam->width * (size_t)cam->height * 4 * sizeof(float));
+    if (job->result.rgba == NULL)
+        return http_respond_error(req, REFRACT_E_OUT_OF_MEMORY,
+                                  "out of memory for a %dx%d image; render smaller", cam->width,
+                                  cam->height);
+    long long tile_rows = req->cfg->render_tile_pixels / cam->width;
+    job->tile_rows = tile_rows < 1 ? 1 : tile_rows > cam->height ? cam->height : (int)tile_rows;
     struct irradiance_source isrc;
     render_request_irradiance_source(v, &isrc);
     irradiance_cache_request(req->app->irradiance, &isrc, false);
