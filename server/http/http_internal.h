@@ -69,7 +69,7 @@ struct http_request {
     char upload_path[1024];
     struct sha256 upload_hash;
     char upload_sha256[SHA256_HEX_SIZE];
-    struct err upload_err; /* code != OK when writing the file failed (answered at the end) */
+    struct err upload_err;  /* code != OK when writing the file failed (answered at the end) */
     size_t upload_reserved; /* bytes of the file counted against --max-storage-bytes */
     enum http_phase phase;
     double started_ms;

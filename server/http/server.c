@@ -234,7 +234,8 @@ static void upload_append(struct http_request *req, const char *data, size_t siz
         }
         sha256_init(&req->upload_hash);
     }
-    if (store_upload_tmp_reserve(req->app->store, size, &req->upload_err) != REFRACT_E_OK) {
+    if (store_upload_tmp_reserve(req->app->store, req->upload_reserved, size, &req->upload_err) !=
+        REFRACT_E_OK) {
         upload_discard(req);
         return;
     }
@@ -325,8 +326,8 @@ static bool answer_over_limit(struct http_request *req, enum MHD_Result *answer)
     const struct http_conn_state *cs = conn_state(req->conn);
     if (cs == NULL || (!cs->over_total && !cs->over_client))
         return false;
-    const char *headers[] = {MHD_HTTP_HEADER_CONNECTION, "close", MHD_HTTP_HEADER_RETRY_AFTER,
-                             "1", NULL};
+    const char *headers[] = {MHD_HTTP_HEADER_CONNECTION, "close", MHD_HTTP_HEADER_RETRY_AFTER, "1",
+                             NULL};
     if (cs->over_total)
         *answer = http_respond_error_with(
             req, headers, REFRACT_E_BUSY,

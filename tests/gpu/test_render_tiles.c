@@ -28,14 +28,15 @@
 #define OTHER                                                                                      \
     "{\"name\": \"other\", \"camera\": {\"eye\": [2, 0, 2], \"look_at\": [0, 0, 0], "              \
     "\"fov_y_deg\": 50, \"width\": 20, \"height\": 11}, \"objects\": [{" BOX                       \
-    "\"ior\": {\"shape\": \"box\", \"center\": [0, 0, 0], \"size\": [1.0, 0.8, 0.6], \"inside\": 1.33}}]}"
+    "\"ior\": {\"shape\": \"box\", \"center\": [0, 0, 0], \"size\": [1.0, 0.8, 0.6], \"inside\": " \
+    "1.33}}]}"
 
 struct tiles_work {
     struct gpu_work work;
     const struct scene *glass, *other;
-    float *whole;           /* render_view */
-    float *tiled[2];        /* tiles of 7 rows, of 1 row */
-    enum refract_code bad;  /* rows past the image */
+    float *whole;          /* render_view */
+    float *tiled[2];       /* tiles of 7 rows, of 1 row */
+    enum refract_code bad; /* rows past the image */
 };
 
 static void source(const struct scene *s, struct render_scene_source *src)

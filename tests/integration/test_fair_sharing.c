@@ -214,8 +214,8 @@ static void idle_connections_do_not_starve_others(struct test_daemon *d)
         ok += status_of(a) == 200;
         free(a);
     }
-    printf("health with %d half-sent requests open: 10 of 10 answered, slowest %.1f ms\n",
-           opened, worst);
+    printf("health with %d half-sent requests open: 10 of 10 answered, slowest %.1f ms\n", opened,
+           worst);
     CHECK_INT(ok, 10);
     CHECK_MSG(worst < 100.0, "health took %.1f ms", worst);
     /* The same client's next connection is refused with the limit's name. */
@@ -255,8 +255,8 @@ static void idle_connections_do_not_starve_others(struct test_daemon *d)
         if (idle[i] >= 0)
             close(idle[i]);
     }
-    printf("half-sent requests closed by the daemon within %d s: %d of %d\n",
-           HEADER_TIMEOUT_S + 2, closed, opened);
+    printf("half-sent requests closed by the daemon within %d s: %d of %d\n", HEADER_TIMEOUT_S + 2,
+           closed, opened);
     CHECK_INT(closed, opened);
 }
 
@@ -307,7 +307,8 @@ static void unfinished_uploads_leave_nothing(struct test_daemon *d, const char *
           send_all(fd, zeros, 120000));
     sleep_ms(200);
     int second = connect_from(d, "127.0.0.5");
-    CHECK(second >= 0 && send_all(second, upload_head(id, length), strlen(upload_head(id, length))) &&
+    CHECK(second >= 0 &&
+          send_all(second, upload_head(id, length), strlen(upload_head(id, length))) &&
           send_all(second, zeros, length));
     char *a = read_all(second);
     close(second);
@@ -318,7 +319,8 @@ static void unfinished_uploads_leave_nothing(struct test_daemon *d, const char *
     close(fd);
     sleep_ms(300);
     second = connect_from(d, "127.0.0.5");
-    CHECK(second >= 0 && send_all(second, upload_head(id, length), strlen(upload_head(id, length))) &&
+    CHECK(second >= 0 &&
+          send_all(second, upload_head(id, length), strlen(upload_head(id, length))) &&
           send_all(second, zeros, length));
     a = read_all(second);
     close(second);
@@ -355,8 +357,8 @@ static void small_render_waits_one_tile(struct test_daemon *d, const char *id)
     /* warm-up: the kernel variant compiles on first use */
     free(exchange(d, "127.0.0.2", "POST", path, "{\"width\": 32, \"height\": 24}"));
     /* 384 x 288 in tiles of 4096 pixels: 29 tiles of 10 rows. */
-    struct pending big = {.fd = send_request(d, "127.0.0.2", "POST", path,
-                                              "{\"width\": 384, \"height\": 288}")};
+    struct pending big = {
+        .fd = send_request(d, "127.0.0.2", "POST", path, "{\"width\": 384, \"height\": 288}")};
     double t0 = now_ms();
     pthread_t th;
     pthread_create(&th, NULL, read_pending, &big);
@@ -390,8 +392,9 @@ static void gone_renders_are_dropped_and_quotas_hold(struct test_daemon *d, cons
     char path[128];
     snprintf(path, sizeof path, "/v1/scenes/%s/render", id);
     /* One tile of about a second holds the GPU (4096 pixels, a fine step). */
-    struct pending blocker = {.fd = send_request(d, "127.0.0.2", "POST", path,
-                                                  "{\"width\": 64, \"height\": 64, \"step\": 0.02}")};
+    struct pending blocker = {.fd =
+                                  send_request(d, "127.0.0.2", "POST", path,
+                                               "{\"width\": 64, \"height\": 64, \"step\": 0.02}")};
     pthread_t th;
     pthread_create(&th, NULL, read_pending, &blocker);
     sleep_ms(150);
@@ -433,10 +436,9 @@ static void gone_renders_are_dropped_and_quotas_hold(struct test_daemon *d, cons
     /* The deadline holds for the whole render, not only for its first tile: 384 x 288 at a
      * fine step takes far longer than --request-timeout-ms (3000 here). */
     double t0 = now_ms();
-    char *late = exchange(d, "127.0.0.2", "POST", path,
-                          "{\"width\": 384, \"height\": 288, \"step\": 0.05}");
-    printf("a render longer than its deadline: %d after %.0f ms\n", status_of(late),
-           now_ms() - t0);
+    char *late =
+        exchange(d, "127.0.0.2", "POST", path, "{\"width\": 384, \"height\": 288, \"step\": 0.05}");
+    printf("a render longer than its deadline: %d after %.0f ms\n", status_of(late), now_ms() - t0);
     CHECK_INT(status_of(late), 503);
     CHECK(test_error_is(body_of(late), "timeout", "--request-timeout-ms"));
     free(late);
@@ -453,10 +455,21 @@ int main(void)
     if (getrlimit(RLIMIT_NOFILE, &rl) == 0 && rl.rlim_cur < IDLE_CONNECTIONS + 200)
         test_setup_failed("test_fair_sharing", "RLIMIT_NOFILE is below 1,300 (ulimit -Hn)");
     struct test_daemon d;
-    const char *args[] = {"--max-connections", MAX_CONNECTIONS, "--max-connections-per-ip",
-                          MAX_PER_IP, "--header-timeout", "2", "--render-tile-pixels",
-                          TILE_PIXELS, "--max-queued-per-client", "2", "--max-storage-bytes",
-                          "200000", "--request-timeout-ms", "3000", NULL};
+    const char *args[] = {"--max-connections",
+                          MAX_CONNECTIONS,
+                          "--max-connections-per-ip",
+                          MAX_PER_IP,
+                          "--header-timeout",
+                          "2",
+                          "--render-tile-pixels",
+                          TILE_PIXELS,
+                          "--max-queued-per-client",
+                          "2",
+                          "--max-storage-bytes",
+                          "200000",
+                          "--request-timeout-ms",
+                          "3000",
+                          NULL};
     if (!test_daemon_start(&d, args))
         test_setup_failed("test_fair_sharing", d.why);
     char id[REFRACT_ID_SIZE];
