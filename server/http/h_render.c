@@ -74,8 +74,18 @@ static void render_run(struct gpu_work *w, struct gpu *gpu)
     (void)gpu;
     struct http_request *req = w->user;
     struct render_job *job = req->job;
-    int height = job->request.view.camera.height;
+    const struct scene_camera *cam = &job->request.view.camera;
+    int height = cam->height;
     int row0 = job->next_row;
+    /* Made on the first turn, not when queued: a render waiting in line holds no image. */
+    if (job->result.rgba == NULL) {
+        job->result.rgba = malloc((size_t)cam->width * (size_t)height * 4 * sizeof(float));
+        if (job->result.rgba == NULL) {
+            err_set(&w->err, REFRACT_E_OUT_OF_MEMORY,
+                    "out of memory for a %dx%d image; render smaller", cam->width, height);
+            return;
+        }
+    }
     int rows = height - row0 < job->tile_rows ? height - row0 : job->tile_rows;
     if (render_request_version_rows(req->app->render, req->app->irradiance, req->app->store,
                                     job->version, &job->request.view, job->lights, row0, rows,
@@ -167,11 +177,6 @@ enum MHD_Result http_handle_render(struct http_request *req)
                                   &e) != REFRACT_E_OK)
         return http_respond_err(req, &e);
     const struct scene_camera *cam = &job->request.view.camera;
-    job->result.rgba = malloc((size_t)cam->width * (size_t)cam->height * 4 * sizeof(float));
-    if (job->result.rgba == NULL)
-        return http_respond_error(req, REFRACT_E_OUT_OF_MEMORY,
-                                  "out of memory for a %dx%d image; render smaller", cam->width,
-                                  cam->height);
     long long tile_rows = req->cfg->render_tile_pixels / cam->width;
     job->tile_rows = tile_rows < 1 ? 1 : tile_rows > cam->height ? cam->height : (int)tile_rows;
     struct irradiance_source isrc;
