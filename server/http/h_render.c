@@ -16,8 +16,12 @@
  * tiles: a small render waits for one tile, not for the whole large one. The tiles equal
  * a render made at once (render_view_rows). Before each turn the queue drops the render
  * when its client has gone, or when its deadline (--request-timeout-ms) has passed.
+ * Renders drawn in tiles are in progress together, each holding its whole image, so
+ * together they may hold at most --max-image-pixels pixels: one that does not fit waits
+ * (its turns pass without drawing) until renders in progress finish. One always fits.
  */
 #include <math.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -41,11 +45,39 @@ struct render_job {
     const struct irradiance_gpu *volumes[SCENE_MAX_LIGHTS];
     int volume_count;
     int restarts;
+    long long pixels_held; /* counted in tiled_pixels while drawing */
 };
+
+/* Pixels of the tiled renders in progress (begun, not finished), every client's. */
+static atomic_llong tiled_pixels;
+
+static void release_pixels(struct render_job *job)
+{
+    if (job->pixels_held > 0)
+        atomic_fetch_sub(&tiled_pixels, job->pixels_held);
+    job->pixels_held = 0;
+}
+
+/* GPU thread, first turn of a render drawn in tiles: counts its pixels unless that would
+ * pass the limit while others are in progress (then it waits; false). */
+static bool take_pixels(struct render_job *job, long long limit)
+{
+    const struct scene_camera *cam = &job->request.view.camera;
+    long long pixels = (long long)cam->width * cam->height;
+    if (job->tile_rows >= cam->height)
+        return true; /* one turn: drawn at once, like any small render */
+    long long held = atomic_load(&tiled_pixels);
+    if (held > 0 && held + pixels > limit)
+        return false;
+    atomic_fetch_add(&tiled_pixels, pixels);
+    job->pixels_held = pixels;
+    return true;
+}
 
 static void render_job_free(void *p)
 {
     struct render_job *job = p;
+    release_pixels(job); /* a render dropped or failed between two tiles */
     store_scene_release(job->version);
     free(job->result.rgba);
     free(job);
@@ -78,6 +110,10 @@ static void render_run(struct gpu_work *w, struct gpu *gpu)
     int height = cam->height;
     int row0 = job->next_row;
     /* Made on the first turn, not when queued: a render waiting in line holds no image. */
+    if (job->result.rgba == NULL && !take_pixels(job, req->cfg->max_image_pixels)) {
+        w->again = true; /* no room: let the renders in progress go on */
+        return;
+    }
     if (job->result.rgba == NULL) {
         job->result.rgba = malloc((size_t)cam->width * (size_t)height * 4 * sizeof(float));
         if (job->result.rgba == NULL) {
@@ -103,6 +139,8 @@ static void render_run(struct gpu_work *w, struct gpu *gpu)
     }
     job->next_row = row0 + rows;
     w->again = job->next_row < height;
+    if (!w->again)
+        release_pixels(job);
 }
 
 static enum refract_code encode(const struct render_job *job, void **bytes, size_t *len,

@@ -10,7 +10,8 @@
  *     within 1 s, nor does one whose client stalls, once --header-timeout has passed; an
  *     upload still arriving beside another counts against --max-storage-bytes;
  *   - a small render queued behind a large one waits for about one tile of it, not for all
- *     of it; renders whose clients have gone are dropped unrun; a client with
+ *     of it; large renders in progress hold at most --max-image-pixels together; renders whose
+ * clients have gone are dropped unrun; a client with
  *     --max-queued-per-client renders waiting gets 429; a render that does not finish
  *     before --request-timeout-ms gets 503 timeout.
  */
@@ -392,6 +393,36 @@ static void small_render_waits_one_tile(struct test_daemon *d, const char *id)
     free(big.answer);
 }
 
+/* Tiled renders in progress hold their images: together at most --max-image-pixels
+ * (120000 here) of them. A second 384 x 288 render does not start until the first is done,
+ * so the first takes about its own GPU time, not the two renders' together. */
+static void large_renders_share_the_pixel_limit(struct test_daemon *d, const char *id)
+{
+    char path[128];
+    snprintf(path, sizeof path, "/v1/scenes/%s/render", id);
+    static const char big[] = "{\"width\": 384, \"height\": 288}";
+    struct pending a = {.fd = send_request(d, "127.0.0.2", "POST", path, big)};
+    double t0 = now_ms();
+    pthread_t th;
+    pthread_create(&th, NULL, read_pending, &a);
+    sleep_ms(50);
+    char *b = exchange(d, "127.0.0.3", "POST", path, big);
+    double b_done = now_ms();
+    pthread_join(th, NULL);
+    close(a.fd);
+    double a_ms = a.done_ms - t0, a_gpu = header_number(a.answer, "X-Render-Time-Ms");
+    double b_gpu = header_number(b, "X-Render-Time-Ms");
+    printf("two large renders within --max-image-pixels: the first answered after %.0f ms "
+           "(%.0f ms of GPU), the second after %.0f ms (%.0f ms of GPU)\n",
+           a_ms, a_gpu, b_done - t0, b_gpu);
+    CHECK_INT(status_of(a.answer), 200);
+    CHECK_INT(status_of(b), 200);
+    CHECK(a.done_ms < b_done);
+    CHECK_MSG(a_ms < a_gpu + 0.5 * b_gpu, "the first render took %.0f ms", a_ms);
+    free(a.answer);
+    free(b);
+}
+
 static void gone_renders_are_dropped_and_quotas_hold(struct test_daemon *d, const char *id)
 {
     char path[128];
@@ -474,6 +505,8 @@ int main(void)
                           "200000",
                           "--request-timeout-ms",
                           "3000",
+                          "--max-image-pixels",
+                          "120000",
                           NULL};
     if (!test_daemon_start(&d, args))
         test_setup_failed("test_fair_sharing", d.why);
@@ -482,6 +515,7 @@ int main(void)
     idle_connections_do_not_starve_others(&d, id);
     unfinished_uploads_leave_nothing(&d, id);
     small_render_waits_one_tile(&d, id);
+    large_renders_share_the_pixel_limit(&d, id);
     gone_renders_are_dropped_and_quotas_hold(&d, id);
     CHECK_INT(test_daemon_stop(&d), 0);
     test_daemon_cleanup(&d);
