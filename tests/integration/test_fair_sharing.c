@@ -394,13 +394,13 @@ static void small_render_waits_one_tile(struct test_daemon *d, const char *id)
 }
 
 /* Tiled renders in progress hold their images: together at most --max-image-pixels
- * (120000 here) of them. A second 384 x 288 render does not start until the first is done,
+ * (120000 here) of them. A second 256 x 240 render does not start until the first is done,
  * so the first takes about its own GPU time, not the two renders' together. */
 static void large_renders_share_the_pixel_limit(struct test_daemon *d, const char *id)
 {
     char path[128];
     snprintf(path, sizeof path, "/v1/scenes/%s/render", id);
-    static const char big[] = "{\"width\": 384, \"height\": 288}";
+    static const char big[] = "{\"width\": 256, \"height\": 240}";
     struct pending a = {.fd = send_request(d, "127.0.0.2", "POST", path, big)};
     double t0 = now_ms();
     pthread_t th;
