@@ -32,7 +32,7 @@ static const char *const examples[] = {"glass_sphere_voxels",
                                        "bumpy_sphere",
                                        "wine_glass_voxels",
                                        "ball_lens_caustic_voxels",
-                                       "rounded_cube_three_layers",
+                                       "rounded_cube_three_layers_voxels",
                                        "glass_block_lettering",
                                        "smoke_spot"};
 #define EXAMPLE_COUNT (int)(sizeof examples / sizeof examples[0])

@@ -28,6 +28,10 @@ PACKAGES=(
     libsqlite3-dev zlib1g-dev
     # the TLS test makes a self-signed certificate (tests/integration/test_tls.c)
     openssl
+    # batch jobs as Slurm job arrays (docs/slurm.md): the Slurm test starts its own
+    # single-node Slurm, slurmctld + slurmd with munge authentication
+    # (tests/slurm/test_slurm_array.sh); no service is configured or started here
+    slurm-wlm munge
 )
 
 missing=()

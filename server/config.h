@@ -28,9 +28,15 @@ struct config {
     struct irradiance_cache_desc irradiance; /* data_dir is set from data_dir at start-up */
     struct view_registry_desc views;         /* the limits; the borrowed parts at start-up */
     char data_dir[512];
-    char scene_dir[512];  /* "" = none */
-    char shader_dir[512]; /* "" = embedded */
-    char port_file[512];  /* "" = none */
+    bool data_dir_given; /* --data-dir was set (batch mode uses a private one otherwise) */
+    /* One-shot batch mode (--batch; docs/slurm.md): "" = serve HTTP as usual. */
+    char batch[512];       /* the job specification file */
+    char batch_frames[64]; /* "A-B" or "" */
+    char batch_task[64];   /* "I/N" or "" */
+    char batch_out[512];   /* the output directory */
+    char scene_dir[512];   /* "" = none */
+    char shader_dir[512];  /* "" = embedded */
+    char port_file[512];   /* "" = none */
     int max_scenes;
     int max_job_frames;   /* frames of one batch job (--max-job-frames) */
     size_t event_history; /* events the hub keeps (events.h ring capacity) */
@@ -43,7 +49,7 @@ struct config {
     char token[1025];     /* the token read from token_file */
     char allow_host_names[CONFIG_MAX_ALLOW_HOSTS][256];
     const char *allow_hosts[CONFIG_MAX_ALLOW_HOSTS]; /* -> allow_host_names; http.allow_hosts */
-    bool trusted_proxy;   /* a non-loopback --bind without a token is meant */
+    bool trusted_proxy;               /* a non-loopback --bind without a token is meant */
     char tls_cert[512], tls_key[512]; /* PEM files; both or neither */
     char *tls_cert_pem, *tls_key_pem; /* their text (config_load_secrets; config_free) */
 };

@@ -21,6 +21,12 @@
  *   4. free the gpu struct; free the view registry (no stream holds a session any more);
  *      stop the irradiance cache's worker (it finishes writing computed volumes to the
  *      data directory); close the store; free the event hub.
+ *
+ * Batch mode (--batch, docs/slurm.md) starts the same way up to the irradiance cache and
+ * the --scene-dir scenes, renders its frames on the main thread (job_batch_run; SIGINT and
+ * SIGTERM stop it after the frame in flight) and shuts down from step 2, with no HTTP,
+ * views or job runner. Without --data-dir it uses a private temporary data directory,
+ * removed at exit.
  */
 #include <dirent.h>
 #include <pthread.h>
@@ -28,6 +34,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "cache/irradiance_cache.h"
 #include "cache/irradiance_index.h"
@@ -138,6 +146,47 @@ static void write_port_file(const char *path, int port)
     fclose(f);
 }
 
+/* job_batch_run's stop: a SIGINT or SIGTERM is pending (they are blocked in every thread,
+ * so they wait to be noticed here, between frames). */
+static bool stop_signal_pending(void *user)
+{
+    (void)user;
+    sigset_t pending;
+    sigpending(&pending);
+    return sigismember(&pending, SIGTERM) == 1 || sigismember(&pending, SIGINT) == 1;
+}
+
+/* --batch: one array task's frames (docs/slurm.md). The exit status is the error code
+ * (0 = every frame of the range is in --out); stopped by a signal: 128 + SIGTERM, as a
+ * killed process reports, so a scheduler requeues or fails the task. */
+static int run_batch(const struct config *cfg, struct gpu *gpu, struct render *render,
+                     struct store *store, struct irradiance_cache *irradiance)
+{
+    struct job_batch_desc desc = {.store = store,
+                                  .gpu = gpu,
+                                  .render = render,
+                                  .irradiance = irradiance,
+                                  .limits = {.max_frames = cfg->max_job_frames,
+                                             .max_image_dim = cfg->http.limits.max_image_dim,
+                                             .max_image_pixels = cfg->http.max_image_pixels},
+                                  .spec_path = cfg->batch,
+                                  .frames = cfg->batch_frames[0] ? cfg->batch_frames : NULL,
+                                  .task = cfg->batch_task[0] ? cfg->batch_task : NULL,
+                                  .out_dir = cfg->batch_out,
+                                  .stop = stop_signal_pending};
+    struct job_batch_report rep;
+    struct err e = {0};
+    enum refract_code rc = job_batch_run(&desc, &rep, &e);
+    if (rc != REFRACT_E_OK) {
+        log_error("batch", "%s", e.msg);
+        return (int)rc;
+    }
+    log_info("batch", "frames %d-%d of %d: %d rendered, %d already there%s", rep.first, rep.last,
+             rep.frames_total, rep.rendered, rep.skipped,
+             rep.stopped ? "; stopped by a signal before the end" : "");
+    return rep.stopped ? 128 + SIGTERM : 0;
+}
+
 static int run(const struct config *cfg)
 {
     sigset_t stop_signals;
@@ -199,6 +248,15 @@ static int run(const struct config *cfg)
     }
     if (cfg->scene_dir[0])
         load_scene_dir(store, cfg->scene_dir);
+    if (cfg->batch[0]) {
+        int rc = run_batch(cfg, gpu, rcw.render, store, fw.irradiance);
+        gpu_stop(gpu, &final);
+        gpu_destroy(gpu, NULL);
+        irradiance_cache_destroy(fw.irradiance);
+        store_close(store);
+        event_hub_destroy(events);
+        return rc;
+    }
     struct view_registry_desc vdesc = cfg->views;
     vdesc.store = store;
     vdesc.gpu = gpu;
@@ -280,6 +338,35 @@ static int run(const struct config *cfg)
     return 0;
 }
 
+/* A batch task's private data directory: $TMPDIR/refractd-batch-XXXXXX. A task killed
+ * with SIGKILL leaves it behind; Slurm and Kubernetes give each job its own TMPDIR. */
+static bool make_temp_data_dir(char *out, size_t size)
+{
+    const char *tmp = getenv("TMPDIR");
+    snprintf(out, size, "%s/refractd-batch-XXXXXX", tmp && tmp[0] ? tmp : "/tmp");
+    return mkdtemp(out) != NULL;
+}
+
+/* rm -r of the temporary data directory (no symbolic link is followed). */
+static void remove_tree(const char *path)
+{
+    struct stat st;
+    if (lstat(path, &st) != 0)
+        return;
+    DIR *d = S_ISDIR(st.st_mode) ? opendir(path) : NULL;
+    struct dirent *ent;
+    while (d && (ent = readdir(d)) != NULL) {
+        if (strcmp(ent->d_name, ".") == 0 || strcmp(ent->d_name, "..") == 0)
+            continue;
+        char child[1024];
+        if (snprintf(child, sizeof child, "%s/%s", path, ent->d_name) < (int)sizeof child)
+            remove_tree(child);
+    }
+    if (d)
+        closedir(d);
+    remove(path);
+}
+
 static bool is_loopback_bind(const char *address)
 {
     return strncmp(address, "127.", 4) == 0;
@@ -314,7 +401,18 @@ int main(int argc, char **argv)
                  "--bind %s without --tls-cert: the bearer token crosses the network in clear "
                  "text; give --tls-cert and --tls-key, or put a TLS proxy in front",
                  cfg.http.bind_address);
+    bool temp_data = cfg.batch[0] && !cfg.data_dir_given;
+    if (temp_data && !make_temp_data_dir(cfg.data_dir, sizeof cfg.data_dir)) {
+        fprintf(stderr,
+                "refractd: --batch: cannot create a temporary data directory in %s; "
+                "set TMPDIR or give --data-dir\n",
+                getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
+        config_free(&cfg);
+        return REFRACT_E_IO;
+    }
     int rc = run(&cfg);
+    if (temp_data)
+        remove_tree(cfg.data_dir);
     config_free(&cfg);
     return rc;
 }

@@ -28,11 +28,11 @@
 #define RAY_STATUS_MISSED 3
 #define RAY_STATUS_RUNNING 4 /* internal to the march; never reported */
 
-/* ---- integrators ---- */
-#define INTEGRATOR_EULER 0 /* tevs2007 eqs. 5.11/5.12 */
-#define INTEGRATOR_RK4 1
-#define INTEGRATOR_RK2 2      /* explicit midpoint */
-#define INTEGRATOR_ADAPTIVE 3 /* Bogacki-Shampine 3(2) with step-size control */
+/* ---- steppers ---- */
+#define STEPPER_EULER 0 /* tevs2007 eqs. 5.11/5.12 */
+#define STEPPER_RK4 1
+#define STEPPER_RK2 2      /* explicit midpoint */
+#define STEPPER_ADAPTIVE 3 /* Bogacki-Shampine 3(2) with step-size control */
 
 /* ---- index filters (MARCH_IOR_FILTER; render.ior_filter) ---- */
 #define IOR_FILTER_TRILINEAR 0
@@ -69,6 +69,7 @@
 #define GEOM_PLANE 3
 #define GEOM_LATHE 4
 #define GEOM_MESH 5
+#define GEOM_ROUNDED_BOX 6
 #define BIND_SSBO_TRACE_EVENTS 25 /* trace_rays: trace_event_out[TRACE_MAX_EVENTS] per ray */
 #define TRACE_MAX_EVENTS 16       /* surface events recorded per traced ray ("events": true) */
 #define TRACE_EVENT_REFRACTED 0

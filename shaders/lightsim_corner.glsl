@@ -11,6 +11,7 @@
 #include "surface.glsl"
 #include "sphere.glsl"
 #include "box.glsl"
+#include "rounded_box.glsl"
 #include "cylinder.glsl"
 #include "plane.glsl"
 #include "lathe.glsl"
@@ -32,6 +33,8 @@ bool geom_surface_inside(int k, vec3 p_world)
         return sphere_inside(sp.shape0.xyz, sp.shape0.w, p);
     if (kind == GEOM_BOX)
         return box_inside(sp.shape0.xyz, sp.shape1.xyz, p);
+    if (kind == GEOM_ROUNDED_BOX)
+        return rounded_box_inside(sp.shape0.xyz, sp.shape1.xyz, sp.shape0.w, p);
     if (kind == GEOM_CYLINDER)
         return cylinder_inside(sp.shape0.xyz, sp.shape0.w, sp.shape1.x, sp.kind.y, p);
     if (kind == GEOM_PLANE)

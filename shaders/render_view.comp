@@ -1,13 +1,15 @@
 #version 450
-// render_view.comp - one view ray per pixel through the scene (tevs2007 sect. 6.3, the view
-// renderer), writing linear radiance. Rows are written top to bottom (row 0 = top). One
-// dispatch renders the tile of rows [params.image.z, params.image.w) into image_out, whose
-// row 0 is the tile's first row: a pixel's value depends only on its place in the whole
-// image, so a render made of tiles is the same, bit for bit, as one made at once.
+// render_view.comp - view rays through the scene, one or several per pixel (anti-aliasing),
+// tevs2007 sect. 6.3 (the view renderer), writing linear radiance. Rows are written top to
+// bottom (row 0 = top). One dispatch renders the tile of rows [params.image.z,
+// params.image.w) into image_out, whose row 0 is the tile's first row: a pixel's value
+// depends only on its place in the whole image (its rays' jitter too), so a render made of
+// tiles is the same, bit for bit, as one made at once.
 #define MARCH_RADIANCE 1
 #include "march_bindings.glsl"
 #include "fresnel.glsl"
 #include "camera.glsl"
+#include "pixel_sample.glsl"
 #include "environment.glsl"
 #include "volume_sample.glsl"
 #include "ray_equation.glsl"
@@ -26,9 +28,17 @@ void main()
     ivec2 px = ivec2(gl_GlobalInvocationID.xy) + ivec2(0, params.image.z);
     if (px.x >= params.image.x || px.y >= params.image.y || px.y >= params.image.w)
         return;
-    vec3 dir = camera_ray_direction(params.forward.xyz, params.right.xyz, params.up.xyz,
-                                    params.eye.w, params.forward.w, float(px.x), float(px.y),
-                                    float(params.image.x), float(params.image.y));
-    march_state s = march_ray(params.eye.xyz, dir, uint(params.surfaces.y));
-    image_out[(px.y - params.image.z) * params.image.x + px.x] = vec4(s.L, 1.0);
+    // Anti-aliasing: n jittered rays in k x k strata, averaged (a box filter).
+    uint n = uint(max(params.settings_f2.y, 1.0));
+    vec3 sum = vec3(0.0);
+    for (uint i = 0u; i < n; i++) {
+        vec2 o = pixel_sample(uint(px.x), uint(px.y), i, n);
+        vec3 dir = camera_ray_direction(params.forward.xyz, params.right.xyz, params.up.xyz,
+                                        params.eye.w, params.forward.w, float(px.x) + o.x - 0.5,
+                                        float(px.y) + o.y - 0.5, float(params.image.x),
+                                        float(params.image.y));
+        march_state s = march_ray(params.eye.xyz, dir, uint(params.surfaces.y));
+        sum += s.L;
+    }
+    image_out[(px.y - params.image.z) * params.image.x + px.x] = vec4(sum / float(n), 1.0);
 }

@@ -51,11 +51,12 @@ struct march_params {
     ivec4 image;      /* x: width, y: height (pixels); z: ray count (trace), first row of
                          the tile (render); w: 1 = record surface events (trace), end row
                          of the tile, exclusive (render) */
-    ivec4 settings_i; /* x: INTEGRATOR_*; y: max_steps; z: object count; w: 1 = image env */
+    ivec4 settings_i; /* x: STEPPER_*; y: max_steps; z: object count; w: 1 = image env */
     vec4 settings_f;  /* x: step (voxels); y: boundary threshold (dn per voxel);
                          z: ambient n; w: environment intensity */
     vec4 env;         /* x: environment rotation about +y (degrees) */
-    vec4 settings_f2; /* x: adaptive integrator's tolerance per step (voxels) */
+    vec4 settings_f2; /* x: adaptive stepper's tolerance per step (voxels); y: view rays per
+                         pixel (render_view.comp; a square number, as a float) */
     object_params objects[MAX_OBJECTS];
     /* Only what a scene needs (docs/tracing.md "Empty space"); appended to keep the
      * members above where they were. */
@@ -77,9 +78,10 @@ struct surface_params {
     ivec4 kind;     /* x: GEOM_*; y: axis (cylinder, lathe); z: lathe's first profile point;
                        w: lathe's point count */
     ivec4 mesh;     /* GEOM_MESH: x first node, y first triangle, z first vertex */
-    vec4 shape0;    /* sphere: centre, radius; box, cylinder: centre (w: cylinder radius);
+    vec4 shape0;    /* sphere: centre, radius; box, cylinder, rounded box: centre (w: cylinder
+                       or corner radius);
                        plane: a point; lathe: base (w: +1 counter-clockwise profile, -1 not) */
-    vec4 shape1;    /* box: full sizes; cylinder: x full height; plane: unit normal;
+    vec4 shape1;    /* box, rounded box: full sizes; cylinder: x full height; plane: unit normal;
                        lathe: x largest r, y lowest h, z highest h of the profile */
     vec4 medium;    /* x: n inside; y: scale (world units per object unit); z: offset past
                        the surface just left (world units); w: 1 = absorbs in every channel */

@@ -15,6 +15,7 @@
 #include <time.h>
 
 #include "../core/log.h"
+#include "../core/metrics.h"
 
 struct work_list {
     struct gpu_work *head, *tail;
@@ -95,6 +96,7 @@ static bool requeue(struct gpu *g, struct gpu_work *w)
     pthread_mutex_lock(&g->lock);
     bool ok = !g->stopping;
     if (ok) {
+        w->turn_ms = gpu_now_ms();
         list_push(&g->lists[w->priority], w);
         g->length++;
     }
@@ -117,7 +119,11 @@ static void execute(struct gpu *g, struct gpu_work *w)
         err_set(&w->err, REFRACT_E_TIMEOUT,
                 "%s dropped: its client closed the connection before it was done", label);
     } else {
+        double t0 = gpu_time_ms();
         w->run(w, g);
+        /* GET /metrics: GPU busy time and queue wait by priority (core/metrics.h). */
+        metrics_gpu_work((int)w->priority, (double)(gpu_now_ms() - w->turn_ms) * 1e-3,
+                         (gpu_time_ms() - t0) * 1e-3);
     }
     if (w->again && w->err.code == REFRACT_E_OK) {
         if (requeue(g, w))
@@ -269,6 +275,7 @@ enum refract_code gpu_submit(struct gpu *g, struct gpu_work *w, struct err *e)
                        "the GPU queue is full (%zu items, --max-queued); retry later", len);
     }
     w->queued_ms = gpu_now_ms();
+    w->turn_ms = w->queued_ms;
     list_push(&g->lists[w->priority], w);
     g->length++;
     pthread_cond_signal(&g->wake);

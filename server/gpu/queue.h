@@ -65,7 +65,8 @@ struct gpu_work {
     void *user; /* the submitter's context */
     /* queue-private */
     struct gpu_work *next;
-    int64_t queued_ms;
+    int64_t queued_ms; /* submitted (the deadline's message counts from here) */
+    int64_t turn_ms;   /* entered the line for this turn (the wait /metrics counts) */
 };
 
 struct gpu_desc {

@@ -27,6 +27,7 @@
 #include <string.h>
 
 #include "../cache/irradiance_cache.h"
+#include "../core/metrics.h"
 #include "../core/ray_status.h"
 #include "../io/io_image.h"
 #include "http_internal.h"
@@ -46,6 +47,7 @@ struct render_job {
     int volume_count;
     int restarts;
     long long pixels_held; /* counted in tiled_pixels while drawing */
+    double render_ms;      /* the tiles' render time, for /metrics once all are drawn */
 };
 
 /* Pixels of the tiled renders in progress (begun, not finished), every client's. */
@@ -123,10 +125,12 @@ static void render_run(struct gpu_work *w, struct gpu *gpu)
         }
     }
     int rows = height - row0 < job->tile_rows ? height - row0 : job->tile_rows;
+    double t0 = gpu_time_ms();
     if (render_request_version_rows(req->app->render, req->app->irradiance, req->app->store,
                                     job->version, &job->request.view, job->lights, row0, rows,
                                     &job->result, &job->irradiance, &w->err) != REFRACT_E_OK)
         return;
+    job->render_ms += gpu_time_ms() - t0;
     /* A picture lit by two states of the irradiance would be wrong everywhere the tiles
      * meet: start again (a few times at most; a light changing faster than that is
      * rendered with what it has, as the next render would be). */
@@ -134,13 +138,16 @@ static void render_run(struct gpu_work *w, struct gpu *gpu)
         job->restarts++;
         job->next_row = 0;
         job->result.gpu_ms = 0.0;
+        job->render_ms = 0.0;
         w->again = true;
         return;
     }
     job->next_row = row0 + rows;
     w->again = job->next_row < height;
-    if (!w->again)
+    if (!w->again) {
         release_pixels(job);
+        metrics_render(job->render_ms * 1e-3); /* GET /metrics: one render, all its tiles */
+    }
 }
 
 static enum refract_code encode(const struct render_job *job, void **bytes, size_t *len,

@@ -39,6 +39,7 @@
 #include <unistd.h>
 
 #include "../core/log.h"
+#include "../core/metrics.h"
 #include "access.h"
 #include "http_internal.h"
 #include "routes.h"
@@ -155,6 +156,8 @@ static void on_completed(void *cls, struct MHD_Connection *conn, void **con_cls,
         log_debug("http", "request ended early (code %d)", (int)toe);
     else
         set_timeout(conn, srv->cfg.header_timeout_s); /* keep-alive: waits for headers */
+    metrics_http_request(http_route_index(req->route), req->status,
+                         (gpu_time_ms() - req->started_ms) * 1e-3);
     request_free(req);
     *con_cls = NULL;
 }

@@ -22,7 +22,6 @@
 #include "../core/log.h"
 #include "../events/events.h"
 #include "../gpu/queue.h"
-#include "../io/io_image.h"
 #include "../render/render.h"
 #include "../scene/json_read.h"
 #include "../request/render_request.h"
@@ -215,7 +214,7 @@ static void frame_run(struct gpu_work *w, struct gpu *gpu)
     (void)gpu;
     struct job_runner *r = w->user;
     render_request_version(r->d.render, r->d.irradiance, r->d.store, r->version, &r->request,
-                        r->lights, &r->result, &r->irradiance, &w->err);
+                           r->lights, &r->result, &r->irradiance, &w->err);
 }
 
 static void frame_done(struct gpu_work *w)
@@ -229,88 +228,6 @@ static void frame_done(struct gpu_work *w)
 
 enum frame_outcome { FRAME_DONE, FRAME_RETRY, FRAME_FAILED, FRAME_STOPPED };
 
-/* True when some light's simulation failed: the job cannot have every frame lit. */
-static bool lights_failed(struct job_runner *r, const struct irradiance_source *src, char *msg,
-                          size_t size)
-{
-    struct irradiance_light_status ls[SCENE_MAX_LIGHTS];
-    int n = irradiance_cache_status(r->d.irradiance, src, ls);
-    for (int i = 0; i < n; i++) {
-        if (ls[i].state == IRRADIANCE_FAILED) {
-            snprintf(msg, size,
-                     "the light simulation of light \"%s\" failed (GET /v1/scenes/{id}/irradiance"
-                     " says why); a job renders only lit frames",
-                     ls[i].name);
-            return true;
-        }
-    }
-    return false;
-}
-
-static enum refract_code encode(const struct render_view_result *res, const struct job_frame *f,
-                                enum scene_tonemap tonemap, void **bytes, size_t *len,
-                                struct err *e)
-{
-    enum io_frame_format format = f->format == JOB_FORMAT_EXR    ? IO_FRAME_EXR
-                                  : f->format == JOB_FORMAT_JPEG ? IO_FRAME_JPEG
-                                                                 : IO_FRAME_PNG;
-    return io_encode_frame(res->rgba, res->width, res->height, format, f->exposure_ev,
-                           tonemap == SCENE_TONEMAP_FILMIC ? IO_TONEMAP_FILMIC : IO_TONEMAP_CLAMP,
-                           90, bytes, len, e);
-}
-
-/* The version frame f renders: base itself, or for a light-path frame a private version
- * whose document moves f's light (store_scene_derive). *out is a new reference. */
-static enum refract_code frame_version(struct job_runner *r, struct store_scene *base,
-                                       const struct job_frame *f, struct store_scene **out,
-                                       struct err *e)
-{
-    if (f->light_count == 0) {
-        atomic_fetch_add(&base->refs, 1);
-        *out = base;
-        return REFRACT_E_OK;
-    }
-    cJSON *doc = cJSON_ParseWithLength(base->json, base->json_len);
-    cJSON *lights = doc ? cJSON_GetObjectItemCaseSensitive(doc, "lights") : NULL;
-    for (int k = 0; k < f->light_count; k++) {
-        const struct job_light_override *o = &f->lights[k];
-        cJSON *light = NULL, *item;
-        cJSON_ArrayForEach(item, lights)
-        {
-            const cJSON *name = cJSON_GetObjectItemCaseSensitive(item, "name");
-            if (cJSON_IsString(name) && strcmp(name->valuestring, o->light) == 0)
-                light = item;
-        }
-        if (light == NULL) {
-            cJSON_Delete(doc);
-            return err_set(e, REFRACT_E_CONFLICT,
-                           "the scene no longer has light \"%s\" that the job moves", o->light);
-        }
-        const double v[3] = {o->value.x, o->value.y, o->value.z};
-        const char *key = o->field == JOB_LIGHT_DIRECTION ? "direction" : "position";
-        cJSON_DeleteItemFromObjectCaseSensitive(light, key);
-        cJSON_AddItemToObject(light, key, cJSON_CreateDoubleArray(v, 3));
-    }
-    char *json = cJSON_PrintUnformatted(doc);
-    cJSON_Delete(doc);
-    if (json == NULL)
-        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory moving a light");
-    enum refract_code rc = store_scene_derive(r->d.store, base, json, strlen(json), out, e);
-    free(json);
-    return rc;
-}
-
-/* The irradiance source of a frame's version. Light-path frames use a cache slot of the
- * job's own ("job:<id>"), so that moving the light neither disturbs the scene's slot
- * (views and renders of the scene) nor is cancelled by it; volumes are shared by key. */
-static void frame_source(struct store_scene *v, const struct job_frame *f, const char *slot_id,
-                         struct irradiance_source *out)
-{
-    render_request_irradiance_source(v, out);
-    if (f->light_count > 0)
-        out->scene_id = slot_id;
-}
-
 /* While frame n renders, ask for the irradiance of frame n + 1's light pose, so a light
  * sweep's simulations overlap its renders. */
 static void prefetch(struct job_runner *r, struct store_scene *base, const struct job_frame *next,
@@ -320,10 +237,10 @@ static void prefetch(struct job_runner *r, struct store_scene *base, const struc
         return;
     struct store_scene *nv = NULL;
     struct err e = {0};
-    if (frame_version(r, base, next, &nv, &e) != REFRACT_E_OK)
+    if (job_frame_version(r->d.store, base, next, &nv, &e) != REFRACT_E_OK)
         return; /* the frame itself will report it */
     struct irradiance_source isrc;
-    frame_source(nv, next, slot_id, &isrc);
+    job_frame_source(nv, next, slot_id, &isrc);
     irradiance_cache_request(r->d.irradiance, &isrc, false);
     store_scene_release(nv);
 }
@@ -344,15 +261,15 @@ static enum frame_outcome run_frame(struct job_runner *r, const char *id, const 
     snprintf(slot_id, sizeof slot_id, "job:%s", id);
     struct store_scene *v = NULL;
     struct err ve = {0};
-    if (frame_version(r, base, f, &v, &ve) != REFRACT_E_OK) {
+    if (job_frame_version(r->d.store, base, f, &v, &ve) != REFRACT_E_OK) {
         store_scene_release(base);
         snprintf(msg, size, "frame %d: %.400s", n, ve.msg);
         return FRAME_FAILED;
     }
     struct irradiance_source isrc;
-    frame_source(v, f, slot_id, &isrc);
+    job_frame_source(v, f, slot_id, &isrc);
     if (!irradiance_cache_request(r->d.irradiance, &isrc, false)) {
-        bool failed = lights_failed(r, &isrc, msg, size);
+        bool failed = job_frame_lights_failed(r->d.irradiance, &isrc, msg, size);
         store_scene_release(v);
         store_scene_release(base);
         return failed ? FRAME_FAILED : FRAME_RETRY; /* not lit yet: wait, never on the GPU */
@@ -402,7 +319,8 @@ static enum frame_outcome run_frame(struct job_runner *r, const char *id, const 
     }
     void *bytes = NULL;
     size_t len = 0;
-    if (out == FRAME_DONE && encode(&r->result, f, tonemap, &bytes, &len, &e) != REFRACT_E_OK) {
+    if (out == FRAME_DONE &&
+        job_frame_encode(&r->result, f, tonemap, &bytes, &len, &e) != REFRACT_E_OK) {
         snprintf(msg, size, "frame %d: %.400s", n, e.msg);
         out = FRAME_FAILED;
     }

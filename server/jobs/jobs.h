@@ -152,4 +152,113 @@ bool job_format_sniff(const void *bytes, size_t len, enum job_format *out);
 const char *job_format_content_type(enum job_format f);
 const char *job_format_extension(enum job_format f);
 
+/* ---- job_frame.c: one frame, for the runner and the one-shot batch mode ---- */
+
+struct render_view_result;
+struct irradiance_source;
+struct irradiance_cache;
+
+/* The version frame f renders: base itself, or for a light-path frame a private version of
+ * store whose document moves f's lights (store_scene_derive). *out is a new reference.
+ * CONFLICT when base no longer has a light that f moves. */
+enum refract_code job_frame_version(struct store *store, struct store_scene *base,
+                                    const struct job_frame *f, struct store_scene **out,
+                                    struct err *e);
+/* The irradiance source of frame f's version v. Light-path frames use a cache slot of the
+ * job's own (slot_id, "job:<id>", borrowed until out is used), so that moving the light
+ * neither disturbs the scene's slot (views and renders) nor is cancelled by it; volumes are
+ * shared by key. */
+void job_frame_source(struct store_scene *v, const struct job_frame *f, const char *slot_id,
+                      struct irradiance_source *out);
+/* True when some light of src failed its simulation (msg says which and where to look):
+ * the frame can never be lit. */
+bool job_frame_lights_failed(struct irradiance_cache *c, const struct irradiance_source *src,
+                             char *msg, size_t size);
+/* Encodes a rendered frame in f's format and exposure: *bytes is new (caller frees). */
+enum refract_code job_frame_encode(const struct render_view_result *res, const struct job_frame *f,
+                                   enum scene_tonemap tonemap, void **bytes, size_t *len,
+                                   struct err *e);
+
+/* ---- job_batch.c: `refractd --batch`, one array task of a job (docs/slurm.md) ---- */
+
+struct gpu;
+struct render;
+
+struct job_batch_desc {
+    struct store *store;                 /* borrowed; scenes of --scene-dir are in it */
+    struct gpu *gpu;                     /* borrowed */
+    struct render *render;               /* borrowed; GPU thread only */
+    struct irradiance_cache *irradiance; /* borrowed */
+    struct job_limits limits;
+    const char *spec_path; /* the job specification, a JSON file as POST /v1/jobs takes */
+    const char *frames;    /* "A-B" (inclusive, 0-based) or NULL */
+    const char *task;      /* "I/N": task I (0-based) of N takes its share; or NULL */
+    const char *out_dir;   /* where frame_NNNNN.<ext> and progress.json go */
+    /* Polled between frames and while waiting for lights: true stops the task after the
+     * frame in flight (SIGTERM from a scheduler). NULL = never. */
+    bool (*stop)(void *user);
+    void *stop_user;
+};
+
+/* What one run did (the log's summary line). */
+struct job_batch_report {
+    int frames_total;      /* frames of the whole job */
+    int first, last;       /* this task's range, inclusive; last < first: empty */
+    int rendered, skipped; /* skipped: already complete in out_dir */
+    int temps_removed;     /* partial files of a killed earlier run of this range */
+    bool stopped;          /* desc->stop said so before the range was finished */
+};
+
+/* Renders frames first..last of the job in desc->spec_path into desc->out_dir, each frame
+ * written to a temporary file, fsynced and renamed to frame_NNNNN.<ext> (the names of GET
+ * /v1/jobs/{id}/archive), so a frame either is complete or is not there. Frames already
+ * there are skipped; this range's leftover temporary files are removed first. Progress:
+ * out_dir/progress.d/frames_A-B.json (this task's own record) and out_dir/progress.json
+ * (the whole job, rebuilt from the directory), both replaced atomically after each frame.
+ * Thread: the caller's (not the GPU thread); it waits for each frame. Errors: the
+ * specification's (path first, as POST /v1/jobs says them), USAGE for a bad range, IO for
+ * the output directory, the renderer's. A stop is not an error (report->stopped). */
+enum refract_code job_batch_run(const struct job_batch_desc *desc, struct job_batch_report *report,
+                                struct err *e);
+/* The frame range from --frames "A-B" or --task "I/N" (exactly one of them non-NULL) for a
+ * job of total frames: task I of N takes frames [I*total/N, (I+1)*total/N - 1] (integer
+ * division: shares differ by at most one frame; a task beyond total frames gets none:
+ * *last < *first). USAGE naming the flag and what it accepts. */
+enum refract_code job_batch_range(const char *frames, const char *task, int total, int *first,
+                                  int *last, struct err *e);
+
+/* ---- job_batch_dir.c: the output directory of batch tasks ---- */
+
+/* out gets DIR/frame_NNNNN.<ext> (5 digits at least, the archive's names). */
+void job_batch_frame_path(const char *dir, int n, enum job_format f, char *out, size_t size);
+/* True when frame n is complete in dir: a non-empty regular file under its final name
+ * (only a rename puts one there). */
+bool job_batch_frame_exists(const char *dir, int n, enum job_format f);
+/* Writes frame n atomically: DIR/.frame_NNNNN.<ext>.<host>.<pid>.tmp, fsync, rename to
+ * its final name, fsync dir. IO naming the file and the system's reason. */
+enum refract_code job_batch_frame_write(const char *dir, int n, enum job_format f,
+                                        const void *bytes, size_t len, struct err *e);
+/* Removes the temporary files a killed run of range first..last left: its frames'
+ * (.frame_NNNNN.*.tmp) and its progress files' (progress.json.frames_A-B.*.tmp,
+ * progress.d/frames_A-B.json.*.tmp). Returns how many. Only this range's: other tasks may
+ * be writing theirs. */
+int job_batch_clean_temps(const char *dir, int first, int last);
+/* Creates dir and its parents (mode 0755) and dir/progress.d. IO when it cannot. */
+enum refract_code job_batch_dir_prepare(const char *dir, struct err *e);
+
+/* A task's record (progress.d/frames_A-B.json). */
+struct job_batch_task {
+    int first, last;
+    int done;          /* frames of its range complete in the directory */
+    const char *state; /* "running", "done", "failed", "stopped" */
+    const char *message;
+};
+/* Replaces the task's record, then rebuilds progress.json from the frames present and
+ * every task record (temporary file + rename: a reader sees the old or the new file). Every
+ * task calls it after each frame; it rebuilds until what it wrote matches the directory,
+ * so the last writer leaves the final state. IO on failure. */
+enum refract_code job_batch_progress_write(const char *dir, const struct job_batch_task *t,
+                                           const struct job_frame *frames, int total,
+                                           struct err *e);
+
 #endif

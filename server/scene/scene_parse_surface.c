@@ -3,7 +3,7 @@
  * exact surfaces bounding constant media, with nesting priorities.
  *
  * Each surface is a shape of the kinds that have an exact intersection (sphere, box,
- * cylinder, lathe, mesh: the same keys as the voxel shapes; plane: a point and a
+ * rounded_box, cylinder, lathe, mesh: the same keys as the voxel shapes; plane: a point and a
  * normal), an optional transform, a priority and a medium. Rules, each refused with the
  * JSON path when broken:
  *   - priority defaults to the surface's position in the list, so a later surface wins
@@ -31,11 +31,11 @@ static const cJSON *member(const cJSON *obj, const char *key)
 }
 
 /* Names of "shape" for surfaces, as enum scene_shape_kind values. */
-static const char *const surface_shape_names[] = {"sphere", "box",  "cylinder", "plane",
-                                                  "lathe",  "mesh", NULL};
-static const enum scene_shape_kind surface_shape_kinds[] = {SCENE_SHAPE_SPHERE,   SCENE_SHAPE_BOX,
-                                                            SCENE_SHAPE_CYLINDER, SCENE_SHAPE_PLANE,
-                                                            SCENE_SHAPE_LATHE,    SCENE_SHAPE_MESH};
+static const char *const surface_shape_names[] = {"sphere", "box",  "cylinder",    "plane",
+                                                  "lathe",  "mesh", "rounded_box", NULL};
+static const enum scene_shape_kind surface_shape_kinds[] = {
+    SCENE_SHAPE_SPHERE, SCENE_SHAPE_BOX,  SCENE_SHAPE_CYLINDER,   SCENE_SHAPE_PLANE,
+    SCENE_SHAPE_LATHE,  SCENE_SHAPE_MESH, SCENE_SHAPE_ROUNDED_BOX};
 
 static enum refract_code parse_rgb(const cJSON *o, const char *path, const char *key, double *out,
                                    struct err *e)
@@ -77,12 +77,12 @@ static enum refract_code parse_shape(const cJSON *o, const char *path,
     const cJSON *shape = member(o, "shape");
     char got[80];
     if (cJSON_IsString(shape)) {
-        const char *voxel_only[] = {"rounded_box", "text", "bumpy_sphere"};
-        for (size_t i = 0; i < 3; i++)
+        const char *voxel_only[] = {"text", "bumpy_sphere"};
+        for (size_t i = 0; i < 2; i++)
             if (strcmp(shape->valuestring, voxel_only[i]) == 0)
                 return err_set(e, REFRACT_E_INVALID_FIELD,
                                "%s.shape: \"%s\" has no exact surface; surfaces are sphere, box, "
-                               "cylinder, plane, lathe or mesh (upload a mesh of it), or use "
+                               "rounded_box, cylinder, plane, lathe or mesh (upload a mesh of it), or use "
                                "the shape in a voxel object's field",
                                path, shape->valuestring);
     }

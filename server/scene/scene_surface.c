@@ -29,6 +29,9 @@ void scene_surface_geom(const struct scene_surface *sf, struct geom_surface *g)
     case SCENE_SHAPE_BOX:
         g->kind = GEOM_BOX;
         break;
+    case SCENE_SHAPE_ROUNDED_BOX:
+        g->kind = GEOM_ROUNDED_BOX;
+        break;
     case SCENE_SHAPE_CYLINDER:
         g->kind = GEOM_CYLINDER;
         break;

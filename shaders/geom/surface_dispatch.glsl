@@ -15,6 +15,8 @@ bool geom_surface_intersect(int k, vec3 o_world, vec3 d_world, float tmin, float
         hit = sphere_intersect(sp.shape0.xyz, sp.shape0.w, o, d, t0, t1, h);
     else if (kind == GEOM_BOX)
         hit = box_intersect(sp.shape0.xyz, sp.shape1.xyz, o, d, t0, t1, h);
+    else if (kind == GEOM_ROUNDED_BOX)
+        hit = rounded_box_intersect(sp.shape0.xyz, sp.shape1.xyz, sp.shape0.w, o, d, t0, t1, h);
     else if (kind == GEOM_CYLINDER)
         hit = cylinder_intersect(sp.shape0.xyz, sp.shape0.w, sp.shape1.x, sp.kind.y, o, d, t0, t1,
                                  h);

@@ -4,6 +4,8 @@
  * is the same, bit for bit, as the render made at once:
  *   - tiles of 7 rows (not a multiple of the kernel's local size, so the last work group of
  *     each tile reaches past the tile and must not write there) and of 1 row;
+ *   - with anti-aliasing (4 jittered rays per pixel: the jitter follows the pixel's place in
+ *     the whole image, not in the tile);
  *   - another scene rendered between every two tiles (what the queue does between turns:
  *     other bindings, another camera, another image size);
  *   - a rows argument outside the image is an INTERNAL error, not a write out of bounds.
@@ -22,7 +24,8 @@
 #define BOX "\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 16, "
 #define GLASS                                                                                      \
     "{\"name\": \"glass\", \"camera\": {\"eye\": [0.3, 0.8, 3.6], \"look_at\": [0, 0, 0], "        \
-    "\"fov_y_deg\": 40, \"width\": 45, \"height\": 37}, \"objects\": [{" BOX                       \
+    "\"fov_y_deg\": 40, \"width\": 45, \"height\": 37}, \"render\": {\"samples_per_pixel\": 4}, "  \
+    "\"objects\": [{" BOX                                                                          \
     "\"ior\": {\"shape\": \"sphere\", \"radius\": 0.7, \"inside\": 1.5}, \"attenuation\": "        \
     "{\"shape\": \"sphere\", \"radius\": 0.7, \"inside\": [0.5, 1, 2]}}]}"
 #define OTHER                                                                                      \

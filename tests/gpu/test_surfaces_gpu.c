@@ -9,8 +9,8 @@
  *     just outside (1.01..1.05 R), which must pass undeviated. Bounds (issue 12): median
  *     <= 1e-4 deg and worst <= 1e-3 deg, outside <= 1e-5 deg;
  *   - nested media (a glass box holding a water box of higher priority, a lathe goblet
- *     with wine whose solid overlaps the glass, a cylinder, a half-space of water under a
- *     plane): every ray's status, exit point, direction, transmittance and optical path
+ *     with wine whose solid overlaps the glass, a cylinder, a rotated rounded box, a
+ *     half-space of water under a plane): every ray's status, exit point, direction, transmittance and optical path
  *     against the CPU twin;
  *   - the sphere scene and the goblet rendered (render_view.comp) against the CPU twin's
  *     radiance per pixel.
@@ -134,10 +134,13 @@ static void sphere_band(struct gpu *gpu, double n, double b_lo, double b_hi, boo
         wrong_status += t->hits[i].status != want || through == miss;
         err[n_err++] = angle_between(v3(t->hits[i].exit_direction), miss ? d : xd) * DEG;
     }
+    double mean = 0.0;
+    for (int i = 0; i < n_err; i++)
+        mean += err[i] / n_err;
     qsort(err, (size_t)n_err, sizeof err[0], cmp_double);
     double med = err[n_err / 2], worst = err[n_err - 1];
-    printf("GPU sphere n=%.2f %s: median %.3g deg, worst %.3g deg over %d rays\n", n, what, med,
-           worst, n_err);
+    printf("GPU sphere n=%.2f %s: median %.3g deg, worst %.3g deg, mean %.3g rad over %d rays\n",
+           n, what, med, worst, mean / DEG, n_err);
     CHECK_INT(wrong_status, 0);
     if (miss) {
         CHECK_MSG(worst <= 1e-5, "n=%g %s: worst %g deg", n, what, worst);
@@ -172,7 +175,11 @@ static const char *const nested_doc =
     "   \"priority\": 100, \"medium\": {\"ior\": 1.33}},"
     "  {\"name\": \"rod\", \"shape\": \"cylinder\", \"center\": [-1.3, 0, 0], \"radius\": 0.25,"
     "   \"height\": 1.2, \"axis\": \"x\", \"transform\": {\"rotate\": {\"axis\": [0, 0, 1], "
-    "   \"angle_deg\": 30}, \"scale\": 1.1}, \"medium\": {\"ior\": 1.7}}"
+    "   \"angle_deg\": 30}, \"scale\": 1.1}, \"medium\": {\"ior\": 1.7}},"
+    "  {\"name\": \"cube\", \"shape\": \"rounded_box\", \"center\": [0, 0.1, -1.6],"
+    "   \"size\": [0.9, 0.7, 0.5], \"radius\": 0.15, \"transform\": {\"rotate\": {\"axis\": "
+    "   [0, 1, 0], \"angle_deg\": 25}}, \"medium\": {\"ior\": 1.6, \"attenuation\": [0.3, 0.1, "
+    "0.05]}}"
     " ]}";
 
 static void test_nested(struct gpu *gpu)
@@ -191,6 +198,8 @@ static void test_nested(struct gpu *gpu)
         vec3 aim = {3.2 * (uniform() - 0.5), 2.4 * (uniform() - 0.5) + 0.2,
                     0.8 * (uniform() - 0.5)};
         vec3 o = {4 * (uniform() - 0.5), 3.0, 4.0};
+        if (i % 4 == 1) /* the rounded box's faces, edges and corners */
+            aim = vec3_make(1.0 * (uniform() - 0.5), 0.1 + 0.8 * (uniform() - 0.5), -1.6);
         if (i % 8 == 0) /* some start under the water and in the glass */
             o = vec3_make(0.1, i % 16 == 0 ? -2.0 : 0.5, 0.05);
         vec3 d = vec3_normalize(vec3_sub(aim, o));

@@ -49,7 +49,8 @@ static void every_option_is_in_the_shipped_config(void)
                          !strcmp(name, "scene-dir") || !strcmp(name, "shader-dir") ||
                          !strcmp(name, "token-file") || !strcmp(name, "allow-host") ||
                          !strcmp(name, "trusted-proxy") || !strcmp(name, "tls-cert") ||
-                         !strcmp(name, "tls-key");
+                         !strcmp(name, "tls-key") || !strcmp(name, "batch") ||
+                         !strcmp(name, "frames") || !strcmp(name, "task") || !strcmp(name, "out");
         char commented_line[80];
         snprintf(commented_line, sizeof commented_line, "# %s", name);
         if (commented ? strstr(conf, commented_line) == NULL : !conf_has_key(conf, name)) {

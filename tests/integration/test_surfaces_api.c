@@ -242,6 +242,28 @@ static void mesh_surfaces(struct test_daemon *d)
     snprintf(path, sizeof path, "/v1/scenes/%s/render", id);
     EXPECT_ERROR(d, "POST", path, "{\"format\": \"png\"}", 400, "invalid_mesh",
                  "surfaces[0] (\"gem\")", "cannot bound a medium", "edge");
+    /* What else cannot bound a medium, each named with its first offender: one face wound
+     * the other way, a zero-area triangle, an edge of three triangles (a fin). An
+     * inside-out cube (every face reversed) is fine: it is flipped. */
+    static const struct {
+        const char *obj, *what;
+    } bad[] = {
+        {CUBE_VERTS CUBE_SIDES "f 3 8 4\nf 3 8 7\n", "winding is inconsistent"},
+        {CUBE_VERTS CUBE_SIDES "f 3 4 8\nf 3 8 7\nf 1 2 2\n", "zero area"},
+        {CUBE_VERTS "v 0 2 0\n" CUBE_SIDES "f 3 4 8\nf 3 8 7\nf 3 4 9\n", "non-manifold"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        CHECK_INT(post_mesh(d, id, "cube", bad[i].obj, &body), 201);
+        free(body);
+        EXPECT_ERROR(d, "POST", path, "{\"format\": \"png\"}", 400, "invalid_mesh",
+                     "surfaces[0] (\"gem\")", "cannot bound a medium", bad[i].what);
+    }
+    const char *inside_out = CUBE_VERTS
+        "f 1 3 4\nf 1 2 3\nf 5 7 6\nf 5 8 7\nf 1 6 2\nf 1 5 6\nf 2 7 3\nf 2 6 7\nf 4 5 1\n"
+        "f 4 8 5\nf 3 8 4\nf 3 7 8\n";
+    CHECK_INT(post_mesh(d, id, "cube", inside_out, &body), 201);
+    free(body);
+    free(EXPECT_STATUS(d, "POST", path, "{\"format\": \"png\"}", 200));
 }
 
 #define SURF(body) "{\"surfaces\": [" body "]}"
@@ -262,11 +284,17 @@ static void bad_input(struct test_daemon *d)
     strcat(many, "]}");
     const struct json_error_case cases[] = {
         {__LINE__,
-         SURF("{\"shape\": \"rounded_box\", \"size\": [1, 1, 1], \"radius\": 0.1, "
+         SURF("{\"shape\": \"text\", \"text\": \"A\", \"height\": 1, \"depth\": 0.2, "
               "\"medium\": {\"ior\": 1.5}}"),
          400,
          "invalid_field",
-         {"surfaces[0].shape", "rounded_box", "mesh"}},
+         {"surfaces[0].shape", "\"text\" has no exact surface", "mesh"}},
+        {__LINE__,
+         SURF("{\"shape\": \"rounded_box\", \"size\": [1, 1, 0.4], \"radius\": 0.3, "
+              "\"medium\": {\"ior\": 1.5}}"),
+         400,
+         "invalid_field",
+         {"surfaces[0].radius", "0.3", "0..0.2"}},
         {__LINE__,
          SURF("{\"shape\": \"sphere\", \"radius\": 0.5}"),
          400,

@@ -257,6 +257,23 @@ static void examples_hold_what_their_names_promise(const char *dir)
     }
     s = parse_file(dir, "rounded_cube_three_layers.json");
     if (s != NULL) {
+        /* Exact rounded boxes, stored highest priority first: inner (bit 0), middle, outer.
+         * Rotated 30 degrees about y: (0.7, 0, 0) is at x' = 0.61 in the cube, outside the
+         * middle shell (half size 0.575). */
+        CHECK_INT((int)s->surface_count, 3);
+        CHECK(strcmp(s->surfaces[0].name, "inner") == 0 && s->surfaces[0].medium.ior == 1.7);
+        CHECK_INT(s->surfaces[2].shape.kind, SCENE_SHAPE_ROUNDED_BOX);
+        CHECK_INT((int)scene_surfaces_inside(s, NULL, NULL, vec3_make(0.01, 0.01, 0.01)), 7);
+        CHECK_INT((int)scene_surfaces_inside(s, NULL, NULL, vec3_make(0.5, 0.01, 0.01)), 6);
+        CHECK_INT((int)scene_surfaces_inside(s, NULL, NULL, vec3_make(0.7, 0.01, 0.01)), 4);
+        /* The outer cube's box holds (0.88, 0.75, 0) (x' = 0.76, z' = 0.44 in the cube), its
+         * rounded edge (radius 0.2 about x' = y = 0.6) does not. */
+        CHECK_INT((int)scene_surfaces_inside(s, NULL, NULL, vec3_make(0.0, 0.78, 0.0)), 4);
+        CHECK_INT((int)scene_surfaces_inside(s, NULL, NULL, vec3_make(0.88, 0.75, 0.0)), 0);
+        scene_destroy(s);
+    }
+    s = parse_file(dir, "rounded_cube_three_layers_voxels.json");
+    if (s != NULL) {
         CHECK_NEAR(ior_at(s, vec3_make(0.01, 0.01, 0.01)), 1.7, 1e-6);
         CHECK_NEAR(ior_at(s, vec3_make(0.5, 0.01, 0.01)), 1.5, 1e-6);
         CHECK_NEAR(ior_at(s, vec3_make(0.7, 0.01, 0.01)), 1.35, 1e-6);

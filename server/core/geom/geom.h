@@ -1,6 +1,6 @@
 /*
  * geom.h - exact surfaces, one file per kind (docs/tracing.md "Surfaces"): sphere.c,
- * box.c, cylinder.c, plane.c, lathe.c here, triangle meshes in server/mesh/mesh_rt*.c.
+ * box.c, rounded_box.c, cylinder.c, plane.c, lathe.c here, triangle meshes in server/mesh/mesh_rt*.c.
  * Each kind has <kind>_intersect (nearest hit of a ray), <kind>_inside (is a point in
  * the solid the surface bounds) and <kind>_bounds (box of the solid). The GLSL twins in
  * shaders/geom/<kind>.glsl have the same names and argument order (in float).
@@ -19,7 +19,8 @@
 #include "../vec3.h"
 #include "../xform.h"
 
-/* The kinds are GEOM_SPHERE, GEOM_BOX, GEOM_CYLINDER, GEOM_PLANE, GEOM_LATHE and GEOM_MESH
+/* The kinds are GEOM_SPHERE, GEOM_BOX, GEOM_CYLINDER, GEOM_PLANE, GEOM_LATHE, GEOM_MESH and
+ * GEOM_ROUNDED_BOX
  * of bindings.h, the numbers the GPU's surface_params.kind.x holds. */
 #include "bindings.h"
 
@@ -54,6 +55,12 @@ void sphere_bounds(vec3 c, double r, vec3 *lo, vec3 *hi);
 bool box_intersect(vec3 c, vec3 size, vec3 o, vec3 d, double tmin, double tmax, struct geom_hit *h);
 bool box_inside(vec3 c, vec3 size, vec3 p);
 void box_bounds(vec3 c, vec3 size, vec3 *lo, vec3 *hi);
+
+/* Box of full sizes size about c with edges and corners rounded to radius r
+ * (0 <= r <= min(size) / 2; 0 is the plain box). Its box is box_bounds'. */
+bool rounded_box_intersect(vec3 c, vec3 size, double r, vec3 o, vec3 d, double tmin, double tmax,
+                           struct geom_hit *h);
+bool rounded_box_inside(vec3 c, vec3 size, double r, vec3 p);
 
 /* Closed cylinder: radius r about the axis (0 x, 1 y, 2 z) through c, full length height. */
 bool cylinder_intersect(vec3 c, double r, double height, int axis, vec3 o, vec3 d, double tmin,
@@ -95,8 +102,8 @@ struct geom_surface {
     int kind;                   /* GEOM_* */
     struct xform xf;            /* world_from_object (similarity) */
     vec3 center;                /* sphere, box, cylinder; plane: a point on it */
-    double radius;              /* sphere, cylinder */
-    vec3 size;                  /* box: full edge lengths */
+    double radius;              /* sphere, cylinder; rounded box: corner radius */
+    vec3 size;                  /* box, rounded box: full edge lengths */
     double height;              /* cylinder: full length */
     int axis;                   /* cylinder, lathe */
     vec3 normal;                /* plane: unit */

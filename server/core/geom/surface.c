@@ -16,6 +16,8 @@ static bool intersect_object(const struct geom_surface *g, vec3 o, vec3 d, doubl
         return sphere_intersect(g->center, g->radius, o, d, tmin, tmax, h);
     case GEOM_BOX:
         return box_intersect(g->center, g->size, o, d, tmin, tmax, h);
+    case GEOM_ROUNDED_BOX:
+        return rounded_box_intersect(g->center, g->size, g->radius, o, d, tmin, tmax, h);
     case GEOM_CYLINDER:
         return cylinder_intersect(g->center, g->radius, g->height, g->axis, o, d, tmin, tmax, h);
     case GEOM_PLANE:
@@ -51,6 +53,8 @@ bool geom_surface_inside(const struct geom_surface *g, vec3 p)
         return sphere_inside(g->center, g->radius, q);
     case GEOM_BOX:
         return box_inside(g->center, g->size, q);
+    case GEOM_ROUNDED_BOX:
+        return rounded_box_inside(g->center, g->size, g->radius, q);
     case GEOM_CYLINDER:
         return cylinder_inside(g->center, g->radius, g->height, g->axis, q);
     case GEOM_PLANE:
@@ -85,6 +89,7 @@ bool geom_surface_bounds(const struct geom_surface *g, vec3 *lo, vec3 *hi)
         sphere_bounds(g->center, g->radius, &a, &b);
         break;
     case GEOM_BOX:
+    case GEOM_ROUNDED_BOX:
         box_bounds(g->center, g->size, &a, &b);
         break;
     case GEOM_CYLINDER:

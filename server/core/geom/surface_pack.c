@@ -31,6 +31,10 @@ void geom_surface_pack(const struct geom_surface *g, double ior, const double at
         sp->shape0 = v4(g->center, 0.0);
         sp->shape1 = v4(g->size, 0.0);
         break;
+    case GEOM_ROUNDED_BOX:
+        sp->shape0 = v4(g->center, g->radius);
+        sp->shape1 = v4(g->size, 0.0);
+        break;
     case GEOM_CYLINDER:
         sp->shape0 = v4(g->center, g->radius);
         sp->shape1 = (vec4){(float)g->height, 0, 0, 0};

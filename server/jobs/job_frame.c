@@ -1,0 +1,94 @@
+/*
+ * job_frame.c - what rendering one job frame needs, whoever renders it: the daemon's
+ * runner thread (job_runner.c) and the one-shot batch mode (job_batch.c, `refractd
+ * --batch`). Both render a frame through the same version, irradiance source and encoder,
+ * so a frame of a Slurm array task is byte-identical to the same frame of a daemon's job.
+ *
+ * It is not a scheduler: it neither waits for lights nor submits GPU work.
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cjson/cJSON.h>
+
+#include "../cache/irradiance_cache.h"
+#include "../io/io_image.h"
+#include "../request/render_request.h"
+#include "jobs.h"
+
+bool job_frame_lights_failed(struct irradiance_cache *c, const struct irradiance_source *src,
+                             char *msg, size_t size)
+{
+    struct irradiance_light_status ls[SCENE_MAX_LIGHTS];
+    int n = irradiance_cache_status(c, src, ls);
+    for (int i = 0; i < n; i++) {
+        if (ls[i].state == IRRADIANCE_FAILED) {
+            snprintf(msg, size,
+                     "the light simulation of light \"%s\" failed (GET /v1/scenes/{id}/irradiance"
+                     " says why); a job renders only lit frames",
+                     ls[i].name);
+            return true;
+        }
+    }
+    return false;
+}
+
+enum refract_code job_frame_encode(const struct render_view_result *res, const struct job_frame *f,
+                                   enum scene_tonemap tonemap, void **bytes, size_t *len,
+                                   struct err *e)
+{
+    enum io_frame_format format = f->format == JOB_FORMAT_EXR    ? IO_FRAME_EXR
+                                  : f->format == JOB_FORMAT_JPEG ? IO_FRAME_JPEG
+                                                                 : IO_FRAME_PNG;
+    return io_encode_frame(res->rgba, res->width, res->height, format, f->exposure_ev,
+                           tonemap == SCENE_TONEMAP_FILMIC ? IO_TONEMAP_FILMIC : IO_TONEMAP_CLAMP,
+                           90, bytes, len, e);
+}
+
+enum refract_code job_frame_version(struct store *store, struct store_scene *base,
+                                    const struct job_frame *f, struct store_scene **out,
+                                    struct err *e)
+{
+    if (f->light_count == 0) {
+        atomic_fetch_add(&base->refs, 1);
+        *out = base;
+        return REFRACT_E_OK;
+    }
+    cJSON *doc = cJSON_ParseWithLength(base->json, base->json_len);
+    cJSON *lights = doc ? cJSON_GetObjectItemCaseSensitive(doc, "lights") : NULL;
+    for (int k = 0; k < f->light_count; k++) {
+        const struct job_light_override *o = &f->lights[k];
+        cJSON *light = NULL, *item;
+        cJSON_ArrayForEach(item, lights)
+        {
+            const cJSON *name = cJSON_GetObjectItemCaseSensitive(item, "name");
+            if (cJSON_IsString(name) && strcmp(name->valuestring, o->light) == 0)
+                light = item;
+        }
+        if (light == NULL) {
+            cJSON_Delete(doc);
+            return err_set(e, REFRACT_E_CONFLICT,
+                           "the scene no longer has light \"%s\" that the job moves", o->light);
+        }
+        const double v[3] = {o->value.x, o->value.y, o->value.z};
+        const char *key = o->field == JOB_LIGHT_DIRECTION ? "direction" : "position";
+        cJSON_DeleteItemFromObjectCaseSensitive(light, key);
+        cJSON_AddItemToObject(light, key, cJSON_CreateDoubleArray(v, 3));
+    }
+    char *json = cJSON_PrintUnformatted(doc);
+    cJSON_Delete(doc);
+    if (json == NULL)
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory moving a light");
+    enum refract_code rc = store_scene_derive(store, base, json, strlen(json), out, e);
+    free(json);
+    return rc;
+}
+
+void job_frame_source(struct store_scene *v, const struct job_frame *f, const char *slot_id,
+                      struct irradiance_source *out)
+{
+    render_request_irradiance_source(v, out);
+    if (f->light_count > 0)
+        out->scene_id = slot_id;
+}
