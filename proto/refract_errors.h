@@ -56,7 +56,9 @@
     X(UNAUTHORIZED, 27, 401, "unauthorized",                                                       \
       "refractd requires a bearer token (--token-file) and the request lacks it or has another")   \
     X(HOST_NOT_ALLOWED, 28, 421, "host_not_allowed",                                               \
-      "the Host header names a host refractd does not serve (--allow-host)")
+      "the Host header names a host refractd does not serve (--allow-host)")                     \
+    X(TOO_MANY_REQUESTS, 29, 429, "too_many_requests",                                             \
+      "the client holds as many connections or queued renders as refractd allows one client")
 
 enum refract_code {
 #define REFRACT_X_ENUM(name, num, http, json, text) REFRACT_E_##name = num,

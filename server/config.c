@@ -52,7 +52,23 @@ static const struct option_def options[] = {
     {"threads", OPT_INT, 1, 256, "N", "HTTP worker threads (default 4)"},
     {"max-queued", OPT_INT, 1, 1000000, "N", "GPU queue length before 503 busy (default 256)"},
     {"request-timeout-ms", OPT_INT, 100, 86400000, "MS",
-     "deadline for a request's GPU work to start (default 120000)"},
+     "deadline for a request's GPU work: every tile of a render must start before it "
+     "(default 120000)"},
+    {"max-connections", OPT_INT, 1, 1000000, "N",
+     "open connections at most; beyond, 503 busy (default 2048)"},
+    {"max-connections-per-ip", OPT_INT, 0, 1000000, "N",
+     "open connections of one client address; beyond, 429 (default 256; 0 = no limit)"},
+    {"max-queued-per-client", OPT_INT, 0, 1000000, "N",
+     "renders and traces of one client address queued or running; beyond, 429 (default 64; "
+     "0 = no limit)"},
+    {"header-timeout", OPT_INT, 1, 3600, "S",
+     "close a connection silent for S seconds before its request's headers and body are in, "
+     "or between keep-alive requests (default 10)"},
+    {"connection-timeout", OPT_INT, 1, 86400, "S",
+     "close a connection silent for S seconds while it is answered (default 300)"},
+    {"render-tile-pixels", OPT_SIZE, 1, 1ll << 28, "N",
+     "pixels a render draws per GPU turn; larger renders are drawn in tiles of rows with "
+     "other work between (default 64K)"},
     {"max-json-bytes", OPT_SIZE, 1024, 1ll << 32, "BYTES", "JSON body limit (default 8M)"},
     {"max-upload-bytes", OPT_SIZE, 1024, 1ll << 40, "BYTES", "upload body limit (default 1G)"},
     {"max-storage-bytes", OPT_SIZE, 0, 1ll << 50, "BYTES",
@@ -128,6 +144,12 @@ void config_defaults(struct config *c)
     c->http.max_upload_bytes = (size_t)1 << 30;
     c->http.max_rays = 65536;
     c->http.request_timeout_ms = 120000;
+    c->http.max_connections = 2048;
+    c->http.max_connections_per_ip = 256;
+    c->http.max_queued_per_client = 64;
+    c->http.header_timeout_s = 10;
+    c->http.connection_timeout_s = 300;
+    c->http.render_tile_pixels = 65536;
     c->http.limits = scene_limits_default();
     c->gpu.context.device = GPU_DEVICE_AUTO;
     c->gpu.context.device_index = -1;
@@ -214,6 +236,18 @@ static void store_int(struct config *c, const char *name, long long v)
         c->gpu.max_queued = (size_t)v;
     else if (!strcmp(name, "request-timeout-ms"))
         c->http.request_timeout_ms = (int)v;
+    else if (!strcmp(name, "max-connections"))
+        c->http.max_connections = (int)v;
+    else if (!strcmp(name, "max-connections-per-ip"))
+        c->http.max_connections_per_ip = (int)v;
+    else if (!strcmp(name, "max-queued-per-client"))
+        c->http.max_queued_per_client = (int)v;
+    else if (!strcmp(name, "header-timeout"))
+        c->http.header_timeout_s = (int)v;
+    else if (!strcmp(name, "connection-timeout"))
+        c->http.connection_timeout_s = (int)v;
+    else if (!strcmp(name, "render-tile-pixels"))
+        c->http.render_tile_pixels = v;
     else if (!strcmp(name, "max-json-bytes"))
         c->http.max_json_bytes = (size_t)v;
     else if (!strcmp(name, "max-upload-bytes"))

@@ -1,7 +1,10 @@
 #version 450
 // render_view.comp - view rays through the scene, one or several per pixel (anti-aliasing),
 // tevs2007 sect. 6.3 (the view renderer), writing linear radiance. Rows are written top to
-// bottom (row 0 = top).
+// bottom (row 0 = top). One dispatch renders the tile of rows [params.image.z,
+// params.image.w) into image_out, whose row 0 is the tile's first row: a pixel's value
+// depends only on its place in the whole image (its rays' jitter too), so a render made of
+// tiles is the same, bit for bit, as one made at once.
 #define MARCH_RADIANCE 1
 #include "march_bindings.glsl"
 #include "fresnel.glsl"
@@ -22,8 +25,8 @@ layout(std430, binding = BIND_SSBO_IMAGE_OUT) writeonly buffer image_out_block
 
 void main()
 {
-    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-    if (px.x >= params.image.x || px.y >= params.image.y)
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy) + ivec2(0, params.image.z);
+    if (px.x >= params.image.x || px.y >= params.image.y || px.y >= params.image.w)
         return;
     // Anti-aliasing: n jittered rays in k x k strata, averaged (a box filter).
     uint n = uint(max(params.settings_f2.y, 1.0));
@@ -37,5 +40,5 @@ void main()
         march_state s = march_ray(params.eye.xyz, dir, uint(params.surfaces.y));
         sum += s.L;
     }
-    image_out[px.y * params.image.x + px.x] = vec4(sum / float(n), 1.0);
+    image_out[(px.y - params.image.z) * params.image.x + px.x] = vec4(sum / float(n), 1.0);
 }

@@ -53,8 +53,9 @@ struct march_params {
     vec4 forward;     /* xyz: unit view direction; w: aspect (width / height) */
     vec4 right;       /* xyz: unit right vector */
     vec4 up;          /* xyz: unit up vector (orthogonal to forward and right) */
-    ivec4 image;      /* x: width, y: height (pixels); z: ray count (trace); w: 1 = record
-                         surface events (trace) */
+    ivec4 image;      /* x: width, y: height (pixels); z: ray count (trace), first row of
+                         the tile (render); w: 1 = record surface events (trace), end row
+                         of the tile, exclusive (render) */
     ivec4 settings_i; /* x: STEPPER_*; y: max_steps; z: object count; w: 1 = image env */
     vec4 settings_f;  /* x: step (voxels); y: boundary threshold (dn per voxel);
                          z: ambient n; w: environment intensity */

@@ -89,21 +89,46 @@ static struct gpu_work *pop_locked(struct gpu *g)
     return NULL;
 }
 
+/* Puts w back at the end of its priority's line for its next turn; false when the
+ * queue is stopping (then w is completed with SHUTTING_DOWN by the caller). */
+static bool requeue(struct gpu *g, struct gpu_work *w)
+{
+    pthread_mutex_lock(&g->lock);
+    bool ok = !g->stopping;
+    if (ok) {
+        w->turn_ms = gpu_now_ms();
+        list_push(&g->lists[w->priority], w);
+        g->length++;
+    }
+    pthread_mutex_unlock(&g->lock);
+    return ok;
+}
+
 static void execute(struct gpu *g, struct gpu_work *w)
 {
     err_clear(&w->err);
+    w->again = false;
+    const char *label = w->label ? w->label : "work";
     if (w->deadline_ms > 0 && gpu_now_ms() > w->deadline_ms) {
         err_set(&w->err, REFRACT_E_TIMEOUT,
                 "%s waited %lld ms in the GPU queue and passed its deadline; the GPU is busy "
                 "(queue length %zu), retry later or raise --request-timeout-ms",
-                w->label ? w->label : "work", (long long)(gpu_now_ms() - w->queued_ms),
-                gpu_queue_length(g));
+                label, (long long)(gpu_now_ms() - w->queued_ms), gpu_queue_length(g));
+    } else if (w->abandoned != NULL && w->abandoned(w)) {
+        log_info("gpu", "%s dropped: its client closed the connection", label);
+        err_set(&w->err, REFRACT_E_TIMEOUT,
+                "%s dropped: its client closed the connection before it was done", label);
     } else {
         double t0 = gpu_time_ms();
         w->run(w, g);
         /* GET /metrics: GPU busy time and queue wait by priority (core/metrics.h). */
-        metrics_gpu_work((int)w->priority, (double)(gpu_now_ms() - w->queued_ms) * 1e-3,
+        metrics_gpu_work((int)w->priority, (double)(gpu_now_ms() - w->turn_ms) * 1e-3,
                          (gpu_time_ms() - t0) * 1e-3);
+    }
+    if (w->again && w->err.code == REFRACT_E_OK) {
+        if (requeue(g, w))
+            return;
+        err_set(&w->err, REFRACT_E_SHUTTING_DOWN, "refractd is shutting down");
     }
     if (w->done)
         w->done(w);
@@ -250,6 +275,7 @@ enum refract_code gpu_submit(struct gpu *g, struct gpu_work *w, struct err *e)
                        "the GPU queue is full (%zu items, --max-queued); retry later", len);
     }
     w->queued_ms = gpu_now_ms();
+    w->turn_ms = w->queued_ms;
     list_push(&g->lists[w->priority], w);
     g->length++;
     pthread_cond_signal(&g->wake);

@@ -5,11 +5,14 @@
  * thread, so refractd runs exactly one GPU thread. It takes work items from a queue with
  * four priorities, interactive renders first, then light-simulation chunks, then batch
  * frames, then maintenance, FIFO within a priority. Items never preempt one another:
- * long work is split into bounded chunks by its owner and resubmitted.
+ * long work is split into bounded chunks by its owner and resubmitted, or runs one
+ * chunk per turn (`again`: a large render's tiles), going to the back of its priority's
+ * line after each, so the items queued behind it take turns with it (round robin).
  *
  * Each item carries a deadline. When the thread pops an item whose deadline has passed
  * (its requester may be gone: a suspended HTTP client can leave unnoticed), the item is
- * not run; its `done` is called with err.code = REFRACT_E_TIMEOUT. On shutdown every
+ * not run; its `done` is called with err.code = REFRACT_E_TIMEOUT. The same happens when
+ * its `abandoned` says that nobody waits for it any more. On shutdown every
  * pending item except maintenance not marked skip_on_shutdown is completed with
  * REFRACT_E_SHUTTING_DOWN, so every suspended connection gets resumed.
  *
@@ -51,11 +54,19 @@ struct gpu_work {
     /* Called on the GPU thread after run, or instead of it with w->err.code set to
      * TIMEOUT or SHUTTING_DOWN. Must not block. */
     void (*done)(struct gpu_work *w);
+    /* Optional: true when nobody waits for the result any more (an HTTP client closed
+     * its connection while the item was queued). Called on the GPU thread before every
+     * turn; such an item is not run, and done gets REFRACT_E_TIMEOUT. */
+    bool (*abandoned)(struct gpu_work *w);
+    /* Set by run (it starts each turn false) to ask for another turn: the item goes to
+     * the back of its priority's line instead of done being called. An error ends it. */
+    bool again;
     struct err err;
     void *user; /* the submitter's context */
     /* queue-private */
     struct gpu_work *next;
-    int64_t queued_ms;
+    int64_t queued_ms; /* submitted (the deadline's message counts from here) */
+    int64_t turn_ms;   /* entered the line for this turn (the wait /metrics counts) */
 };
 
 struct gpu_desc {

@@ -34,7 +34,19 @@ struct http_config {
     size_t max_upload_bytes;    /* volume and image uploads; 0 = 1 GiB */
     int max_rays;               /* per trace request; 0 = 65536 */
     long long max_image_pixels; /* width * height of a render; 0 = 4096 * 4096 */
-    int request_timeout_ms;     /* deadline of queued GPU work; 0 = 120000 */
+    int request_timeout_ms;     /* deadline of a request's GPU work (every tile of a render
+                                   must start before it); 0 = 120000 */
+    /* Fair sharing (docs/api.md "Fair sharing"); each refusal is a JSON error naming its
+     * flag. A client is an IP address. */
+    int max_connections;          /* open connections; 0 = 2048 (503 busy beyond) */
+    int max_connections_per_ip;   /* open connections of one client; 0 = no limit (429) */
+    int max_queued_per_client;    /* renders and traces of one client queued or running
+                                     on the GPU; 0 = no limit (429) */
+    int header_timeout_s;         /* idle seconds allowed before a request's headers and
+                                     body are in (and between keep-alive requests); 0 = 10 */
+    int connection_timeout_s;     /* idle seconds allowed while answering; 0 = 300 */
+    long long render_tile_pixels; /* pixels a render draws per GPU turn: larger renders are
+                                     drawn in tiles of rows, other work between; 0 = 65536 */
     struct scene_limits limits;
     /* Access control (access.c; docs/api.md "Security"). All borrowed for the server's
      * life. token: the bearer token every route except GET /v1/health and the viewer's

@@ -14,6 +14,7 @@
 #include "../view/view.h"
 #include "../request/render_request.h"
 #include "../core/sha256.h"
+#include "clients.h"
 #include "http.h"
 
 #define HTTP_MAX_PARAMS 3
@@ -68,7 +69,8 @@ struct http_request {
     char upload_path[1024];
     struct sha256 upload_hash;
     char upload_sha256[SHA256_HEX_SIZE];
-    struct err upload_err; /* code != OK when writing the file failed (answered at the end) */
+    struct err upload_err;  /* code != OK when writing the file failed (answered at the end) */
+    size_t upload_reserved; /* bytes of the file counted against --max-storage-bytes */
     enum http_phase phase;
     int status; /* the status answered with (0 = none yet); GET /metrics counts it */
     double started_ms;
@@ -77,6 +79,12 @@ struct http_request {
     void *job; /* owned; freed by job_free */
     void (*job_free)(void *job);
     http_handler_fn on_resume; /* answers after the GPU finished */
+    /* Fair sharing (server.c): the connection's client, whether this request counts
+     * against its --max-queued-per-client, and the socket polled to notice that the client
+     * left while the request waits for the GPU (-1: unknown). */
+    const struct http_client_key *client;
+    bool gpu_counted;
+    int client_fd;
     struct http_sse *sse;      /* the server's event streams (h_events.c) */
 };
 

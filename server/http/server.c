@@ -11,16 +11,31 @@
  *   3. the call with no more data: run the route's handler, which answers or suspends;
  *   4. after a resume (the GPU finished): run on_resume, which answers.
  * The completion callback frees the request: one owner, one free.
+ *
+ * FAIR SHARING (docs/api.md "Fair sharing"): the connection callback counts each client's
+ * connections (clients.h); a connection beyond --max-connections or
+ * --max-connections-per-ip is still accepted, so that its first request can be answered
+ * with a JSON error naming the limit (503 busy, 429 too_many_requests) before it is
+ * closed, and it gets one second to send that request. libmicrohttpd itself refuses
+ * connections only past a margin above --max-connections. A connection that has not sent
+ * its headers and body gets --header-timeout seconds of silence, one that is being
+ * answered --connection-timeout, and an idle keep-alive connection the short one again:
+ * half-sent requests cannot hold connections for long. A request waiting for the GPU is
+ * suspended and notices nothing, so its work item polls the socket before each turn and
+ * is dropped once the client has gone (client_gone).
  */
+#define _GNU_SOURCE /* POLLRDHUP */
 #include <arpa/inet.h>
 #include <errno.h>
 #include <stdatomic.h>
 #include <time.h>
 #include <netinet/in.h>
+#include <poll.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include "../core/log.h"
@@ -39,16 +54,75 @@ struct http_server {
     atomic_int active_requests; /* request states alive (begun, not completed) */
     atomic_bool closing;        /* http_server_quiesce: new requests get 503 shutting_down */
     struct http_stream_set *streams;
+    struct http_clients *clients; /* connections and GPU requests per client */
 };
+
+/* What the server knows of one connection (libmicrohttpd's socket context): its client
+ * and whether it was over a limit when it opened. Made and freed by on_connection. */
+struct http_conn_state {
+    struct http_client_key key;
+    int client_connections, total; /* counts when it opened, itself included */
+    bool over_total, over_client;
+};
+
+static void set_timeout(struct MHD_Connection *conn, int seconds)
+{
+    MHD_set_connection_option(conn, MHD_CONNECTION_OPTION_TIMEOUT, (unsigned)seconds);
+}
+
+/* libmicrohttpd's connection callback: counts the client's connections (a connection is
+ * in its daemon's timeout list by now, so its timeout may be changed). */
+static void on_connection(void *cls, struct MHD_Connection *conn, void **socket_context,
+                          enum MHD_ConnectionNotificationCode toe)
+{
+    struct http_server *srv = cls;
+    struct http_conn_state *cs = *socket_context;
+    if (toe == MHD_CONNECTION_NOTIFY_CLOSED) {
+        if (cs != NULL) {
+            http_clients_disconnect(srv->clients, &cs->key);
+            free(cs);
+        }
+        *socket_context = NULL;
+        return;
+    }
+    cs = calloc(1, sizeof *cs);
+    if (cs == NULL)
+        return; /* uncounted; its requests are answered without the limits */
+    const union MHD_ConnectionInfo *info =
+        MHD_get_connection_info(conn, MHD_CONNECTION_INFO_CLIENT_ADDRESS);
+    http_client_key_from(info ? info->client_addr : NULL, &cs->key);
+    http_clients_connect(srv->clients, &cs->key, &cs->client_connections, &cs->total);
+    cs->over_total = cs->total > srv->cfg.max_connections;
+    cs->over_client = srv->cfg.max_connections_per_ip > 0 &&
+                      cs->client_connections > srv->cfg.max_connections_per_ip;
+    *socket_context = cs;
+    set_timeout(conn, cs->over_total || cs->over_client ? 1 : srv->cfg.header_timeout_s);
+}
+
+static struct http_conn_state *conn_state(struct MHD_Connection *conn)
+{
+    const union MHD_ConnectionInfo *info =
+        MHD_get_connection_info(conn, MHD_CONNECTION_INFO_SOCKET_CONTEXT);
+    return info ? info->socket_context : NULL;
+}
 
 struct http_stream_set *http_server_streams(const struct http_server *srv)
 {
     return srv->streams;
 }
 
+/* Gives back the upload's bytes counted against --max-storage-bytes. */
+static void upload_unreserve(struct http_request *req)
+{
+    if (req->upload_reserved > 0)
+        store_upload_tmp_release(req->app->store, req->upload_reserved);
+    req->upload_reserved = 0;
+}
+
 /* Closes and removes the streamed upload file, unless a handler took it. */
 static void upload_discard(struct http_request *req)
 {
+    upload_unreserve(req);
     if (req->upload_fd >= 0)
         close(req->upload_fd);
     req->upload_fd = -1;
@@ -61,6 +135,9 @@ static void request_free(struct http_request *req)
 {
     struct http_server *srv = (struct http_server *)req->server;
     atomic_fetch_sub(&srv->active_requests, 1);
+    if (req->gpu_counted)
+        http_clients_dequeue(srv->clients, req->client);
+    upload_unreserve(req);
     if (req->job && req->job_free)
         req->job_free(req->job);
     upload_discard(req);
@@ -71,13 +148,14 @@ static void request_free(struct http_request *req)
 static void on_completed(void *cls, struct MHD_Connection *conn, void **con_cls,
                          enum MHD_RequestTerminationCode toe)
 {
-    (void)cls;
-    (void)conn;
+    struct http_server *srv = cls;
     struct http_request *req = *con_cls;
     if (req == NULL)
         return;
     if (toe != MHD_REQUEST_TERMINATED_COMPLETED_OK)
         log_debug("http", "request ended early (code %d)", (int)toe);
+    else
+        set_timeout(conn, srv->cfg.header_timeout_s); /* keep-alive: waits for headers */
     metrics_http_request(http_route_index(req->route), req->status,
                          (gpu_time_ms() - req->started_ms) * 1e-3);
     request_free(req);
@@ -116,7 +194,11 @@ static struct http_request *request_begin(struct http_server *srv, struct MHD_Co
     req->app = &srv->app;
     req->started_ms = gpu_time_ms();
     req->upload_fd = -1;
+    req->client_fd = -1;
     req->sse = srv->sse;
+    struct http_conn_state *cs = conn_state(conn);
+    static const struct http_client_key unknown = {.ip = "unknown"};
+    req->client = cs ? &cs->key : &unknown;
     bool path_known = false;
     req->route = http_route_find(method, url, req->params, &req->param_count, &path_known);
     if (req->route)
@@ -155,6 +237,12 @@ static void upload_append(struct http_request *req, const char *data, size_t siz
         }
         sha256_init(&req->upload_hash);
     }
+    if (store_upload_tmp_reserve(req->app->store, req->upload_reserved, size, &req->upload_err) !=
+        REFRACT_E_OK) {
+        upload_discard(req);
+        return;
+    }
+    req->upload_reserved += size;
     sha256_update(&req->upload_hash, data, size);
     while (size > 0) {
         ssize_t n = write(req->upload_fd, data, size);
@@ -233,6 +321,32 @@ static enum MHD_Result answer_too_large(struct http_request *req, unsigned long 
                               body_limit_flag(req->route->body));
 }
 
+/* A connection opened beyond --max-connections (503 busy) or --max-connections-per-ip
+ * (429): its request is answered with the limit, and the connection closed. Returns true
+ * when it answered (*answer holds the result). */
+static bool answer_over_limit(struct http_request *req, enum MHD_Result *answer)
+{
+    const struct http_conn_state *cs = conn_state(req->conn);
+    if (cs == NULL || (!cs->over_total && !cs->over_client))
+        return false;
+    const char *headers[] = {MHD_HTTP_HEADER_CONNECTION, "close", MHD_HTTP_HEADER_RETRY_AFTER, "1",
+                             NULL};
+    if (cs->over_total)
+        *answer = http_respond_error_with(
+            req, headers, REFRACT_E_BUSY,
+            "refractd holds %d connections, its limit (--max-connections %d); retry later, or "
+            "raise --max-connections",
+            cs->total - 1, req->cfg->max_connections);
+    else
+        *answer = http_respond_error_with(
+            req, headers, REFRACT_E_TOO_MANY_REQUESTS,
+            "this client (%s) holds %d connections, the limit for one client "
+            "(--max-connections-per-ip %d); reuse or close connections, or raise "
+            "--max-connections-per-ip (behind a proxy every client is the proxy)",
+            cs->key.ip, cs->client_connections - 1, req->cfg->max_connections_per_ip);
+    return true;
+}
+
 /* The Host allow-list (421) and the bearer token (401), before the route is answered
  * (access.c). Returns true when it answered (*answer holds the result). */
 static bool answer_access(struct http_request *req, const char *method, enum MHD_Result *answer)
@@ -293,6 +407,8 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
                                       "refractd is shutting down; retry %s %s once it is back",
                                       method, url);
         enum MHD_Result answer;
+        if (answer_over_limit(req, &answer))
+            return answer;
         if (answer_access(req, method, &answer))
             return answer;
         if (req->route == NULL)
@@ -327,6 +443,8 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
     }
     if (req->phase == HTTP_PHASE_RESUMED)
         return req->on_resume(req);
+    /* Headers and body are in: from now on the connection is being answered. */
+    set_timeout(req->conn, req->cfg->connection_timeout_s);
     if (req->body_too_large)
         return answer_too_large(req, 0);
     if (req->route->body == HTTP_BODY_UPLOAD) {
@@ -346,8 +464,39 @@ static void resume_on_done(struct gpu_work *w)
     MHD_resume_connection(req->conn);
 }
 
+/* The work item's `abandoned`: the client closed its connection (or reset it) while the
+ * request waited. A suspended connection's socket stays open and unread, so polling it
+ * from the GPU thread races with nothing. */
+static bool client_gone(struct gpu_work *w)
+{
+    const struct http_request *req = w->user;
+    if (req->client_fd < 0)
+        return false;
+    struct pollfd p = {.fd = req->client_fd, .events = POLLIN | POLLRDHUP};
+    if (poll(&p, 1, 0) <= 0)
+        return false;
+    return (p.revents & (POLLRDHUP | POLLHUP | POLLERR)) != 0;
+}
+
 enum MHD_Result http_suspend_for_gpu(struct http_request *req, http_handler_fn on_resume)
 {
+    struct http_server *srv = (struct http_server *)req->server;
+    int queued = 0;
+    if (!req->gpu_counted && !http_clients_queue(srv->clients, req->client,
+                                                 req->cfg->max_queued_per_client, &queued)) {
+        const char *headers[] = {MHD_HTTP_HEADER_RETRY_AFTER, "1", NULL};
+        return http_respond_error_with(
+            req, headers, REFRACT_E_TOO_MANY_REQUESTS,
+            "this client (%s) has %d renders and traces queued or running, the limit for one "
+            "client (--max-queued-per-client %d); wait for them to finish, or raise "
+            "--max-queued-per-client",
+            req->client->ip, queued, req->cfg->max_queued_per_client);
+    }
+    req->gpu_counted = true;
+    const union MHD_ConnectionInfo *fd_info =
+        MHD_get_connection_info(req->conn, MHD_CONNECTION_INFO_CONNECTION_FD);
+    req->client_fd = fd_info ? fd_info->connect_fd : -1;
+    req->work.abandoned = client_gone;
     req->on_resume = on_resume;
     req->work.priority = GPU_PRIORITY_INTERACTIVE;
     req->work.deadline_ms = gpu_now_ms() + req->cfg->request_timeout_ms;
@@ -392,6 +541,14 @@ static void apply_defaults(struct http_config *c)
         c->max_image_pixels = 4096LL * 4096;
     if (c->request_timeout_ms <= 0)
         c->request_timeout_ms = 120000;
+    if (c->max_connections <= 0)
+        c->max_connections = 2048;
+    if (c->header_timeout_s <= 0)
+        c->header_timeout_s = 10;
+    if (c->connection_timeout_s <= 0)
+        c->connection_timeout_s = 300;
+    if (c->render_tile_pixels <= 0)
+        c->render_tile_pixels = 65536;
     if (c->bind_address == NULL)
         c->bind_address = "127.0.0.1";
 }
@@ -430,6 +587,33 @@ static size_t unescape_keep_nul(void *cls, struct MHD_Connection *conn, char *s)
     return (size_t)(out - s);
 }
 
+/* Each connection is a descriptor: raises the soft RLIMIT_NOFILE to the hard limit, and
+ * lowers *max_connections (with a warning that says how to fix it) when even that leaves
+ * too few, keeping `reserve` descriptors for the data directory, uploads and the GPU. */
+static void fit_descriptor_limit(int *max_connections, int margin)
+{
+    const rlim_t reserve = 256;
+    struct rlimit rl;
+    if (getrlimit(RLIMIT_NOFILE, &rl) != 0)
+        return;
+    if (rl.rlim_cur < rl.rlim_max) {
+        rlim_t old = rl.rlim_cur;
+        rl.rlim_cur = rl.rlim_max;
+        if (setrlimit(RLIMIT_NOFILE, &rl) != 0)
+            rl.rlim_cur = old;
+    }
+    rlim_t want = (rlim_t)*max_connections + (rlim_t)margin + reserve;
+    if (rl.rlim_cur == RLIM_INFINITY || rl.rlim_cur >= want)
+        return;
+    int fit = rl.rlim_cur > reserve + (rlim_t)margin ? (int)(rl.rlim_cur - reserve - margin) : 1;
+    log_warn("http",
+             "--max-connections %d needs about %llu file descriptors but the limit is %llu; "
+             "serving at most %d connections. To fix this raise the limit (ulimit -n, or "
+             "LimitNOFILE= in the systemd unit) or lower --max-connections",
+             *max_connections, (unsigned long long)want, (unsigned long long)rl.rlim_cur, fit);
+    *max_connections = fit;
+}
+
 struct http_server *http_server_start(const struct http_config *cfg, const struct http_app *app,
                                       struct err *e)
 {
@@ -441,14 +625,25 @@ struct http_server *http_server_start(const struct http_config *cfg, const struc
     srv->cfg = *cfg;
     srv->app = *app;
     apply_defaults(&srv->cfg);
+    /* Connections past --max-connections are accepted up to this margin so that they can
+     * be told why (503 busy); past it libmicrohttpd closes them unanswered. */
+    int margin = srv->cfg.max_connections / 16 > 16 ? srv->cfg.max_connections / 16 : 16;
+    fit_descriptor_limit(&srv->cfg.max_connections, margin);
+    srv->clients = http_clients_create(e);
+    if (srv->clients == NULL) {
+        free(srv);
+        return NULL;
+    }
     srv->streams = http_stream_set_create(e);
     if (srv->streams == NULL) {
+        http_clients_destroy(srv->clients);
         free(srv);
         return NULL;
     }
     srv->sse = http_sse_create(app->events, e);
     if (srv->sse == NULL) {
         http_stream_set_destroy(srv->streams);
+        http_clients_destroy(srv->clients);
         free(srv);
         return NULL;
     }
@@ -458,6 +653,7 @@ struct http_server *http_server_start(const struct http_config *cfg, const struc
                 srv->cfg.bind_address);
         http_sse_destroy(srv->sse);
         http_stream_set_destroy(srv->streams);
+        http_clients_destroy(srv->clients);
         free(srv);
         return NULL;
     }
@@ -475,6 +671,7 @@ struct http_server *http_server_start(const struct http_config *cfg, const struc
                     "TLS-terminating proxy in front of refractd instead (--trusted-proxy)");
             http_sse_destroy(srv->sse);
             http_stream_set_destroy(srv->streams);
+            http_clients_destroy(srv->clients);
             free(srv);
             return NULL;
         }
@@ -487,9 +684,11 @@ struct http_server *http_server_start(const struct http_config *cfg, const struc
     srv->daemon = MHD_start_daemon(
         flags, 0, NULL, NULL, access_handler, srv, MHD_OPTION_EXTERNAL_LOGGER, mhd_log, srv,
         MHD_OPTION_SOCK_ADDR, &addr, MHD_OPTION_THREAD_POOL_SIZE, (unsigned)srv->cfg.threads,
-        MHD_OPTION_NOTIFY_COMPLETED, on_completed, srv, MHD_OPTION_CONNECTION_TIMEOUT,
-        (unsigned)300, MHD_OPTION_UNESCAPE_CALLBACK, unescape_keep_nul, NULL, MHD_OPTION_ARRAY,
-        tls, MHD_OPTION_END);
+        MHD_OPTION_NOTIFY_COMPLETED, on_completed, srv, MHD_OPTION_NOTIFY_CONNECTION,
+        on_connection, srv, MHD_OPTION_CONNECTION_TIMEOUT,
+        (unsigned)srv->cfg.connection_timeout_s, MHD_OPTION_CONNECTION_LIMIT,
+        (unsigned)(srv->cfg.max_connections + margin), MHD_OPTION_UNESCAPE_CALLBACK,
+        unescape_keep_nul, NULL, MHD_OPTION_ARRAY, tls, MHD_OPTION_END);
     if (srv->daemon == NULL) {
         if (use_tls)
             err_set(e, REFRACT_E_IO,
@@ -504,6 +703,7 @@ struct http_server *http_server_start(const struct http_config *cfg, const struc
                     srv->cfg.bind_address, cfg->port);
         http_sse_destroy(srv->sse);
         http_stream_set_destroy(srv->streams);
+        http_clients_destroy(srv->clients);
         free(srv);
         return NULL;
     }
@@ -552,5 +752,6 @@ void http_server_stop(struct http_server *s)
     MHD_stop_daemon(s->daemon);
     http_sse_destroy(s->sse); /* after the daemon: no handler opens a stream any more */
     http_stream_set_destroy(s->streams);
+    http_clients_destroy(s->clients); /* after the daemon: every connection closed */
     free(s);
 }

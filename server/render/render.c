@@ -369,28 +369,46 @@ enum refract_code render_view(struct render *r, const struct render_scene_source
 {
     memset(out, 0, sizeof *out);
     double t0 = gpu_time_ms();
-    struct scene_gpu *sg = cache_get(r, src, &out->scene, e);
-    if (sg == NULL)
-        return e->code;
     int w = req->camera.width, h = req->camera.height;
     size_t bytes = (size_t)w * (size_t)h * 4 * sizeof(float);
     out->rgba = malloc(bytes);
     if (out->rgba == NULL)
         return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for a %dx%d image", w, h);
-    struct march_params mp;
-    memset(&mp, 0, sizeof mp);
-    fill_objects(&mp, src->scene, sg);
-    fill_settings(&mp, src->scene, &req->settings);
-    fill_camera(&mp, &req->camera);
-    mp.surfaces.y =
-        (int)scene_surfaces_inside(src->scene, src->lookup, src->lookup_ctx, req->camera.eye);
-    struct gpu_buffer image;
-    enum refract_code rc = gpu_buffer_create("render image", bytes, NULL, &image, e);
+    enum refract_code rc = render_view_rows(r, src, req, 0, h, out, e);
     if (rc != REFRACT_E_OK) {
         free(out->rgba);
         out->rgba = NULL;
         return rc;
     }
+    out->total_ms = gpu_time_ms() - t0;
+    return REFRACT_E_OK;
+}
+
+enum refract_code render_view_rows(struct render *r, const struct render_scene_source *src,
+                                   const struct render_view_request *req, int row0, int rows,
+                                   struct render_view_result *out, struct err *e)
+{
+    int w = req->camera.width, h = req->camera.height;
+    if (row0 < 0 || rows <= 0 || row0 + rows > h || out->rgba == NULL)
+        return err_set(e, REFRACT_E_INTERNAL, "render_view_rows: rows %d..%d of a %d-row image",
+                       row0, row0 + rows, h);
+    struct scene_gpu *sg = cache_get(r, src, &out->scene, e);
+    if (sg == NULL)
+        return e->code;
+    size_t bytes = (size_t)w * (size_t)rows * 4 * sizeof(float);
+    struct march_params mp;
+    memset(&mp, 0, sizeof mp);
+    fill_objects(&mp, src->scene, sg);
+    fill_settings(&mp, src->scene, &req->settings);
+    fill_camera(&mp, &req->camera);
+    mp.image.z = row0;
+    mp.image.w = row0 + rows;
+    mp.surfaces.y =
+        (int)scene_surfaces_inside(src->scene, src->lookup, src->lookup_ctx, req->camera.eye);
+    struct gpu_buffer image;
+    enum refract_code rc = gpu_buffer_create("render image", bytes, NULL, &image, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
     struct march_lights ml;
     fill_lights(&ml, src->scene, req);
     unsigned variant = march_variant(r, sg, &req->settings);
@@ -399,8 +417,6 @@ enum refract_code render_view(struct render *r, const struct render_scene_source
     GLuint prog = gpu_program_get_e(gpu_programs_get(r->gpu), GPU_KERNEL_RENDER_VIEW, variant, e);
     if (prog == 0) {
         gpu_buffer_destroy(&image);
-        free(out->rgba);
-        out->rgba = NULL;
         return e->code;
     }
     bind_scene(r, sg, &mp);
@@ -408,21 +424,17 @@ enum refract_code render_view(struct render *r, const struct render_scene_source
     glUseProgram(prog);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_IMAGE_OUT, image.buf);
     double t_dispatch = gpu_time_ms();
-    glDispatchCompute(gpu_groups(w, RENDER_LOCAL_X), gpu_groups(h, RENDER_LOCAL_Y), 1);
+    glDispatchCompute(gpu_groups(w, RENDER_LOCAL_X), gpu_groups(rows, RENDER_LOCAL_Y), 1);
     glFinish();
-    out->gpu_ms = gpu_time_ms() - t_dispatch;
+    out->gpu_ms += gpu_time_ms() - t_dispatch;
     rc = gpu_check("rendering", e);
     if (rc == REFRACT_E_OK)
-        rc = gpu_buffer_read(&image, out->rgba, bytes, e);
+        rc = gpu_buffer_read(&image, out->rgba + (size_t)row0 * (size_t)w * 4, bytes, e);
     gpu_buffer_destroy(&image);
-    if (rc != REFRACT_E_OK) {
-        free(out->rgba);
-        out->rgba = NULL;
+    if (rc != REFRACT_E_OK)
         return rc;
-    }
     out->width = w;
     out->height = h;
-    out->total_ms = gpu_time_ms() - t0;
     return REFRACT_E_OK;
 }
 

@@ -136,6 +136,17 @@ enum refract_code render_view(struct render *r, const struct render_scene_source
                               const struct render_view_request *req, struct render_view_result *out,
                               struct err *e);
 
+/* One tile of a view: renders rows [row0, row0 + rows) of req's image into out->rgba, which
+ * the caller allocated for the whole image (width * height * 4 floats) and owns. The rows
+ * are bit for bit those render_view would make, so a render split into tiles run as
+ * separate GPU work items, with other work between them, equals one made at once
+ * (server/http/h_render.c tiles large renders this way). Adds the dispatch time to
+ * out->gpu_ms; sets out->width, out->height and out->scene (this call's build status);
+ * leaves total_ms alone. */
+enum refract_code render_view_rows(struct render *r, const struct render_scene_source *src,
+                                   const struct render_view_request *req, int row0, int rows,
+                                   struct render_view_result *out, struct err *e);
+
 /* render_trace, also recording each ray's surface events: events has
  * count * RENDER_TRACE_MAX_EVENTS entries (ray i's at i * RENDER_TRACE_MAX_EVENTS), or is
  * NULL (none recorded). */

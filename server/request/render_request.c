@@ -131,3 +131,27 @@ enum refract_code render_request_version(struct render *r, struct irradiance_cac
     }
     return rc;
 }
+
+enum refract_code render_request_version_rows(struct render *r, struct irradiance_cache *c,
+                                              struct store *store, struct store_scene *v,
+                                              struct render_view_request *req,
+                                              struct render_light *lights, int row0, int rows,
+                                              struct render_view_result *out,
+                                              const char **irradiance, struct err *e)
+{
+    struct render_scene_source src = render_request_scene_source(v);
+    struct irradiance_source isrc;
+    render_request_irradiance_source(v, &isrc);
+    int count = 0;
+    /* Gathered again for every tile: the volumes are borrowed only until the next cache
+     * call on the GPU thread, and other work runs between tiles. The caller compares the
+     * lights' volumes with the first tile's (a volume read back from disk meanwhile can
+     * replace a stale one) and starts again when they differ. */
+    *irradiance = irradiance_cache_gather(c, &isrc, lights, &count);
+    req->lights = lights;
+    req->light_count = count;
+    enum refract_code rc = render_view_rows(r, &src, req, row0, rows, out, e);
+    if (rc == REFRACT_E_OK)
+        note_build(store, v, &out->scene);
+    return rc;
+}

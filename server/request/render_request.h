@@ -34,4 +34,13 @@ enum refract_code render_request_version(struct render *r, struct irradiance_cac
                                       struct render_view_result *out, const char **irradiance,
                                       struct err *e);
 
+/* GPU thread: one tile of render_request_version, rows [row0, row0 + rows) of the image
+ * into out->rgba, which the caller allocated for the whole image (render_view_rows). */
+enum refract_code render_request_version_rows(struct render *r, struct irradiance_cache *c,
+                                              struct store *store, struct store_scene *v,
+                                              struct render_view_request *req,
+                                              struct render_light *lights, int row0, int rows,
+                                              struct render_view_result *out,
+                                              const char **irradiance, struct err *e);
+
 #endif

@@ -188,6 +188,16 @@ enum refract_code store_env_put_file(struct store *s, const char *id, const char
  * behind): returns an fd open for writing and its path, or -1 with e filled (STORAGE).
  * For request bodies streamed to disk (server/http/server.c). */
 int store_upload_tmp_create(struct store *s, char *path_out, size_t size, struct err *e);
+/* Any thread: reserves `bytes` more of an upload being received (its temporary file grows
+ * by that much; it holds `held` bytes already) against --max-storage-bytes: while other
+ * uploads are in progress, the stored blobs and every upload in progress must fit under
+ * the limit; an upload arriving alone is checked only at its commit (store_tmp.c says
+ * why). REFRACT_E_STORAGE (naming the flag, the use and the limit) when it does not fit;
+ * nothing is reserved then. Give the bytes back with store_upload_tmp_release when the
+ * file is removed or handed to the store. */
+enum refract_code store_upload_tmp_reserve(struct store *s, size_t held, size_t bytes,
+                                           struct err *e);
+void store_upload_tmp_release(struct store *s, size_t bytes);
 
 /* The data directory's use and limit. */
 void store_usage_get(struct store *s, struct store_usage *out);

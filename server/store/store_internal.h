@@ -37,6 +37,10 @@ struct store {
     sqlite3 *db;
     unsigned long long blob_bytes; /* sum of the sizes of the files under <data>/blobs */
     unsigned long long blob_count;
+    /* Bytes of uploads being received under <data>/tmp (store_tmp.c): they count against
+     * --max-storage-bytes while they arrive, so a client cannot fill the disk with
+     * uploads it never finishes. */
+    unsigned long long tmp_bytes;
 };
 
 /* One row of the uploads table. */

@@ -1,7 +1,9 @@
 /*
  * test_gpu_queue.c - the GPU thread: the context comes up on EGL's device platform with
  * GL 4.5 core, every embedded compute program compiles, and the queue keeps its promises
- * (priority order, FIFO within a priority, deadlines, shutdown completes pending items).
+ * (priority order, FIFO within a priority, deadlines, shutdown completes pending items,
+ * an item that asks for more turns goes to the back of its line each time, an abandoned
+ * item is not run).
  */
 #include <stdatomic.h>
 #include <stdbool.h>
@@ -136,6 +138,65 @@ static void expired_item_is_not_run_and_reports_timeout(struct gpu *g)
     CHECK_CONTAINS(o.w.err.msg, "deadline");
 }
 
+/* An item that needs three turns (a render of three tiles). */
+static void turns_run(struct gpu_work *w, struct gpu *g)
+{
+    struct order_work *o = (struct order_work *)w;
+    order_run(w, g);
+    o->tag += 10; /* turn 1 logs 5, turn 2 logs 15, turn 3 logs 25 */
+    w->again = o->tag < 30;
+}
+
+static bool always_abandoned(struct gpu_work *w)
+{
+    (void)w;
+    return true;
+}
+
+static atomic_int abandoned_code;
+static void abandoned_done(struct gpu_work *w)
+{
+    atomic_store(&abandoned_code, (int)w->err.code);
+}
+
+static void turns_take_their_place_in_line_and_abandoned_items_are_dropped(struct gpu *g)
+{
+    int log[8] = {0};
+    atomic_int count = 0;
+    atomic_store(&abandoned_code, -1);
+    struct gpu_work blocker = {.priority = GPU_PRIORITY_INTERACTIVE, .run = blocker_run};
+    struct err e;
+    CHECK_INT(gpu_submit(g, &blocker, &e), REFRACT_E_OK);
+    usleep(20 * 1000);
+    struct order_work items[4] = {
+        {.w = {.priority = GPU_PRIORITY_INTERACTIVE, .run = turns_run}, .tag = 5},
+        {.w = {.priority = GPU_PRIORITY_INTERACTIVE, .run = order_run}, .tag = 1},
+        {.w = {.priority = GPU_PRIORITY_INTERACTIVE, .run = order_run}, .tag = 2},
+        {.w = {.priority = GPU_PRIORITY_INTERACTIVE,
+               .label = "gone item",
+               .run = order_run,
+               .abandoned = always_abandoned,
+               .done = abandoned_done},
+         .tag = 3},
+    };
+    for (int i = 0; i < 4; i++) {
+        items[i].log = log;
+        items[i].count = &count;
+        CHECK_INT(gpu_submit(g, &items[i].w, &e), REFRACT_E_OK);
+    }
+    struct gpu_work last = {.priority = GPU_PRIORITY_MAINTENANCE, .run = blocker_run};
+    CHECK_INT(gpu_run_sync(g, &last), REFRACT_E_OK);
+    /* the long item's turns alternate with the items queued behind it */
+    CHECK_INT(atomic_load(&count), 5);
+    CHECK_INT(log[0], 5);
+    CHECK_INT(log[1], 1);
+    CHECK_INT(log[2], 2);
+    CHECK_INT(log[3], 15);
+    CHECK_INT(log[4], 25);
+    CHECK_INT(atomic_load(&abandoned_code), REFRACT_E_TIMEOUT);
+    CHECK_CONTAINS(items[3].w.err.msg, "closed the connection");
+}
+
 static atomic_int shutdown_codes[3];
 static void record_done(struct gpu_work *w)
 {
@@ -189,6 +250,7 @@ int main(void)
     all_programs_compiled(g);
     interactive_runs_before_batch_and_fifo_within_priority(g);
     expired_item_is_not_run_and_reports_timeout(g);
+    turns_take_their_place_in_line_and_abandoned_items_are_dropped(g);
     gpu_destroy(g, NULL);
     shutdown_completes_pending_items();
     return test_summary("test_gpu_queue");
