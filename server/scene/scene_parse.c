@@ -360,9 +360,9 @@ static enum refract_code parse_object(const cJSON *obj, const char *path, int in
                                       struct err *e)
 {
     static const char *const keys[] = {
-        "name",     "bounds", "resolution", "transform",  "smoothing_sigma", "ior",  "attenuation",
-        "emission", "opaque", "opaque_ior", "scattering", "anisotropy",      "brdf",
-        "particles", NULL};
+        "name",       "bounds",      "resolution", "transform", "smoothing_sigma",
+        "ior",        "attenuation", "emission",   "opaque",    "opaque_ior",
+        "scattering", "anisotropy",  "brdf",       "particles", NULL};
     char def_name[32];
     snprintf(def_name, sizeof def_name, "object%d", index);
     enum refract_code rc = jr_check_object(obj, path, keys, e);

@@ -46,12 +46,11 @@ static enum refract_code parse_index(const cJSON *item, const char *path, double
                        "%s",
                        path, jr_describe(item, got, sizeof got));
     char p[256];
-    enum refract_code rc = jr_check_number(cJSON_GetArrayItem(item, 0),
-                                           jr_path_index(p, sizeof p, path, 0), 1.0, false, 5.0,
-                                           &n, e);
+    enum refract_code rc = jr_check_number(
+        cJSON_GetArrayItem(item, 0), jr_path_index(p, sizeof p, path, 0), 1.0, false, 5.0, &n, e);
     if (rc == REFRACT_E_OK)
-        rc = jr_check_number(cJSON_GetArrayItem(item, 1), jr_path_index(p, sizeof p, path, 1),
-                             0.0, false, 10.0, &k, e);
+        rc = jr_check_number(cJSON_GetArrayItem(item, 1), jr_path_index(p, sizeof p, path, 1), 0.0,
+                             false, 10.0, &k, e);
     *out = n + I * k;
     return rc;
 }
@@ -74,7 +73,10 @@ static enum refract_code exactly_one(const cJSON *o, const char *path, const cha
         char list[200] = "";
         for (int i = 0; i < count; i++)
             snprintf(list + strlen(list), sizeof list - strlen(list), "%s\"%s\"",
-                     i == 0 ? "" : i == count - 1 ? " or " : ", ", names[i]);
+                     i == 0           ? ""
+                     : i == count - 1 ? " or "
+                                      : ", ",
+                     names[i]);
         return err_set(e, REFRACT_E_MISSING_FIELD, "%s: needs one of %s", path, list);
     }
     return REFRACT_E_OK;
@@ -106,8 +108,8 @@ static enum refract_code parse_distribution(const cJSON *o, const char *path, bo
     d->kind = MIE_DIST_LOGNORMAL;
     rc = jr_number_gt(o, path, "r_vs_um", true, 0.0, r_min, r_max, &r_vs, e);
     if (rc == REFRACT_E_OK && r_vs >= r_max)
-        rc = err_set(e, REFRACT_E_INVALID_FIELD, "%s.r_vs_um: must be below r_max_um (%g)",
-                     path, r_max);
+        rc = err_set(e, REFRACT_E_INVALID_FIELD, "%s.r_vs_um: must be below r_max_um (%g)", path,
+                     r_max);
     if (rc == REFRACT_E_OK)
         rc = jr_number_gt(o, path, "c_s_um", true, 0.0, 0.0, MAX_RADIUS_UM, &d->c_s, e);
     d->r_vs = r_vs * 1e-6;
@@ -117,9 +119,8 @@ static enum refract_code parse_distribution(const cJSON *o, const char *path, bo
 static enum refract_code parse_population(const cJSON *o, const char *path,
                                           struct mie_population *p, struct err *e)
 {
-    static const char *const keys[] = {"ior",       "volume_fraction", "number_density",
-                                       "radius_um", "lognormal",       "power_law",
-                                       NULL};
+    static const char *const keys[] = {
+        "ior", "volume_fraction", "number_density", "radius_um", "lognormal", "power_law", NULL};
     static const char *const amounts[] = {"volume_fraction", "number_density"};
     static const char *const sizes[] = {"radius_um", "lognormal", "power_law"};
     enum refract_code rc = jr_check_object(o, path, keys, e);
@@ -182,12 +183,13 @@ static enum refract_code parse_explicit(const cJSON *o, const char *path, struct
     jr_path(p, sizeof p, path, "populations");
     if (pops == NULL)
         return err_set(e, REFRACT_E_MISSING_FIELD,
-                       "%s: missing required field \"populations\" (or give a \"preset\")",
-                       path);
+                       "%s: missing required field \"populations\" (or give a \"preset\")", path);
     int n = cJSON_IsArray(pops) ? cJSON_GetArraySize(pops) : -1;
     if (n < 1 || n > MIE_MAX_POPULATIONS)
-        return err_set(e, REFRACT_E_INVALID_FIELD, "%s: expected an array of 1..%d populations, "
-                       "got %s", p, MIE_MAX_POPULATIONS, jr_describe(pops, got, sizeof got));
+        return err_set(e, REFRACT_E_INVALID_FIELD,
+                       "%s: expected an array of 1..%d populations, "
+                       "got %s",
+                       p, MIE_MAX_POPULATIONS, jr_describe(pops, got, sizeof got));
     int i = 0;
     for (const cJSON *it = pops->child; it != NULL; it = it->next, i++) {
         char pi[256];
@@ -204,11 +206,12 @@ static enum refract_code parse_medium(const cJSON *o, const char *path, struct m
                                       struct err *e)
 {
     static const char *const presets[] = {"milk", "water", NULL};
-    static const char *const milk_keys[] = {"preset", "fat_percent", "protein_percent",
-                                            "units_per_meter", "region", NULL};
+    static const char *const milk_keys[] = {
+        "preset", "fat_percent", "protein_percent", "riboflavin_mg_per_100g", "units_per_meter",
+        "region", NULL};
     static const char *const water_keys[] = {"preset", "units_per_meter", "region", NULL};
-    static const char *const explicit_keys[] = {"host", "populations", "units_per_meter",
-                                                "region", NULL};
+    static const char *const explicit_keys[] = {"host", "populations", "units_per_meter", "region",
+                                                NULL};
     if (member(o, "preset") == NULL) {
         enum refract_code rc = jr_check_object(o, path, explicit_keys, e);
         return rc == REFRACT_E_OK ? parse_explicit(o, path, m, e) : rc;
@@ -223,11 +226,14 @@ static enum refract_code parse_medium(const cJSON *o, const char *path, struct m
         mie_preset_water(m);
         return REFRACT_E_OK;
     }
-    double fat, protein;
+    double fat, protein, riboflavin;
     rc = jr_number(o, path, "fat_percent", true, 0.0, 0.0, 40.0, &fat, e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(o, path, "protein_percent", false, 3.4, 0.0, 15.0, &protein, e);
-    if (rc == REFRACT_E_OK && !mie_preset_milk(fat, protein, m))
+    if (rc == REFRACT_E_OK)
+        rc = jr_number(o, path, "riboflavin_mg_per_100g", false, MIE_MILK_RIBOFLAVIN, 0.0, 10.0,
+                       &riboflavin, e);
+    if (rc == REFRACT_E_OK && !mie_preset_milk_riboflavin(fat, protein, riboflavin, m))
         rc = err_set(e, REFRACT_E_INTERNAL, "%s: the milk preset refused fat %g%%, protein %g%%",
                      path, fat, protein);
     return rc;
@@ -254,8 +260,8 @@ static enum refract_code set_field(const cJSON *region, const char *path,
 }
 
 enum refract_code scene_parse_particles(const cJSON *obj, const char *path,
-                                        const struct scene_parse_ctx *ctx,
-                                        struct scene_object *o, struct err *e)
+                                        const struct scene_parse_ctx *ctx, struct scene_object *o,
+                                        struct err *e)
 {
     static const char *const owned[] = {"attenuation", "scattering", "anisotropy"};
     const cJSON *item = member(obj, "particles");

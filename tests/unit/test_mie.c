@@ -28,8 +28,8 @@ static double worst_relative;
 
 static void check_published(double got, double published, const char *what, int wcase)
 {
-    CHECK_MSG(fabs(got - published) <= 1e-6, "MIEV0 case %d %s = %.9f, published %.6f", wcase,
-              what, got, published);
+    CHECK_MSG(fabs(got - published) <= 1e-6, "MIEV0 case %d %s = %.9f, published %.6f", wcase, what,
+              got, published);
     if (fabs(published) > 1e-3)
         worst_relative = fmax(worst_relative, fabs(got - published) / fabs(published));
 }
@@ -74,10 +74,9 @@ static void test_wiscombe_cases(void)
 /* MIEV0's angular case: x = 1, m = 1.5 - i (here 1.5 + i), theta = 0, 30, ..., 180. */
 static void test_wiscombe_amplitudes(void)
 {
-    static const double s1[7][2] = {{0.584080, 0.190515}, {0.565702, 0.187200},
-                                    {0.517525, 0.178443}, {0.456340, 0.167167},
-                                    {0.400212, 0.156643}, {0.362157, 0.149391},
-                                    {0.348844, 0.146829}};
+    static const double s1[7][2] = {
+        {0.584080, 0.190515}, {0.565702, 0.187200}, {0.517525, 0.178443}, {0.456340, 0.167167},
+        {0.400212, 0.156643}, {0.362157, 0.149391}, {0.348844, 0.146829}};
     static const double s2[7][2] = {{0.584080, 0.190515},   {0.500161, 0.145611},
                                     {0.287964, 0.041054},   {0.0362285, -0.0618265},
                                     {-0.174875, -0.122959}, {-0.305682, -0.143846},
@@ -103,9 +102,9 @@ static void test_wiscombe_amplitudes(void)
 static void test_bohren_huffman(void)
 {
     static const double s11[21] = {
-        1.0,        0.785390,   0.356897,   0.0766119,  0.0355355,  0.0701845,  0.0574313,
-        0.0219660,  0.0125959,  0.0173750,  0.0124601,  0.00679093, 0.00954239, 0.00863419,
-        0.00227421, 0.00543998, 0.0160243,  0.0188852,  0.0195254,  0.0301676,  0.0383189};
+        1.0,        0.785390,   0.356897,  0.0766119, 0.0355355,  0.0701845,  0.0574313,
+        0.0219660,  0.0125959,  0.0173750, 0.0124601, 0.00679093, 0.00954239, 0.00863419,
+        0.00227421, 0.00543998, 0.0160243, 0.0188852, 0.0195254,  0.0301676,  0.0383189};
     double x = 2.0 * M_PI * 0.525 / 0.6328;
     struct mie_sphere_result r;
     CHECK(mie_efficiencies(x, 1.55, &r));
@@ -132,10 +131,10 @@ static void test_rayleigh_limit(void)
         struct mie_sphere_result r;
         CHECK(mie_efficiencies(x, m, &r));
         double qsca = 8.0 / 3.0 * pow(x, 4) * creal(alpha * conj(alpha));
-        CHECK_MSG(fabs(r.q_sca / qsca - 1.0) < 10.0 * x * x, "x = %g Qsca %.9g vs %.9g", x,
-                  r.q_sca, qsca);
-        CHECK_MSG(fabs(r.q_abs / (4.0 * x * cimag(alpha)) - 1.0) < 10.0 * x * x,
-                  "x = %g Qabs %.9g", x, r.q_abs);
+        CHECK_MSG(fabs(r.q_sca / qsca - 1.0) < 10.0 * x * x, "x = %g Qsca %.9g vs %.9g", x, r.q_sca,
+                  qsca);
+        CHECK_MSG(fabs(r.q_abs / (4.0 * x * cimag(alpha)) - 1.0) < 10.0 * x * x, "x = %g Qabs %.9g",
+                  x, r.q_abs);
         CHECK_MSG(fabs(r.g) < 2.0 * x * x, "x = %g g = %g", x, r.g);
     }
     /* Qsca ~ x^4: halving x divides Qsca by 16. */
@@ -154,7 +153,8 @@ static void test_large_spheres(void)
         CHECK(mie_efficiencies(1e4, m[i], &r));
         CHECK_MSG(fabs(r.q_ext - 2.0) < 0.01, "x = 1e4, m = %g%+gi: Qext %.6f", creal(m[i]),
                   cimag(m[i]), r.q_ext);
-        CHECK_MSG(r.q_sca > 0.0 && r.q_sca <= r.q_ext * (1.0 + 1e-9), "Qsca %.15g Qext %.15g", r.q_sca, r.q_ext);
+        CHECK_MSG(r.q_sca > 0.0 && r.q_sca <= r.q_ext * (1.0 + 1e-9), "Qsca %.15g Qext %.15g",
+                  r.q_sca, r.q_ext);
     }
 }
 
@@ -165,8 +165,8 @@ static void test_energy(void)
     for (double x = 0.3; x < 300.0; x *= 3.7) {
         struct mie_sphere_result r;
         CHECK(mie_sphere(x / (2.0 * M_PI), 1.0, 1.33, 1.5, &r));
-        CHECK_MSG(fabs(r.q_ext - r.q_sca) < 1e-10 * r.q_ext, "x = %g: Qext %.15g Qsca %.15g",
-                  x, r.q_ext, r.q_sca);
+        CHECK_MSG(fabs(r.q_ext - r.q_sca) < 1e-10 * r.q_ext, "x = %g: Qext %.15g Qsca %.15g", x,
+                  r.q_ext, r.q_sca);
         CHECK(mie_sphere(x / (2.0 * M_PI), 1.0, 1.33, 1.5 + 0.01 * I, &r));
         CHECK_NEAR(r.q_ext, r.q_sca + r.q_abs, 1e-12);
         CHECK(r.q_abs > 0.0);
@@ -223,7 +223,7 @@ static void test_refusals(void)
     struct mie_sphere_result r;
     CHECK(!mie_efficiencies(0.0, 1.5, &r));
     CHECK(!mie_efficiencies(2e5, 1.5, &r));
-    CHECK(!mie_efficiencies(1.0, 1.5 - 0.1 * I, &r)); /* a gain medium */
+    CHECK(!mie_efficiencies(1.0, 1.5 - 0.1 * I, &r));        /* a gain medium */
     CHECK(!mie_sphere(1.0, 1.0, 1.33 + 100.0 * I, 1.5, &r)); /* e^(2 Im z) overflows */
 }
 
@@ -238,7 +238,6 @@ int main(void)
     test_phase_normalisation();
     test_absorbing_host();
     test_refusals();
-    printf("largest relative difference from Wiscombe's printed values: %.2e\n",
-           worst_relative);
+    printf("largest relative difference from Wiscombe's printed values: %.2e\n", worst_relative);
     return test_summary("mie");
 }

@@ -56,12 +56,16 @@ static void test_monodisperse_is_n_times_c(void)
 static void test_distributions(void)
 {
     double r[300], n[300];
-    struct mie_distribution pl = {.kind = MIE_DIST_POWER_LAW, .r_min = 1e-7, .r_max = 1e-5,
-                                  .bins = 100, .exponent = 4.0};
+    struct mie_distribution pl = {
+        .kind = MIE_DIST_POWER_LAW, .r_min = 1e-7, .r_max = 1e-5, .bins = 100, .exponent = 4.0};
     CHECK_INT(mie_distribution_bins(&pl, r, n, 300), 100);
     CHECK_NEAR(n[10] / n[50], pow(r[10] / r[50], -4.0), 1e-12 * n[10] / n[50]);
-    struct mie_distribution ln = {.kind = MIE_DIST_LOGNORMAL, .r_min = 0.005e-6, .r_max = 10e-6,
-                                  .bins = 200, .r_vs = 0.475e-6, .c_s = 0.285};
+    struct mie_distribution ln = {.kind = MIE_DIST_LOGNORMAL,
+                                  .r_min = 0.005e-6,
+                                  .r_max = 10e-6,
+                                  .bins = 200,
+                                  .r_vs = 0.475e-6,
+                                  .c_s = 0.285};
     CHECK_INT(mie_distribution_bins(&ln, r, n, 300), 200);
     int peak = 0;
     for (int i = 1; i < 200; i++) {
@@ -98,8 +102,8 @@ static void test_spectral_rgb(void)
     double flat[MIE_SPECTRUM_SAMPLES], red[MIE_SPECTRUM_SAMPLES], blue[MIE_SPECTRUM_SAMPLES];
     for (int i = 0; i < MIE_SPECTRUM_SAMPLES; i++) {
         flat[i] = 2.5;
-        red[i] = i >= 10 ? 1.0 : 0.0;  /* 625 nm and up */
-        blue[i] = i <= 4 ? 1.0 : 0.0;  /* 475 nm and down */
+        red[i] = i >= 10 ? 1.0 : 0.0; /* 625 nm and up */
+        blue[i] = i <= 4 ? 1.0 : 0.0; /* 475 nm and down */
     }
     double c[3];
     mie_spectral_rgb(flat, c);
@@ -129,8 +133,8 @@ static void test_milk(void)
     struct mie_rgb skim = rgb_of(&m, &s);
     CHECK(mie_preset_milk(3.5, 3.4, &m));
     struct mie_rgb whole = rgb_of(&m, &s);
-    CHECK_MSG(skim.sigma_s[2] > 1.5 * skim.sigma_s[0], "skim sigma_s %g %g %g",
-              skim.sigma_s[0], skim.sigma_s[1], skim.sigma_s[2]);
+    CHECK_MSG(skim.sigma_s[2] > 1.5 * skim.sigma_s[0], "skim sigma_s %g %g %g", skim.sigma_s[0],
+              skim.sigma_s[1], skim.sigma_s[2]);
     CHECK_MSG(skim.g_scene < 0.5 && whole.g_scene > 0.85, "g skim %g whole %g", skim.g_scene,
               whole.g_scene);
     CHECK(whole.sigma_s[1] > 5.0 * skim.sigma_s[1]);
@@ -138,12 +142,22 @@ static void test_milk(void)
     for (int k = 0; k < 3; k++)
         CHECK(whole.sigma_s[k] / (whole.sigma_s[k] + whole.sigma_a[k]) > 0.999);
     CHECK(whole.sigma_a[2] > whole.sigma_a[0]); /* riboflavin absorbs blue */
+    /* Riboflavin is the blue absorber: without it the host absorbs like water, red most. */
+    CHECK(mie_preset_milk_riboflavin(3.5, 3.4, 0.0, &m));
+    struct mie_rgb plain = rgb_of(&m, &s);
+    double ribo_b = whole.sigma_a[2] - plain.sigma_a[2],
+           ribo_r = whole.sigma_a[0] - plain.sigma_a[0];
+    CHECK_MSG(ribo_b > 5.0 && ribo_b > 5.0 * ribo_r, "riboflavin adds %g (B), %g (R) per m", ribo_b,
+              ribo_r);
+    /* Scattering changes only through the host's absorption factor (below 1e-5 here). */
+    CHECK_NEAR(plain.sigma_s[1], whole.sigma_s[1], 1e-5 * whole.sigma_s[1]);
+    CHECK(!mie_preset_milk_riboflavin(3.5, 3.4, -1.0, &m));
     CHECK(!mie_preset_milk(-1.0, 3.4, &m));
     CHECK(!mie_preset_milk(3.5, 20.0, &m));
     printf("whole milk (3.5%% fat, 3.4%% protein): sigma_s %.4g %.4g %.4g /m, sigma_a %.4g %.4g "
            "%.4g /m, g %.4f\n",
-           whole.sigma_s[0], whole.sigma_s[1], whole.sigma_s[2], whole.sigma_a[0],
-           whole.sigma_a[1], whole.sigma_a[2], whole.g_scene);
+           whole.sigma_s[0], whole.sigma_s[1], whole.sigma_s[2], whole.sigma_a[0], whole.sigma_a[1],
+           whole.sigma_a[2], whole.g_scene);
 }
 
 int main(void)

@@ -69,16 +69,26 @@ static void test_milk_region(void)
  * scattering. */
 static void test_explicit_and_water(void)
 {
-    struct scene *s = parse_ok(OBJ(
-        "\"resolution\": 4, \"particles\": {\"host\": 1.33, \"populations\": [{\"ior\": [1.5, "
-        "0.001], \"volume_fraction\": 1e-4, \"radius_um\": 0.5}, {\"ior\": 1.6, "
-        "\"number_density\": 1e12, \"lognormal\": {\"r_vs_um\": 1, \"c_s_um\": 0.3, "
-        "\"r_min_um\": 0.1, \"r_max_um\": 4}}]}"));
+    struct scene *s = parse_ok(
+        OBJ("\"resolution\": 4, \"particles\": {\"host\": 1.33, \"populations\": [{\"ior\": [1.5, "
+            "0.001], \"volume_fraction\": 1e-4, \"radius_um\": 0.5}, {\"ior\": 1.6, "
+            "\"number_density\": 1e12, \"lognormal\": {\"r_vs_um\": 1, \"c_s_um\": 0.3, "
+            "\"r_min_um\": 0.1, \"r_max_um\": 4}}]}"));
     if (s != NULL) {
         float *sc = eval(s, SCENE_CH_SCATTERING, NULL, NULL);
         const struct scene_object *o = &s->objects[0];
         CHECK(sc[0] > 0.0f);
         CHECK_NEAR(sc[4 * voxel_index(o, 3, 2, 1)], sc[0], 0.0);
+        free(sc);
+        scene_destroy(s);
+    }
+    /* docs/media.md's turbid water: a power law of mineral particles. */
+    s = parse_ok(OBJ("\"resolution\": 4, \"particles\": {\"host\": \"water\", \"populations\": "
+                     "[{\"ior\": [1.58, 0.001], \"volume_fraction\": 2e-6, \"power_law\": "
+                     "{\"exponent\": 4, \"r_min_um\": 0.1, \"r_max_um\": 20}}]}"));
+    if (s != NULL) {
+        float *sc = eval(s, SCENE_CH_SCATTERING, NULL, NULL);
+        CHECK_MSG(sc[0] > 0.01f && sc[0] < 100.0f, "turbid water sigma_s %g per m", sc[0]);
         free(sc);
         scene_destroy(s);
     }
@@ -105,12 +115,14 @@ static void test_bad_input(void)
          "objects[0].scattering"},
         {OBJ("\"particles\": {\"preset\": \"beer\"}"), REFRACT_E_INVALID_FIELD,
          "objects[0].particles.preset", "milk"},
-        {OBJ("\"particles\": {\"preset\": \"milk\", \"fat_percent\": 50}"),
-         REFRACT_E_INVALID_FIELD, "objects[0].particles.fat_percent", NULL},
+        {OBJ("\"particles\": {\"preset\": \"milk\", \"fat_percent\": 50}"), REFRACT_E_INVALID_FIELD,
+         "objects[0].particles.fat_percent", NULL},
+        {OBJ("\"particles\": {" MILK ", \"riboflavin_mg_per_100g\": -0.1}"),
+         REFRACT_E_INVALID_FIELD, "objects[0].particles.riboflavin_mg_per_100g", NULL},
         {OBJ("\"particles\": {\"preset\": \"milk\"}"), REFRACT_E_MISSING_FIELD,
          "objects[0].particles: missing required field \"fat_percent\"", NULL},
-        {OBJ("\"particles\": {\"preset\": \"water\", \"fat_percent\": 1}"),
-         REFRACT_E_UNKNOWN_FIELD, "objects[0].particles: unknown field \"fat_percent\"", NULL},
+        {OBJ("\"particles\": {\"preset\": \"water\", \"fat_percent\": 1}"), REFRACT_E_UNKNOWN_FIELD,
+         "objects[0].particles: unknown field \"fat_percent\"", NULL},
         {OBJ("\"particles\": {\"preset\": \"milk\", \"fat_percent\": 1, \"populations\": []}"),
          REFRACT_E_UNKNOWN_FIELD, "objects[0].particles: unknown field \"populations\"", NULL},
         {OBJ("\"particles\": {\"host\": 1.33}"), REFRACT_E_MISSING_FIELD,
@@ -119,8 +131,10 @@ static void test_bad_input(void)
          "objects[0].particles.host", "\"water\""},
         {OBJ("\"particles\": {\"populations\": [{\"ior\": 1.5, \"volume_fraction\": 0.1, "
              "\"radius_um\": 1, \"lognormal\": {}}]}"),
-         REFRACT_E_INVALID_FIELD, "objects[0].particles.populations[0]: has both \"radius_um\" "
-                                  "and \"lognormal\"", NULL},
+         REFRACT_E_INVALID_FIELD,
+         "objects[0].particles.populations[0]: has both \"radius_um\" "
+         "and \"lognormal\"",
+         NULL},
         {OBJ("\"particles\": {\"populations\": [{\"ior\": 1.5, \"radius_um\": 1}]}"),
          REFRACT_E_MISSING_FIELD, "objects[0].particles.populations[0]: needs one of",
          "\"volume_fraction\" or \"number_density\""},
@@ -131,17 +145,18 @@ static void test_bad_input(void)
              "\"lognormal\": {\"r_vs_um\": 5, \"c_s_um\": 1, \"r_min_um\": 0.1, \"r_max_um\": "
              "2}}]}"),
          REFRACT_E_INVALID_FIELD, "objects[0].particles.populations[0].lognormal.r_vs_um", NULL},
-        {OBJ("\"particles\": {\"preset\": \"milk\", \"fat_percent\": 40}"),
-         REFRACT_E_INVALID_FIELD, "objects[0].particles: gives", "units_per_meter"},
+        {OBJ("\"particles\": {\"preset\": \"milk\", \"fat_percent\": 40}"), REFRACT_E_INVALID_FIELD,
+         "objects[0].particles: gives", "units_per_meter"},
         {OBJ("\"particles\": {" MILK ", \"units_per_meter\": 0}"), REFRACT_E_INVALID_FIELD,
          "objects[0].particles.units_per_meter", NULL},
         {OBJ("\"particles\": {" MILK ", \"region\": {\"shape\": \"blob\"}}"),
          REFRACT_E_INVALID_FIELD, "objects[0].particles.region.shape", NULL},
         {OBJ("\"particles\": {" MILK ", \"region\": {\"shape\": \"sphere\", \"inside\": 1}}"),
-         REFRACT_E_UNKNOWN_FIELD, "objects[0].particles.region: unknown field \"inside\"",
+         REFRACT_E_UNKNOWN_FIELD, "objects[0].particles.region: unknown field \"inside\"", NULL},
+        {OBJ("\"particles\": [1]"), REFRACT_E_INVALID_FIELD,
+         "objects[0].particles: expected "
+         "an object",
          NULL},
-        {OBJ("\"particles\": [1]"), REFRACT_E_INVALID_FIELD, "objects[0].particles: expected "
-                                                            "an object", NULL},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++)
         check_bad(&cases[i], NULL);

@@ -63,8 +63,8 @@ bool mie_efficiencies(double x, double complex m, struct mie_sphere_result *out)
 
 /* The amplitude functions S1(mu), S2(mu) at the count angles mu[i] = cos(theta_i), from
  * the coefficients (frisvad2010 "Scattering by spherical particles"). */
-void mie_amplitudes(const double complex *a, const double complex *b, int terms,
-                    const double *mu, int count, double complex *s1, double complex *s2);
+void mie_amplitudes(const double complex *a, const double complex *b, int terms, const double *mu,
+                    int count, double complex *s1, double complex *s2);
 
 /* The phase function p(mu) = (|S1|^2 + |S2|^2) / (2 |k|^2 C_s) with k = 2 pi n_h / lambda
  * (frisvad2010 "Scattering by spherical particles"), tabulated at `count` cosines mu[i]
@@ -165,6 +165,11 @@ void mie_host_water(double complex host[MIE_SPECTRUM_SAMPLES]);
  * and casein micelles in water with riboflavin). Returns false unless 0 <= fat <= 40 and
  * 0 <= protein <= 15. */
 bool mie_preset_milk(double fat_percent, double protein_percent, struct mie_medium *out);
+/* The same with the riboflavin content, mg per 100 g (0..10; whole milk has
+ * MIE_MILK_RIBOFLAVIN, Fox and McSweeney 1998), for milk diluted in water. */
+#define MIE_MILK_RIBOFLAVIN 0.17
+bool mie_preset_milk_riboflavin(double fat_percent, double protein_percent,
+                                double riboflavin_mg_per_100g, struct mie_medium *out);
 
 /* Clear water: the host alone (no particles). */
 void mie_preset_water(struct mie_medium *out);

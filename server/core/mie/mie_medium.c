@@ -39,8 +39,8 @@ static bool scale_population(const struct mie_population *p, const double *r, do
     return true;
 }
 
-static bool add_population(const struct mie_population *p, const struct mie_medium *m,
-                           double *ext, double *sca, double *gsca)
+static bool add_population(const struct mie_population *p, const struct mie_medium *m, double *ext,
+                           double *sca, double *gsca)
 {
     if (p->volume_fraction <= 0.0 && p->number_density <= 0.0)
         return true; /* an empty population (skimmed milk's fat) adds nothing */

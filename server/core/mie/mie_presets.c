@@ -11,8 +11,10 @@
  *   volume fractions from weight-%: fat / 0.915 and 0.76 protein / 1.11 (76% of milk
  *                   protein is casein), per 100 / 1.030 ml of milk (densities in g/ml of
  *                   fat, casein and milk);
- *   host: water (Hale and Querry 1973) with riboflavin, 0.17 mg per 100 g (Fox and
- *                   McSweeney 1998), molar mass 376.3682 g/mol, absorbing as in mie_data.c.
+ *   host: water (Hale and Querry 1973) with riboflavin, 0.17 mg per 100 g by default (Fox
+ *                   and McSweeney 1998), molar mass 376.3682 g/mol, absorbing as in
+ *                   mie_data.c. A milk diluted in water keeps less: the riboflavin is a
+ *                   parameter so that such a mixture can say so.
  */
 #include <math.h>
 #include <string.h>
@@ -20,11 +22,10 @@
 #include "mie.h"
 #include "mie_data.h"
 
-#define FAT_DENSITY 0.915    /* g/ml */
-#define CASEIN_DENSITY 1.11  /* g/ml */
-#define MILK_DENSITY 1.030   /* g/ml */
-#define CASEIN_SHARE 0.76    /* of milk protein */
-#define RIBOFLAVIN_MG_PER_100G 0.17
+#define FAT_DENSITY 0.915              /* g/ml */
+#define CASEIN_DENSITY 1.11            /* g/ml */
+#define MILK_DENSITY 1.030             /* g/ml */
+#define CASEIN_SHARE 0.76              /* of milk protein */
 #define RIBOFLAVIN_MOLAR_MASS 376.3682 /* g/mol */
 
 void mie_host_water(double complex host[MIE_SPECTRUM_SAMPLES])
@@ -40,10 +41,10 @@ void mie_preset_water(struct mie_medium *out)
 }
 
 /* Water with riboflavin: sigma_a = ln(10) epsilon c adds lambda sigma_a / (4 pi) to n''. */
-static void milk_host(double complex host[MIE_SPECTRUM_SAMPLES])
+static void milk_host(double riboflavin_mg_per_100g, double complex host[MIE_SPECTRUM_SAMPLES])
 {
     double ml_per_100g = 100.0 / MILK_DENSITY;
-    double molar = (RIBOFLAVIN_MG_PER_100G / RIBOFLAVIN_MOLAR_MASS) / ml_per_100g; /* mol/l */
+    double molar = (riboflavin_mg_per_100g / RIBOFLAVIN_MOLAR_MASS) / ml_per_100g; /* mol/l */
     double scale = mie_data_riboflavin_molar_absorption / mie_data_riboflavin_reference_absorbance;
     mie_host_water(host);
     for (int i = 0; i < MIE_SPECTRUM_SAMPLES; i++) {
@@ -54,16 +55,26 @@ static void milk_host(double complex host[MIE_SPECTRUM_SAMPLES])
 
 bool mie_preset_milk(double fat_percent, double protein_percent, struct mie_medium *out)
 {
+    return mie_preset_milk_riboflavin(fat_percent, protein_percent, MIE_MILK_RIBOFLAVIN, out);
+}
+
+bool mie_preset_milk_riboflavin(double fat_percent, double protein_percent,
+                                double riboflavin_mg_per_100g, struct mie_medium *out)
+{
     if (!(fat_percent >= 0.0 && fat_percent <= 40.0) ||
-        !(protein_percent >= 0.0 && protein_percent <= 15.0))
+        !(protein_percent >= 0.0 && protein_percent <= 15.0) ||
+        !(riboflavin_mg_per_100g >= 0.0 && riboflavin_mg_per_100g <= 10.0))
         return false;
     memset(out, 0, sizeof *out);
-    milk_host(out->host);
+    milk_host(riboflavin_mg_per_100g, out->host);
     double ml_per_100g = 100.0 / MILK_DENSITY;
 
     struct mie_population *fat = &out->pop[0];
-    fat->size = (struct mie_distribution){.kind = MIE_DIST_LOGNORMAL, .r_min = 0.005e-6,
-                                          .r_max = 10e-6, .bins = 200, .r_vs = 0.475e-6,
+    fat->size = (struct mie_distribution){.kind = MIE_DIST_LOGNORMAL,
+                                          .r_min = 0.005e-6,
+                                          .r_max = 10e-6,
+                                          .bins = 200,
+                                          .r_vs = 0.475e-6,
                                           .c_s = 0.285};
     fat->per_wavelength = true;
     for (int i = 0; i < MIE_SPECTRUM_SAMPLES; i++)
@@ -71,9 +82,13 @@ bool mie_preset_milk(double fat_percent, double protein_percent, struct mie_medi
     fat->volume_fraction = (fat_percent / FAT_DENSITY) / ml_per_100g;
 
     struct mie_population *casein = &out->pop[1];
-    casein->size = (struct mie_distribution){.kind = MIE_DIST_LOGNORMAL, .r_min = 0.0,
-                                             .r_max = 150e-9, .bins = 150, .r_vs = 43e-9,
-                                             .c_s = 0.23, .t_bound = 150e-9};
+    casein->size = (struct mie_distribution){.kind = MIE_DIST_LOGNORMAL,
+                                             .r_min = 0.0,
+                                             .r_max = 150e-9,
+                                             .bins = 150,
+                                             .r_vs = 43e-9,
+                                             .c_s = 0.23,
+                                             .t_bound = 150e-9};
     casein->ior[0] = 1.503;
     casein->volume_fraction = CASEIN_SHARE * (protein_percent / CASEIN_DENSITY) / ml_per_100g;
     out->count = 2;

@@ -32,9 +32,8 @@ static void cie_xyz(double nm, double xyz[3])
 
 static void spectral_rgb_raw(const double v[MIE_SPECTRUM_SAMPLES], double rgb[3])
 {
-    static const double to_srgb[3][3] = {{3.2406, -1.5372, -0.4986},
-                                         {-0.9689, 1.8758, 0.0415},
-                                         {0.0557, -0.2040, 1.0570}};
+    static const double to_srgb[3][3] = {
+        {3.2406, -1.5372, -0.4986}, {-0.9689, 1.8758, 0.0415}, {0.0557, -0.2040, 1.0570}};
     double xyz[3] = {0, 0, 0};
     for (int i = 0; i < MIE_SPECTRUM_SAMPLES; i++) {
         double c[3];

@@ -142,8 +142,8 @@ bool mie_sphere(double radius, double lambda, double complex n_h, double complex
         sca += w * (creal(a[n] * conj(a[n])) + creal(b[n] * conj(b[n])));
         gsum += w / (n * (n + 1.0)) * creal(a[n] * conj(b[n]));
         if (n < m)
-            gsum += n * (n + 2.0) / (n + 1.0) *
-                    creal(a[n] * conj(a[n + 1]) + b[n] * conj(b[n + 1]));
+            gsum +=
+                n * (n + 2.0) / (n + 1.0) * creal(a[n] * conj(a[n + 1]) + b[n] * conj(b[n + 1]));
     }
     free(a);
     free(b);
@@ -168,8 +168,8 @@ bool mie_efficiencies(double x, double complex m, struct mie_sphere_result *out)
     return mie_sphere(x / (2.0 * M_PI), 1.0, 1.0, m, out);
 }
 
-void mie_amplitudes(const double complex *a, const double complex *b, int terms,
-                    const double *mu, int count, double complex *s1, double complex *s2)
+void mie_amplitudes(const double complex *a, const double complex *b, int terms, const double *mu,
+                    int count, double complex *s1, double complex *s2)
 {
     for (int i = 0; i < count; i++) {
         /* pi_n and tau_n by their upward recurrences (Bohren and Huffman eq. 4.47). */
@@ -199,8 +199,7 @@ bool mie_phase_table(double radius, double lambda, double complex n_h, double co
     double complex *a = malloc(((size_t)r.terms + 1) * sizeof *a);
     double complex *b = malloc(((size_t)r.terms + 1) * sizeof *b);
     double complex *s = malloc(2 * (size_t)count * sizeof *s);
-    bool ok = a != NULL && b != NULL && s != NULL &&
-              mie_coefficients(x, n_h, n_p, r.terms, a, b);
+    bool ok = a != NULL && b != NULL && s != NULL && mie_coefficients(x, n_h, n_p, r.terms, a, b);
     if (ok) {
         mie_amplitudes(a, b, r.terms, mu, count, s, s + count);
         double k = 2.0 * M_PI / lambda;
