@@ -161,7 +161,7 @@ bool accuracy_case_reference(const struct accuracy_case *c, const struct render_
         return false;
     }
     struct reftrace_settings st = ref.settings;
-    st.integrator = REFTRACE_ADAPTIVE;
+    st.stepper = REFTRACE_ADAPTIVE;
     st.tolerance = 1e-10;
     st.step_voxels = 1.0;
     st.max_steps = 10000000;

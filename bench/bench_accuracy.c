@@ -11,7 +11,7 @@
  * For each analytic case (accuracy_cases.h: Luneburg lens, Maxwell fish-eye, mirage,
  * strong Gaussian lens, sharp spheres n = 1.5 and 2.42) it traces a bundle of rays on the
  * GPU path (render_trace: trace_rays.comp, the view renderer's march) under each
- * configuration of four sweeps - integrator x step, voxel resolution, smoothing sigma,
+ * configuration of four sweeps - stepper x step, voxel resolution, smoothing sigma,
  * float16 against float32 index textures - and scores the exits against the exact
  * continuous-field reference: exit-direction angle and exit-position error (distance of
  * the traced exit point from the exact exit line), and GPU time per ray. It marks the
@@ -43,7 +43,7 @@
 #define MAX_CONFIGS 48
 
 enum sweep {
-    SWEEP_INTEGRATOR,
+    SWEEP_STEPPER,
     SWEEP_RESOLUTION,
     SWEEP_SIGMA,
     SWEEP_TEXTURE,
@@ -51,12 +51,12 @@ enum sweep {
     SWEEP_COUNT
 };
 static const char *const sweep_names[SWEEP_COUNT] = {
-    "integrator x step", "resolution", "smoothing sigma", "float16 texture", "tricubic filter"};
-static const char *const integrator_names[4] = {"euler", "rk4", "rk2", "adaptive"};
+    "stepper x step", "resolution", "smoothing sigma", "float16 texture", "tricubic filter"};
+static const char *const stepper_names[4] = {"euler", "rk4", "rk2", "adaptive"};
 
 struct config {
     enum sweep sweep;
-    enum scene_integrator integrator;
+    enum scene_stepper stepper;
     double step;      /* voxels (adaptive: the largest step) */
     double tolerance; /* adaptive: voxels per step */
     int res;          /* voxels per axis */
@@ -96,7 +96,7 @@ static void add(struct bench *b, struct config c)
 }
 
 /* The sweeps: one factor at a time from the scene defaults (rk4, step 0.5, float32, the
- * case's smoothing, the base resolution), plus the full integrator x step grid. */
+ * case's smoothing, the base resolution), plus the full stepper x step grid. */
 static void build_configs(struct bench *b)
 {
     const bool q = b->opt.quick;
@@ -104,39 +104,37 @@ static void build_configs(struct bench *b)
     const double steps_full[] = {2.0, 1.0, 0.5, 0.25}, steps_quick[] = {1.0, 0.5};
     const double *steps = q ? steps_quick : steps_full;
     int nsteps = q ? 2 : 4;
-    const enum scene_integrator fixed[3] = {SCENE_INTEGRATOR_EULER, SCENE_INTEGRATOR_RK2,
-                                            SCENE_INTEGRATOR_RK4};
+    const enum scene_stepper fixed[3] = {SCENE_STEPPER_EULER, SCENE_STEPPER_RK2, SCENE_STEPPER_RK4};
     for (int i = 0; i < 3; i++)
         for (int s = 0; s < nsteps; s++)
-            add(b, (struct config){SWEEP_INTEGRATOR, fixed[i], steps[s], 1e-3, base, -1.0, false,
-                                   false});
+            add(b,
+                (struct config){SWEEP_STEPPER, fixed[i], steps[s], 1e-3, base, -1.0, false, false});
     const double tols_full[] = {3e-2, 1e-2, 3e-3, 1e-3, 1e-4}, tols_quick[] = {1e-2, 1e-3};
     for (int t = 0; t < (q ? 2 : 5); t++)
-        add(b, (struct config){SWEEP_INTEGRATOR, SCENE_INTEGRATOR_ADAPTIVE, 4.0,
+        add(b, (struct config){SWEEP_STEPPER, SCENE_STEPPER_ADAPTIVE, 4.0,
                                q ? tols_quick[t] : tols_full[t], base, -1.0, false, false});
     const int res_full[] = {32, 64, 256}, res_quick[] = {32, 128};
     for (int r = 0; r < (q ? 2 : 3); r++)
-        add(b, (struct config){SWEEP_RESOLUTION, SCENE_INTEGRATOR_RK4, 0.5, 1e-3,
+        add(b, (struct config){SWEEP_RESOLUTION, SCENE_STEPPER_RK4, 0.5, 1e-3,
                                q ? res_quick[r] : res_full[r], -1.0, false, false});
     const double sig_full[] = {0.0, 0.5, 1.0, 2.0}, sig_quick[] = {0.0, 2.0};
     for (int s = 0; s < (q ? 2 : 4); s++)
-        add(b, (struct config){SWEEP_SIGMA, SCENE_INTEGRATOR_RK4, 0.5, 1e-3, base,
+        add(b, (struct config){SWEEP_SIGMA, SCENE_STEPPER_RK4, 0.5, 1e-3, base,
                                q ? sig_quick[s] : sig_full[s], false, false});
+    add(b, (struct config){SWEEP_TEXTURE, SCENE_STEPPER_RK4, 0.5, 1e-3, base, -1.0, true, false});
     add(b,
-        (struct config){SWEEP_TEXTURE, SCENE_INTEGRATOR_RK4, 0.5, 1e-3, base, -1.0, true, false});
-    add(b, (struct config){SWEEP_TEXTURE, SCENE_INTEGRATOR_ADAPTIVE, 4.0, 1e-3, base, -1.0, true,
-                           false});
-    /* Tricubic against trilinear: the default integrator at every resolution (the
+        (struct config){SWEEP_TEXTURE, SCENE_STEPPER_ADAPTIVE, 4.0, 1e-3, base, -1.0, true, false});
+    /* Tricubic against trilinear: the default stepper at every resolution (the
      * trilinear twins are the resolution sweep and the default), and the cheap settings of
      * the front at the base grid. */
     const int fres_full[] = {32, 64, 128, 256}, fres_quick[] = {32, 64, 128};
     for (int r = 0; r < (q ? 3 : 4); r++)
-        add(b, (struct config){SWEEP_FILTER, SCENE_INTEGRATOR_RK4, 0.5, 1e-3,
+        add(b, (struct config){SWEEP_FILTER, SCENE_STEPPER_RK4, 0.5, 1e-3,
                                q ? fres_quick[r] : fres_full[r], -1.0, false, true});
-    add(b, (struct config){SWEEP_FILTER, SCENE_INTEGRATOR_RK4, q ? 1.0 : 2.0, 1e-3, base, -1.0,
-                           false, true});
-    add(b, (struct config){SWEEP_FILTER, SCENE_INTEGRATOR_ADAPTIVE, 4.0, 1e-2, base, -1.0, false,
+    add(b, (struct config){SWEEP_FILTER, SCENE_STEPPER_RK4, q ? 1.0 : 2.0, 1e-3, base, -1.0, false,
                            true});
+    add(b,
+        (struct config){SWEEP_FILTER, SCENE_STEPPER_ADAPTIVE, 4.0, 1e-2, base, -1.0, false, true});
 }
 
 static int cmp_double(const void *a, const void *b)
@@ -164,7 +162,7 @@ static bool run_config(struct render *r, const struct accuracy_case *c, const st
     snprintf(id, sizeof id, "%s-%d-%g-%d", c->name, cfg->res, sigma, cfg->float16 ? 16 : 32);
     struct render_scene_source src = {.id = id, .generation = 1, .scene = s};
     struct scene_render_settings st = s->render;
-    st.integrator = cfg->integrator;
+    st.stepper = cfg->stepper;
     st.step_voxels = cfg->step;
     st.tolerance_voxels = cfg->tolerance;
     st.ior_filter = cfg->tricubic ? SCENE_FILTER_TRICUBIC : SCENE_FILTER_TRILINEAR;
@@ -259,7 +257,7 @@ static void gpu_run(struct gpu_work *w, struct gpu *gpu)
             fprintf(stderr,
                     "%-10s %-8s step %-4g tol %-6g res %-3d %-9s: dir mean %.2e  pos mean "
                     "%.2e  %.2f us/ray  lost %d\n",
-                    c->name, integrator_names[b->configs[k].integrator], b->configs[k].step,
+                    c->name, stepper_names[b->configs[k].stepper], b->configs[k].step,
                     b->configs[k].tolerance, b->configs[k].res,
                     b->configs[k].tricubic ? "tricubic" : "trilinear", res->dir_mean, res->pos_mean,
                     res->us_per_ray, res->lost);
@@ -276,12 +274,12 @@ static void gpu_run(struct gpu_work *w, struct gpu *gpu)
 static void config_label(const struct bench *b, const struct config *c, char *buf, size_t n)
 {
     char extra[64] = "";
-    if (c->integrator == SCENE_INTEGRATOR_ADAPTIVE)
+    if (c->stepper == SCENE_STEPPER_ADAPTIVE)
         snprintf(extra, sizeof extra, ", tol %g", c->tolerance);
     char sig[32] = "";
     if (c->sigma >= 0.0)
         snprintf(sig, sizeof sig, ", sigma %g", c->sigma);
-    snprintf(buf, n, "%s, step %g%s%s%s%s", integrator_names[c->integrator], c->step, extra, sig,
+    snprintf(buf, n, "%s, step %g%s%s%s%s", stepper_names[c->stepper], c->step, extra, sig,
              c->float16 ? ", float16" : "", c->tricubic ? ", tricubic" : "");
     if (c->res != b->opt.base_res) {
         size_t len = strlen(buf);
@@ -328,31 +326,31 @@ static void compute_overall(const struct bench *b, struct overall *o)
     compute_overall_of(b, false, o);
 }
 
-/* The configurations that differ only in integrator settings and filter on the base grid:
+/* The configurations that differ only in stepper settings and filter on the base grid:
  * the candidates of the preview and final choices. */
 static bool base_grid_setting(const struct bench *b, int k)
 {
     const struct config *c = &b->configs[k];
-    return c->sweep == SWEEP_INTEGRATOR || (c->sweep == SWEEP_FILTER && c->res == b->opt.base_res);
+    return c->sweep == SWEEP_STEPPER || (c->sweep == SWEEP_FILTER && c->res == b->opt.base_res);
 }
 
 /* How far configuration k is from the voxel floor: the largest over the cases of its mean
- * direction error divided by the case's best over the integrator x step sweep (at a fixed
- * voxel grid the voxels set an error floor that no integrator goes below). */
+ * direction error divided by the case's best over the stepper x step sweep (at a fixed
+ * voxel grid the voxels set an error floor that no stepper goes below). */
 static double floor_ratio(const struct bench *b, int k)
 {
     double worst = 0.0;
     for (int ci = 0; ci < ACCURACY_CASE_COUNT; ci++) {
         double floor_err = INFINITY;
         for (int j = 0; j < b->config_count; j++)
-            if (b->configs[j].sweep == SWEEP_INTEGRATOR && b->results[ci][j].lost == 0)
+            if (b->configs[j].sweep == SWEEP_STEPPER && b->results[ci][j].lost == 0)
                 floor_err = fmin(floor_err, b->results[ci][j].dir_mean);
         worst = fmax(worst, b->results[ci][k].dir_mean / floor_err);
     }
     return worst;
 }
 
-/* The cheapest integrator x step configuration within `factor` of the floor in every case;
+/* The cheapest stepper x step configuration within `factor` of the floor in every case;
  * -1: none. */
 static int cheapest_within(const struct bench *b, const struct overall *o, double factor)
 {
@@ -370,7 +368,7 @@ static int find_default(const struct bench *b)
 {
     for (int k = 0; k < b->config_count; k++) {
         const struct config *c = &b->configs[k];
-        if (c->sweep == SWEEP_INTEGRATOR && c->integrator == SCENE_INTEGRATOR_RK4 && c->step == 0.5)
+        if (c->sweep == SWEEP_STEPPER && c->stepper == SCENE_STEPPER_RK4 && c->step == 0.5)
             return k;
     }
     return -1;
@@ -382,7 +380,7 @@ static void write_plot(const struct bench *b, const char *name, const char *titl
     struct plot_point pts[MAX_CONFIGS];
     for (int k = 0; k < b->config_count; k++) {
         const struct config *c = &b->configs[k];
-        int series = c->sweep == SWEEP_INTEGRATOR ? (int)c->integrator : 3 + (int)c->sweep;
+        int series = c->sweep == SWEEP_STEPPER ? (int)c->stepper : 3 + (int)c->sweep;
         pts[k] = (struct plot_point){x[k], y[k], series, flags[k].front};
     }
     struct plot_desc d = {
@@ -450,9 +448,9 @@ static void write_choice(FILE *f, const struct bench *b, const struct overall *o
     fprintf(f,
             "## The choice\n\n"
             "At a given voxel grid the voxels set an error floor (the resolution and sigma "
-            "sweeps show it moving); the integrator settings decide how close to that floor "
+            "sweeps show it moving); the stepper settings decide how close to that floor "
             "a render gets and at what cost. The floor of a case is the smallest mean "
-            "direction error any integrator x step configuration reaches in it at %d^3; a "
+            "direction error any stepper x step configuration reaches in it at %d^3; a "
             "configuration's distance from the floor (x floor) is the largest over the six "
             "cases of its error divided by the floor.\n\n",
             b->opt.base_res);
@@ -499,14 +497,14 @@ static void write_choice(FILE *f, const struct bench *b, const struct overall *o
 }
 
 /* The trilinear configuration that tricubic configuration k is compared with: the same
- * integrator, step, tolerance, grid, smoothing and texture; -1 when the sweeps lack it. */
+ * stepper, step, tolerance, grid, smoothing and texture; -1 when the sweeps lack it. */
 static int trilinear_twin(const struct bench *b, int k)
 {
     const struct config *c = &b->configs[k];
     for (int j = 0; j < b->config_count; j++) {
         const struct config *t = &b->configs[j];
-        if (!t->tricubic && t->integrator == c->integrator && t->step == c->step &&
-            (c->integrator != SCENE_INTEGRATOR_ADAPTIVE || t->tolerance == c->tolerance) &&
+        if (!t->tricubic && t->stepper == c->stepper && t->step == c->step &&
+            (c->stepper != SCENE_STEPPER_ADAPTIVE || t->tolerance == c->tolerance) &&
             t->res == c->res && t->sigma == c->sigma && t->float16 == c->float16)
             return j;
     }
@@ -823,7 +821,7 @@ static bool write_report(const struct bench *b, struct gpu *gpu, int argc, char 
     for (int k = 0; k < b->config_count; k++) {
         char label[160];
         config_label(b, &b->configs[k], label, sizeof label);
-        char ratio[32] = "-"; /* the floor is that of the base grid: integrator sweep only */
+        char ratio[32] = "-"; /* the floor is that of the base grid: stepper sweep only */
         if (base_grid_setting(b, k))
             snprintf(ratio, sizeof ratio, "%.2f", floor_ratio(b, k));
         fprintf(f, "| %s | %s | %.2e | %.2e | %s | %.2f | %d | %s |\n",

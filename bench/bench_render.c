@@ -5,9 +5,9 @@
  *
  *     build/refract-bench [--scenes glass_sphere_voxels,luneburg_lens] [--resolutions 64,128,256]
  *                         [--sizes 320x240,640x480,1280x720,1920x1080]
- *                         [--integrators rk4,euler] [--steps 0.5] [--budget-ms 3000]
+ *                         [--steppers rk4,euler] [--steps 0.5] [--budget-ms 3000]
  *
- * For every scene, voxel resolution, integrator, step (voxels) and image size it renders
+ * For every scene, voxel resolution, stepper, step (voxels) and image size it renders
  * once to warm
  * up (llvmpipe compiles a shader variant on its first dispatch), then repeats while the
  * time budget lasts (at least once, at most 7 times) and reports the median GPU time
@@ -33,7 +33,7 @@ struct list {
 };
 
 struct options {
-    struct list scenes, resolutions, sizes, integrators, steps;
+    struct list scenes, resolutions, sizes, steppers, steps;
     double budget_ms;
     const char *examples_dir;
 };
@@ -118,7 +118,7 @@ static void bench_scene(struct gpu *gpu, struct bench_ctx *c, const struct optio
     }
     printf("| %s | %d^3 | build | | | %.0f | | %.1f MiB |\n", name, res, c->status.build_ms,
            (double)c->status.gpu_bytes / 1048576.0);
-    for (int k = 0; k < o->integrators.count; k++) {
+    for (int k = 0; k < o->steppers.count; k++) {
         for (int st = 0; st < o->steps.count; st++) {
             for (int z = 0; z < o->sizes.count; z++) {
                 int w = 0, h = 0;
@@ -129,9 +129,9 @@ static void bench_scene(struct gpu *gpu, struct bench_ctx *c, const struct optio
                 c->req.camera.height = h;
                 c->req.settings = s->render;
                 c->req.settings.step_voxels = atof(o->steps.item[st]);
-                c->req.settings.integrator = strcmp(o->integrators.item[k], "euler") == 0
-                                                 ? SCENE_INTEGRATOR_EULER
-                                                 : SCENE_INTEGRATOR_RK4;
+                c->req.settings.stepper = strcmp(o->steppers.item[k], "euler") == 0
+                                              ? SCENE_STEPPER_EULER
+                                              : SCENE_STEPPER_RK4;
                 if (on_gpu(gpu, c, 2) != REFRACT_E_OK) /* warm-up: variant compile */
                     continue;
                 double times[7];
@@ -148,7 +148,7 @@ static void bench_scene(struct gpu *gpu, struct bench_ctx *c, const struct optio
                 qsort(times, (size_t)runs, sizeof times[0], bench_compare_doubles);
                 double median = times[runs / 2];
                 printf("| %s | %d^3 | %dx%d | %s | %s | %.1f | %.2f | %d runs |\n", name, res, w, h,
-                       o->integrators.item[k], o->steps.item[st], median,
+                       o->steppers.item[k], o->steps.item[st], median,
                        (double)w * h / (median * 1000.0), runs);
                 fflush(stdout);
             }
@@ -165,7 +165,7 @@ int main(int argc, char **argv)
     split("glass_sphere_voxels,luneburg_lens", &o.scenes);
     split("64,128,256", &o.resolutions);
     split("320x240,640x480,1280x720,1920x1080", &o.sizes);
-    split("rk4,euler", &o.integrators);
+    split("rk4,euler", &o.steppers);
     for (int i = 1; i + 1 < argc; i += 2) {
         if (!strcmp(argv[i], "--scenes"))
             split(argv[i + 1], &o.scenes);
@@ -173,8 +173,8 @@ int main(int argc, char **argv)
             split(argv[i + 1], &o.resolutions);
         else if (!strcmp(argv[i], "--sizes"))
             split(argv[i + 1], &o.sizes);
-        else if (!strcmp(argv[i], "--integrators"))
-            split(argv[i + 1], &o.integrators);
+        else if (!strcmp(argv[i], "--steppers"))
+            split(argv[i + 1], &o.steppers);
         else if (!strcmp(argv[i], "--steps"))
             split(argv[i + 1], &o.steps);
         else if (!strcmp(argv[i], "--budget-ms"))
@@ -198,7 +198,7 @@ int main(int argc, char **argv)
     if (on_gpu(gpu, &c, 0) != REFRACT_E_OK)
         return 1;
     bench_print_header(gpu, argc, argv);
-    printf("| scene | voxels | image | integrator | step | GPU ms (median) | Mrays/s | notes |\n");
+    printf("| scene | voxels | image | stepper | step | GPU ms (median) | Mrays/s | notes |\n");
     printf("|---|---|---|---|---|---|---|---|\n");
     for (int si = 0; si < o.scenes.count; si++)
         for (int ri = 0; ri < o.resolutions.count; ri++)

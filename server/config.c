@@ -56,10 +56,12 @@ static const struct option_def options[] = {
     {"max-json-bytes", OPT_SIZE, 1024, 1ll << 32, "BYTES", "JSON body limit (default 8M)"},
     {"max-upload-bytes", OPT_SIZE, 1024, 1ll << 40, "BYTES", "upload body limit (default 1G)"},
     {"max-storage-bytes", OPT_SIZE, 0, 1ll << 50, "BYTES",
-     "total bytes of the data directory's blobs (uploads); 0 = unlimited (default 0)"},
+     "total bytes of the data directory's blobs (uploads); 0 = unlimited (default 10G)"},
     {"max-rays", OPT_INT, 1, 100000000, "N", "rays per trace request (default 65536)"},
     {"max-resolution", OPT_INT, 2, 4096, "N", "voxels per axis of an object (default 512)"},
     {"max-voxels", OPT_SIZE, 8, 1ll << 36, "N", "voxels per scene (default 64M)"},
+    {"max-upload-voxels", OPT_SIZE, 1, 1ll << 36, "N",
+     "decoded voxels of one uploaded volume (default 32M, e.g. 512x512x128)"},
     {"max-objects", OPT_INT, 1, MAX_OBJECTS, "N", "objects per scene (default 8, at most 8)"},
     {"max-layers", OPT_INT, 1, 100000, "N", "layers per channel (default 64)"},
     {"max-profile-points", OPT_INT, 3, 1000000, "N", "lathe profile points (default 1024)"},
@@ -68,8 +70,10 @@ static const struct option_def options[] = {
     {"max-image-pixels", OPT_SIZE, 1, 1ll << 28, "N",
      "width x height of a render (default 16M = 4096x4096)"},
     {"max-env-pixels", OPT_SIZE, 1, 1ll << 30, "N",
-     "pixels of an uploaded environment image (default 64M)"},
+     "pixels of an uploaded environment image (default 8M = 4096x2048)"},
     {"max-steps", OPT_INT, 1, 10000000, "N", "integration steps per ray (default 100000)"},
+    {"max-samples-per-pixel", OPT_INT, 1, 4096, "N",
+     "jittered rays per pixel of a render or view (default 64)"},
     {"max-mesh-triangles", OPT_SIZE, 1, 1ll << 31, "N",
      "triangles of an uploaded mesh, after splitting polygons (default 2M)"},
     {"max-scenes", OPT_INT, 1, 1000000, "N", "scenes held (default 64)"},
@@ -133,7 +137,11 @@ void config_defaults(struct config *c)
     c->views.idle_timeout_s = 120;
     c->views.encoder_threads = 2;
     c->event_history = 1024;
-    c->max_env_pixels = 64ll << 20;
+    /* Finite defaults against amplification (docs/api.md "Limits"): a 49 KB PNG of
+     * 4096 x 4096 pixels decodes to 256 MiB of float RGBA, and an unlimited data directory
+     * fills its disk. */
+    c->max_env_pixels = 8ll << 20;
+    c->max_storage_bytes = 10ull << 30;
     c->http.max_image_pixels = 4096LL * 4096;
     c->log_level = LOG_INFO;
     const char *state = getenv("XDG_STATE_HOME");
@@ -210,6 +218,8 @@ static void store_int(struct config *c, const char *name, long long v)
         l->max_resolution = (int)v;
     else if (!strcmp(name, "max-voxels"))
         l->max_voxels = v;
+    else if (!strcmp(name, "max-upload-voxels"))
+        l->max_upload_voxels = v;
     else if (!strcmp(name, "max-objects"))
         l->max_objects = (int)v;
     else if (!strcmp(name, "max-layers"))
@@ -222,6 +232,8 @@ static void store_int(struct config *c, const char *name, long long v)
         l->max_image_dim = (int)v;
     else if (!strcmp(name, "max-steps"))
         l->max_steps = (int)v;
+    else if (!strcmp(name, "max-samples-per-pixel"))
+        l->max_samples_per_pixel = (int)v;
     else if (!strcmp(name, "max-mesh-triangles"))
         l->max_mesh_triangles = v;
     else if (!strcmp(name, "max-scenes"))

@@ -28,11 +28,11 @@
 #define RAY_STATUS_MISSED 3
 #define RAY_STATUS_RUNNING 4 /* internal to the march; never reported */
 
-/* ---- integrators ---- */
-#define INTEGRATOR_EULER 0 /* tevs2007 eqs. 5.11/5.12 */
-#define INTEGRATOR_RK4 1
-#define INTEGRATOR_RK2 2      /* explicit midpoint */
-#define INTEGRATOR_ADAPTIVE 3 /* Bogacki-Shampine 3(2) with step-size control */
+/* ---- steppers ---- */
+#define STEPPER_EULER 0 /* tevs2007 eqs. 5.11/5.12 */
+#define STEPPER_RK4 1
+#define STEPPER_RK2 2      /* explicit midpoint */
+#define STEPPER_ADAPTIVE 3 /* Bogacki-Shampine 3(2) with step-size control */
 
 /* ---- index filters (MARCH_IOR_FILTER; render.ior_filter) ---- */
 #define IOR_FILTER_TRILINEAR 0

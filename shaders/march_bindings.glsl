@@ -4,11 +4,11 @@
 #include "bindings.h"
 #include "shared_types.h"
 
-// Variant switches, set by the program's preamble (server/gpu/program.c): the integrator
-// (INTEGRATOR_*), the index filter (IOR_FILTER_*) and which optional channels the scene
+// Variant switches, set by the program's preamble (server/gpu/program.c): the stepper
+// (STEPPER_*), the index filter (IOR_FILTER_*) and which optional channels the scene
 // uses. A channel compiled out is never sampled.
-#ifndef MARCH_INTEGRATOR
-#define MARCH_INTEGRATOR INTEGRATOR_RK4
+#ifndef MARCH_STEPPER
+#define MARCH_STEPPER STEPPER_RK4
 #endif
 #ifndef MARCH_IOR_FILTER
 #define MARCH_IOR_FILTER IOR_FILTER_TRILINEAR

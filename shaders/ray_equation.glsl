@@ -4,7 +4,7 @@
 // Positions and steps are in object space; the system keeps its form under the
 // object's similarity transform. Twins: server/core/reftrace*.c.
 //
-// Adaptive step control constants (docs/tracing.md "Integrators"); the CPU twin's are in
+// Adaptive step control constants (docs/tracing.md "Steppers"); the CPU twin's are in
 // server/core/reftrace.c (BS23_*).
 const float RAY_BS23_SAFETY = 0.9;
 const float RAY_BS23_SHRINK_MIN = 0.2;

@@ -13,7 +13,7 @@
 #ifndef MARCH_RADIANCE
 #define MARCH_RADIANCE 0
 #endif
-// The variant switches MARCH_INTEGRATOR, MARCH_ATTENUATION, MARCH_EMISSION, MARCH_OPAQUE,
+// The variant switches MARCH_STEPPER, MARCH_ATTENUATION, MARCH_EMISSION, MARCH_OPAQUE,
 // MARCH_SCATTERING, MARCH_LIGHTS and MARCH_SKIP are set in march_bindings.glsl.
 
 #if MARCH_SURFACES
@@ -380,8 +380,8 @@ void march_through_object(inout march_state s, int obj, vec3 p, vec3 q)
     float scale = march_object_scale(obj);
     float h_min = params.objects[obj].bounds_max.w;
     float h_max = params.settings_f.x * h_min;
-    float h = h_max; // the adaptive integrator changes it step by step
-#if MARCH_INTEGRATOR == INTEGRATOR_ADAPTIVE
+    float h = h_max; // the adaptive stepper changes it step by step
+#if MARCH_STEPPER == STEPPER_ADAPTIVE
     float tol = params.settings_f2.x * h_min;
     vec3 extent3 = params.objects[obj].bounds_max.xyz - params.objects[obj].bounds_min.xyz;
     float extent = max(extent3.x, max(extent3.y, extent3.z));
@@ -436,15 +436,15 @@ void march_through_object(inout march_state s, int obj, vec3 p, vec3 q)
             }
             skipped = skip;
             if (skip) {
-                h = h_max; // the adaptive integrator restarts as in empty space
+                h = h_max; // the adaptive stepper restarts as in empty space
             } else
 #endif
             {
-#if MARCH_INTEGRATOR == INTEGRATOR_EULER
+#if MARCH_STEPPER == STEPPER_EULER
                 ray_equation_step_euler(obj, s0, h, p1, w1);
-#elif MARCH_INTEGRATOR == INTEGRATOR_RK2
+#elif MARCH_STEPPER == STEPPER_RK2
                 ray_equation_step_rk2(obj, s0, h, p1, w1);
-#elif MARCH_INTEGRATOR == INTEGRATOR_ADAPTIVE
+#elif MARCH_STEPPER == STEPPER_ADAPTIVE
                 float err = ray_equation_step_bs23(obj, s0, h, extent, p1, w1);
                 float h_next = ray_equation_next_step(h, err, tol, h_max);
                 if (err > tol && h > RAY_BS23_FLOOR * h_max * 1.0001) {

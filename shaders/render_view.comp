@@ -1,10 +1,12 @@
 #version 450
-// render_view.comp - one view ray per pixel through the scene (tevs2007 sect. 6.3, the view
-// renderer), writing linear radiance. Rows are written top to bottom (row 0 = top).
+// render_view.comp - view rays through the scene, one or several per pixel (anti-aliasing),
+// tevs2007 sect. 6.3 (the view renderer), writing linear radiance. Rows are written top to
+// bottom (row 0 = top).
 #define MARCH_RADIANCE 1
 #include "march_bindings.glsl"
 #include "fresnel.glsl"
 #include "camera.glsl"
+#include "pixel_sample.glsl"
 #include "environment.glsl"
 #include "volume_sample.glsl"
 #include "ray_equation.glsl"
@@ -23,9 +25,17 @@ void main()
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
     if (px.x >= params.image.x || px.y >= params.image.y)
         return;
-    vec3 dir = camera_ray_direction(params.forward.xyz, params.right.xyz, params.up.xyz,
-                                    params.eye.w, params.forward.w, float(px.x), float(px.y),
-                                    float(params.image.x), float(params.image.y));
-    march_state s = march_ray(params.eye.xyz, dir, uint(params.surfaces.y));
-    image_out[px.y * params.image.x + px.x] = vec4(s.L, 1.0);
+    // Anti-aliasing: n jittered rays in k x k strata, averaged (a box filter).
+    uint n = uint(max(params.settings_f2.y, 1.0));
+    vec3 sum = vec3(0.0);
+    for (uint i = 0u; i < n; i++) {
+        vec2 o = pixel_sample(uint(px.x), uint(px.y), i, n);
+        vec3 dir = camera_ray_direction(params.forward.xyz, params.right.xyz, params.up.xyz,
+                                        params.eye.w, params.forward.w, float(px.x) + o.x - 0.5,
+                                        float(px.y) + o.y - 0.5, float(params.image.x),
+                                        float(params.image.y));
+        march_state s = march_ray(params.eye.xyz, dir, uint(params.surfaces.y));
+        sum += s.L;
+    }
+    image_out[px.y * params.image.x + px.x] = vec4(sum / float(n), 1.0);
 }

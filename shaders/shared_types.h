@@ -50,11 +50,12 @@ struct march_params {
     vec4 up;          /* xyz: unit up vector (orthogonal to forward and right) */
     ivec4 image;      /* x: width, y: height (pixels); z: ray count (trace); w: 1 = record
                          surface events (trace) */
-    ivec4 settings_i; /* x: INTEGRATOR_*; y: max_steps; z: object count; w: 1 = image env */
+    ivec4 settings_i; /* x: STEPPER_*; y: max_steps; z: object count; w: 1 = image env */
     vec4 settings_f;  /* x: step (voxels); y: boundary threshold (dn per voxel);
                          z: ambient n; w: environment intensity */
     vec4 env;         /* x: environment rotation about +y (degrees) */
-    vec4 settings_f2; /* x: adaptive integrator's tolerance per step (voxels) */
+    vec4 settings_f2; /* x: adaptive stepper's tolerance per step (voxels); y: view rays per
+                         pixel (render_view.comp; a square number, as a float) */
     object_params objects[MAX_OBJECTS];
     /* Only what a scene needs (docs/tracing.md "Empty space"); appended to keep the
      * members above where they were. */

@@ -4,7 +4,7 @@
  * The request is built in three layers, each overriding the one before: the scene's
  * defaults (refractd's side), the --request file, then the flags. Only syntax is checked
  * here (numbers are numbers, vectors have three); ranges and allowed values are
- * refractd's to check, so a new integrator needs no new CLI. The one exception is the
+ * refractd's to check, so a new stepper needs no new CLI. The one exception is the
  * format, which must agree with the output file's extension: an EXR called out.png
  * helps nobody. The image is written only after refractd answered with one, so a failed
  * render never truncates an earlier file.
@@ -30,8 +30,9 @@
     "  --format png|jpeg|exr  default: from FILE's extension (.png, .jpg, .jpeg, .exr);\n"         \
     "                         png when FILE is -\n"                                                \
     "  --exposure EV          exposure in stops (0 = unchanged)\n"                                 \
-    "  --integrator NAME      ray equation integrator: euler or rk4\n"                             \
+    "  --stepper NAME         ray equation stepper: euler, rk2, rk4 or adaptive\n"                 \
     "  --step VOXELS          integration step, in voxels of the finest object\n"                  \
+    "  --samples N            rays per pixel, a square (1, 4, 9, 16, ...): anti-aliasing\n"        \
     "  --eye X,Y,Z            camera position, world space\n"                                      \
     "  --look-at X,Y,Z        the point the camera looks at, world space\n"                        \
     "  --up X,Y,Z             the camera's up direction\n"                                         \
@@ -59,8 +60,9 @@ enum render_opt {
     OPT_HEIGHT,
     OPT_FORMAT,
     OPT_EXPOSURE,
-    OPT_INTEGRATOR,
+    OPT_STEPPER,
     OPT_STEP,
+    OPT_SAMPLES,
     OPT_EYE,
     OPT_LOOK_AT,
     OPT_UP,
@@ -81,8 +83,9 @@ static const struct {
     {OPT_WIDTH, "width", KIND_SIZE, false},
     {OPT_HEIGHT, "height", KIND_SIZE, false},
     {OPT_EXPOSURE, "exposure", KIND_NUMBER, false},
-    {OPT_INTEGRATOR, "integrator", KIND_STRING, false},
+    {OPT_STEPPER, "stepper", KIND_STRING, false},
     {OPT_STEP, "step", KIND_NUMBER, false},
+    {OPT_SAMPLES, "samples_per_pixel", KIND_SIZE, false},
     {OPT_EYE, "eye", KIND_VEC3, true},
     {OPT_LOOK_AT, "look_at", KIND_VEC3, true},
     {OPT_UP, "up", KIND_VEC3, true},
@@ -130,6 +133,8 @@ static int apply_flags(cJSON *request, const struct cli_opt *opts)
         item = flag_value(flag_keys[i].kind, opt->value, why, sizeof(why));
         if (item == NULL && why[0] != '\0')
             return cli_usage_error(&cli_cmd_render, "render: %s: %s", opt->name, why);
+        if (flag_keys[i].opt == OPT_STEPPER) /* the flag overrides --request's old key too */
+            cJSON_DeleteItemFromObjectCaseSensitive(target, "integrator"); /* renamed: old key */
         if (!cli_json_set(target, flag_keys[i].key, item))
             return cli_fail(REFRACT_E_OUT_OF_MEMORY, "render: out of memory building the "
                                                      "request");
@@ -267,8 +272,11 @@ static int run_render(struct cli *cli, int argc, char **argv)
         [OPT_HEIGHT] = {.name = "--height", .takes_value = true},
         [OPT_FORMAT] = {.name = "--format", .takes_value = true},
         [OPT_EXPOSURE] = {.name = "--exposure", .takes_value = true},
-        [OPT_INTEGRATOR] = {.name = "--integrator", .takes_value = true},
+        [OPT_STEPPER] = {.name = "--stepper",
+                         .alias = "--integrator", /* renamed: the old flag keeps working */
+                         .takes_value = true},
         [OPT_STEP] = {.name = "--step", .takes_value = true},
+        [OPT_SAMPLES] = {.name = "--samples", .takes_value = true},
         [OPT_EYE] = {.name = "--eye", .takes_value = true},
         [OPT_LOOK_AT] = {.name = "--look-at", .takes_value = true},
         [OPT_UP] = {.name = "--up", .takes_value = true},

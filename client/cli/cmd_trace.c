@@ -2,7 +2,7 @@
  * cmd_trace.c - `refract trace`: traces rays through a scene and prints refractd's
  * answer (exit point and direction, transmittance, optical path length, steps).
  *
- * Two forms: a trace request file, sent byte for byte unless --step or --integrator
+ * Two forms: a trace request file, sent byte for byte unless --step or --stepper
  * override its keys; or one ray given by --origin and --direction. Directions are passed
  * on as typed, not normalised, so what refractd checks is what the user wrote.
  */
@@ -13,9 +13,9 @@
 #include "cli_json.h"
 
 #define TRACE_USAGE                                                                                \
-    "usage: refract trace ID FILE|- [--step VOXELS] [--integrator NAME] [--events]\n"              \
+    "usage: refract trace ID FILE|- [--step VOXELS] [--stepper NAME] [--events]\n"                 \
     "       refract trace ID --origin X,Y,Z --direction X,Y,Z [--step VOXELS]\n"                   \
-    "                        [--integrator NAME] [--events]\n"                                     \
+    "                        [--stepper NAME] [--events]\n"                                        \
     "\n"                                                                                           \
     "Traces rays through scene ID and prints the JSON reply: for each ray its status,\n"           \
     "exit_origin, exit_direction, transmittance, optical_path_length and steps.\n"                 \
@@ -24,13 +24,13 @@
     "  --origin X,Y,Z      one ray's start, world space (instead of FILE)\n"                       \
     "  --direction X,Y,Z   that ray's direction of propagation, world space\n"                     \
     "  --step VOXELS       integration step in voxels (overrides FILE's \"step\")\n"               \
-    "  --integrator NAME   euler, rk2, rk4 or adaptive (overrides FILE's \"integrator\")\n"         \
+    "  --stepper NAME      euler, rk2, rk4 or adaptive (overrides FILE's \"stepper\")\n"           \
     "  --events            list each ray's surface events (point, normal, media, n on\n"           \
     "                      both sides, refracted or totally reflected, Fresnel R)\n"               \
     "\n"                                                                                           \
     "Examples:\n"                                                                                  \
     "  refract trace \"$ID\" rays.json\n"                                                          \
-    "  refract trace \"$ID\" --origin 0,0,4 --direction 0,0,-1 --step 0.25\n"                     \
+    "  refract trace \"$ID\" --origin 0,0,4 --direction 0,0,-1 --step 0.25\n"                      \
     "  refract trace glass_sphere --origin 0,0.5,-3 --direction 0,0,1 --events\n"
 
 static int run_trace(struct cli *cli, int argc, char **argv);
@@ -43,7 +43,7 @@ const struct cli_command cli_cmd_trace = {
     .run = run_trace,
 };
 
-enum trace_opt { OPT_ORIGIN, OPT_DIRECTION, OPT_STEP, OPT_INTEGRATOR, OPT_EVENTS, OPT_COUNT };
+enum trace_opt { OPT_ORIGIN, OPT_DIRECTION, OPT_STEP, OPT_STEPPER, OPT_EVENTS, OPT_COUNT };
 
 /* Builds {"rays": [{"origin": [...], "direction": [...]}]} from the flags; *out is a new
  * tree the caller deletes. */
@@ -90,8 +90,10 @@ static int apply_overrides(cJSON *request, const struct cli_opt *opts)
         if (!cli_json_set(request, "step", cJSON_CreateNumber(step)))
             return cli_fail(REFRACT_E_OUT_OF_MEMORY, "trace: out of memory");
     }
-    if (opts[OPT_INTEGRATOR].given &&
-        !cli_json_set(request, "integrator", cJSON_CreateString(opts[OPT_INTEGRATOR].value)))
+    if (opts[OPT_STEPPER].given) /* the flag overrides FILE's old key too */
+        cJSON_DeleteItemFromObjectCaseSensitive(request, "integrator"); /* renamed: old key */
+    if (opts[OPT_STEPPER].given &&
+        !cli_json_set(request, "stepper", cJSON_CreateString(opts[OPT_STEPPER].value)))
         return cli_fail(REFRACT_E_OUT_OF_MEMORY, "trace: out of memory");
     if (opts[OPT_EVENTS].given && !cli_json_set(request, "events", cJSON_CreateTrue()))
         return cli_fail(REFRACT_E_OUT_OF_MEMORY, "trace: out of memory");
@@ -125,7 +127,7 @@ static int edited_request(const struct cli_parsed *p, const struct cli_opt *opts
 static int build_request(const struct cli_parsed *p, const struct cli_opt *opts, char **text)
 {
     bool one_ray = opts[OPT_ORIGIN].given || opts[OPT_DIRECTION].given;
-    bool overrides = opts[OPT_STEP].given || opts[OPT_INTEGRATOR].given || opts[OPT_EVENTS].given;
+    bool overrides = opts[OPT_STEP].given || opts[OPT_STEPPER].given || opts[OPT_EVENTS].given;
     size_t len;
 
     *text = NULL;
@@ -148,7 +150,9 @@ static int run_trace(struct cli *cli, int argc, char **argv)
         [OPT_ORIGIN] = {.name = "--origin", .takes_value = true},
         [OPT_DIRECTION] = {.name = "--direction", .takes_value = true},
         [OPT_STEP] = {.name = "--step", .takes_value = true},
-        [OPT_INTEGRATOR] = {.name = "--integrator", .takes_value = true},
+        [OPT_STEPPER] = {.name = "--stepper",
+                         .alias = "--integrator", /* renamed: the old flag keeps working */
+                         .takes_value = true},
         [OPT_EVENTS] = {.name = "--events"},
     };
     struct cli_parsed p;

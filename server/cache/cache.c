@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "../core/log.h"
+#include "../core/metrics.h"
 #include "../io/io_files.h"
 #include "cache_internal.h"
 
@@ -413,6 +414,7 @@ bool irradiance_cache_request(struct irradiance_cache *c, const struct irradianc
         en->last_use = c->tick;
         irr_note_use_locked(c, en);
         bool ready = en->phase == IRR_READY && !en->cancelled;
+        metrics_cache(METRICS_CACHE_IRRADIANCE, ready ? METRICS_HIT : METRICS_MISS);
         if (ready && !en->has_gpu && !en->has_host && en->on_disk) {
             to_load[loads] = en; /* read back below, without the lock */
             load_slot[loads++] = sl;

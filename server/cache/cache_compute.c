@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "../core/log.h"
+#include "../core/metrics.h"
 #include "cache_internal.h"
 
 void irr_fields_release(struct irr_fields *f)
@@ -72,6 +73,7 @@ static void finish_run(struct irr_entry *en, struct err *e)
         en->progress = 1.0;
         en->patches_live = 0;
         en->compute_ms = ms;
+        metrics_lightsim(ms * 1e-3);
         en->phase = IRR_READY;
         en->last_use = ++c->tick;
         irr_note_ready_locked(c, en);

@@ -7,7 +7,7 @@
  * The GPU build cannot leave the rounding to the driver: Mesa llvmpipe (22.3.6) truncates
  * floats towards zero when it converts an upload to RGBA16F, which biases n low by half an
  * ulp on average (5e-4 at n = 1.4) and moved exit points by 1e-3 in
- * tests/gpu/test_integrators_vs_ref.c. Values that are already halves convert exactly.
+ * tests/gpu/test_steppers_vs_ref.c. Values that are already halves convert exactly.
  */
 #ifndef REFRACT_HALF_FLOAT_H
 #define REFRACT_HALF_FLOAT_H

@@ -1,5 +1,5 @@
 /*
- * optics_exact.h - closed-form ray paths that serve as references where no integrator is
+ * optics_exact.h - closed-form ray paths that serve as references where no stepper is
  * needed: the transmitted ray through a homogeneous sphere (Snell's law at both
  * surfaces), the exact reference for the "smoothed sharp sphere" cases of docs/accuracy.md.
  *

@@ -4,7 +4,7 @@
  * faces (total internal reflection included), integration inside the field with the
  * straight-segment cut at the bounds, trapezoid accumulation of optical path,
  * absorption and emission, Fresnel events at sharp boundaries inside the field, opaque
- * embeddings, jumps over empty space (macrocell.c), and the statuses. The integrators and field
+ * embeddings, jumps over empty space (macrocell.c), and the statuses. The steppers and field
  * sampling are in reftrace_integrate.c.
  *
  * It is the twin of shaders/ray_march.glsl and follows the page step for step; the
@@ -39,13 +39,13 @@
 #define ABSORBED_EPS 1e-6    /* T_f * max(exp(-alpha)) below this: absorbed */
 #define RAMP_SLOPE_RATIO 0.5 /* zone sides keep this much of the slope: a ramp, no event */
 #define SKIP_EXIT_PAD 1e-3   /* voxels: a skip to the bounds ends this far past them */
-/* Adaptive integrator: step-size factors per step and the smallest step relative to
+/* Adaptive stepper: step-size factors per step and the smallest step relative to
  * the object's largest extent. */
 #define ADAPT_SHRINK_MIN 0.2
 #define ADAPT_GROW_MAX 5.0
 #define ADAPT_SAFETY 0.9
 #define ADAPT_MIN_STEP_REL 1e-9
-/* The GPU's adaptive integrator (Bogacki-Shampine 3(2)): the same constants as
+/* The GPU's adaptive stepper (Bogacki-Shampine 3(2)): the same constants as
  * shaders/ray_equation.glsl RAY_BS23_*. */
 #define BS23_SAFETY 0.9
 #define BS23_SHRINK_MIN 0.2
@@ -351,7 +351,7 @@ static vec3 snap_to_face(const struct reftrace_object *o, vec3 p, int axis, doub
     return p;
 }
 
-/* One step's outcome, whichever integrator took it. */
+/* One step's outcome, whichever stepper took it. */
 struct step_out {
     vec3 p, w;               /* end of the step (on the face when leaving) */
     struct reftrace_field f; /* field at p */
@@ -373,7 +373,7 @@ static void finish_step(struct march *m, const struct object_frame *fr, vec3 p, 
                         const struct reftrace_field *f0, struct step_out *s);
 
 /* Euler, RK2, RK4 or Bogacki-Shampine step with the straight-segment cut and trapezoid
- * accumulation: the integrators the GPU has. The page is silent on w at the cut; like
+ * accumulation: the steppers the GPU has. The page is silent on w at the cut; like
  * the GLSL twin it is interpolated with the same fraction, w + f (w' - w). For BS23, *h
  * carries the step size between calls, and a step whose error exceeds the tolerance
  * comes back rejected with nothing accumulated (unless it is already the smallest). */
@@ -381,15 +381,15 @@ static void fixed_step(struct march *m, const struct object_frame *fr, vec3 p, v
                        const struct reftrace_field *f0, double *h_io, struct step_out *s)
 {
     double h_max = m->set->step_voxels * fr->h_min;
-    double h = m->set->integrator == REFTRACE_BS23 ? *h_io : h_max;
+    double h = m->set->stepper == REFTRACE_BS23 ? *h_io : h_max;
     s->p = p;
     s->w = w;
     s->rejected = false;
-    if (m->set->integrator == REFTRACE_EULER) {
+    if (m->set->stepper == REFTRACE_EULER) {
         reftrace_step_euler(fr->o, h, &s->p, &s->w);
-    } else if (m->set->integrator == REFTRACE_RK2) {
+    } else if (m->set->stepper == REFTRACE_RK2) {
         reftrace_step_rk2(fr->o, h, &s->p, &s->w);
-    } else if (m->set->integrator == REFTRACE_BS23) {
+    } else if (m->set->stepper == REFTRACE_BS23) {
         vec3 ext = vec3_sub(fr->o->bmax, fr->o->bmin);
         double extent = fmax(ext.x, fmax(ext.y, ext.z));
         double tol = m->set->tolerance_voxels * fr->h_min;
@@ -593,7 +593,7 @@ static void march_object(struct march *m, const struct object_frame *fr, vec3 p,
     struct zone zone = {.inside = false, .armed = false};
     double h_adapt = set->step_voxels * fr->h_min;
     bool can_skip = set->empty_space_skipping && fr->o->cells != NULL && fr->o->grid != NULL &&
-                    set->integrator != REFTRACE_ADAPTIVE;
+                    set->stepper != REFTRACE_ADAPTIVE;
     bool skipped = false; /* the last step was a skip: integrate once before the next */
     double cut = set->min_throughput > 0.0   ? set->min_throughput
                  : set->min_throughput < 0.0 ? 0.0
@@ -610,7 +610,7 @@ static void march_object(struct march *m, const struct object_frame *fr, vec3 p,
         bool skip = can_skip && !skipped && skip_step(m, fr, p, w, &f0, &s);
         if (skip)
             h_adapt = set->step_voxels * fr->h_min; /* BS23 after a skip: as in empty space */
-        else if (set->integrator == REFTRACE_ADAPTIVE)
+        else if (set->stepper == REFTRACE_ADAPTIVE)
             adaptive_step(m, fr, p, w, &h_adapt, &s);
         else
             fixed_step(m, fr, p, w, &f0, &h_adapt, &s);
@@ -813,8 +813,8 @@ void reftrace_ray(const struct reftrace_object *objects, int count,
                   struct reftrace_result *out)
 {
     assert(settings->step_voxels > 0.0);
-    assert(settings->integrator != REFTRACE_ADAPTIVE || settings->tolerance > 0.0);
-    assert(settings->integrator != REFTRACE_BS23 || settings->tolerance_voxels > 0.0);
+    assert(settings->stepper != REFTRACE_ADAPTIVE || settings->tolerance > 0.0);
+    assert(settings->stepper != REFTRACE_BS23 || settings->tolerance_voxels > 0.0);
     struct march m = {
         .set = settings,
         .x = origin,

@@ -3,7 +3,7 @@
  *
  * It follows docs/tracing.md step for step, as the GPU kernels do, so tests can bound
  * the GPU's deviation: same objects, same voxel fields (or the exact analytic field),
- * same integrators, same statuses. It also offers an adaptive Runge-Kutta integrator
+ * same steppers, same statuses. It also offers an adaptive Runge-Kutta stepper
  * with error control (Dormand-Prince 5(4)) for references on exact continuous fields.
  *
  * This is not a renderer: it traces single rays, slowly and exactly. Radiance is
@@ -90,11 +90,11 @@ struct reftrace_lighting {
     struct reftrace_receiver receiver;
 };
 
-enum reftrace_integrator {
+enum reftrace_stepper {
     REFTRACE_EULER = 0,    /* tevs2007 eqs. 5.11/5.12 */
     REFTRACE_RK4 = 1,      /* classical Runge-Kutta, fixed step */
     REFTRACE_ADAPTIVE = 2, /* Dormand-Prince 5(4), error per step <= tolerance: the exact
-                              reference, not a GPU integrator */
+                              reference, not a GPU stepper */
     REFTRACE_RK2 = 3,      /* explicit midpoint, fixed step (the GPU's "rk2") */
     REFTRACE_BS23 = 4,     /* Bogacki-Shampine 3(2) with step control, error per step <=
                               tolerance_voxels: the twin of the GPU's "adaptive" */
@@ -104,9 +104,9 @@ enum reftrace_integrator {
  * them is sorted by nesting priority, index 0 the highest (interface.h). */
 struct reftrace_surface {
     struct geom_surface geom;
-    double ior;            /* constant n of the medium inside */
-    double attenuation[3]; /* sigma_a per world unit */
-    double emission[3];    /* L_e per world unit */
+    double ior;              /* constant n of the medium inside */
+    double attenuation[3];   /* sigma_a per world unit */
+    double emission[3];      /* L_e per world unit */
     struct brdf_params brdf; /* reflection of lights where it refracts; zero: none */
 };
 
@@ -118,8 +118,8 @@ enum reftrace_event_kind {
 
 struct reftrace_event {
     enum reftrace_event_kind kind;
-    vec3 point, normal; /* world; normal unit, pointing back into the incoming side */
-    int surface;        /* index into the surface array */
+    vec3 point, normal;         /* world; normal unit, pointing back into the incoming side */
+    int surface;                /* index into the surface array */
     int medium_from, medium_to; /* surface whose medium it is, -1 the ambient medium */
     double n_from, n_to;
     double fresnel_R; /* the reflectance at the event; 1 for total internal reflection */
@@ -128,7 +128,7 @@ struct reftrace_event {
 #define REFTRACE_MAX_EVENTS 64
 
 struct reftrace_settings {
-    enum reftrace_integrator integrator;
+    enum reftrace_stepper stepper;
     double step_voxels;        /* fixed step (euler, rk4); initial and largest step (adaptive) */
     int max_steps;             /* over the whole ray */
     double boundary_threshold; /* docs/tracing.md "Sharp boundaries" */
@@ -140,8 +140,8 @@ struct reftrace_settings {
                                                  is not modelled by REFTRACE_ADAPTIVE. */
     bool empty_space_skipping;                /* jump over the objects' empty cells (render.
                                                  empty_space_skipping; not with REFTRACE_ADAPTIVE) */
-    double min_throughput; /* the absorbed cut-off (render.min_throughput); 0: the
-                              default 1e-6; negative: never */
+    double min_throughput;                   /* the absorbed cut-off (render.min_throughput); 0: the
+                                                default 1e-6; negative: never */
     const struct reftrace_surface *surfaces; /* exact surfaces by priority; NULL: none */
     int surface_count;                       /* at most INTERFACE_MAX_SURFACES */
 };
@@ -152,7 +152,7 @@ struct reftrace_result {
     vec3 transmittance;               /* T_fresnel * exp(-alpha), per channel */
     double optical_path_length;       /* integral of n ds, world units */
     int steps;
-    vec3 radiance; /* L along the ray as a view ray would gather it */
+    vec3 radiance;   /* L along the ray as a view ray would gather it */
     int event_count; /* surface events, the first REFTRACE_MAX_EVENTS of them in events */
     struct reftrace_event events[REFTRACE_MAX_EVENTS];
 };

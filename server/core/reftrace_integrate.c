@@ -1,12 +1,12 @@
 /*
- * reftrace_integrate.c - field sampling and the three integrators of the reference
+ * reftrace_integrate.c - field sampling and the three steppers of the reference
  * tracer: explicit Euler (tevs2007 eqs. 5.11/5.12), classical RK4, and Dormand-Prince
  * 5(4) for the adaptive "exact" reference. The march itself (objects, faces, events,
  * statuses) is reftrace.c; this file knows nothing about bounds or Fresnel.
  *
  * Euler and RK4 integrate only y = (p, w), exactly as shaders/ray_equation.glsl does;
  * the march accumulates OPL, absorption and emission with the trapezoid rule as
- * docs/tracing.md says. The adaptive integrator instead carries those integrals in its
+ * docs/tracing.md says. The adaptive stepper instead carries those integrals in its
  * state, so they get the same fifth-order accuracy as the path: a trapezoid over steps
  * of a few hundredths of the object would not be a reference.
  */

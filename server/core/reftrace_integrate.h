@@ -1,6 +1,6 @@
 /*
  * reftrace_integrate.h - internal to the reference tracer (reftrace.c): field sampling
- * and the integrators of the ray equation in object space. Not a public interface;
+ * and the steppers of the ray equation in object space. Not a public interface;
  * only reftrace*.c include it.
  *
  * The ray equation d/ds (n dx/ds) = grad n (tevs2007 eq. 4.7) is integrated as the
@@ -26,7 +26,7 @@ struct reftrace_field {
     double g;      /* Henyey-Greenstein anisotropy (0 without an anisotropy channel) */
 };
 
-/* State of the adaptive integrator: the ray plus the integrals it carries along one
+/* State of the adaptive stepper: the ray plus the integrals it carries along one
  * step (all zero at the start of a step except p and w). */
 struct reftrace_ode {
     vec3 p, w;  /* object space */

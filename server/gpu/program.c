@@ -26,7 +26,7 @@ static unsigned variant_mask(enum gpu_kernel kernel)
     case GPU_KERNEL_RENDER_VIEW:
         return GPU_VARIANT_COUNT - 1;
     case GPU_KERNEL_TRACE_RAYS:
-        return GPU_VARIANT_INTEGRATOR_BITS | GPU_VARIANT_ATTENUATION | GPU_VARIANT_OPAQUE |
+        return GPU_VARIANT_STEPPER_BITS | GPU_VARIANT_ATTENUATION | GPU_VARIANT_OPAQUE |
                GPU_VARIANT_SCATTERING | GPU_VARIANT_SKIP | GPU_VARIANT_IOR_TRICUBIC |
                GPU_VARIANT_SURFACES;
     default:
@@ -110,17 +110,17 @@ struct gpu_programs_lazy {
     GLuint (*program)[GPU_VARIANT_COUNT];
 };
 
-static const char *integrator_define(unsigned v)
+static const char *stepper_define(unsigned v)
 {
-    switch (v & GPU_VARIANT_INTEGRATOR_BITS) {
+    switch (v & GPU_VARIANT_STEPPER_BITS) {
     case GPU_VARIANT_RK4:
-        return "INTEGRATOR_RK4";
+        return "STEPPER_RK4";
     case GPU_VARIANT_RK2:
-        return "INTEGRATOR_RK2";
+        return "STEPPER_RK2";
     case GPU_VARIANT_ADAPTIVE:
-        return "INTEGRATOR_ADAPTIVE";
+        return "STEPPER_ADAPTIVE";
     default:
-        return "INTEGRATOR_EULER";
+        return "STEPPER_EULER";
     }
 }
 
@@ -129,12 +129,12 @@ static GLuint build_variant(enum gpu_kernel k, unsigned v, const char *shader_di
     unsigned mask = variant_mask(k);
     char preamble[512], label[96];
     snprintf(preamble, sizeof preamble,
-             "#define MARCH_INTEGRATOR %s\n#define MARCH_IOR_FILTER %s\n"
+             "#define MARCH_STEPPER %s\n#define MARCH_IOR_FILTER %s\n"
              "#define MARCH_ATTENUATION %d\n"
              "#define MARCH_EMISSION %d\n#define MARCH_OPAQUE %d\n"
              "#define MARCH_SCATTERING %d\n#define MARCH_LIGHTS %d\n#define MARCH_SKIP %d\n"
              "#define MARCH_SURFACES %d",
-             integrator_define(v),
+             stepper_define(v),
              (v & GPU_VARIANT_IOR_TRICUBIC) ? "IOR_FILTER_TRICUBIC" : "IOR_FILTER_TRILINEAR",
              (v & GPU_VARIANT_ATTENUATION) ? 1 : 0, (v & GPU_VARIANT_EMISSION) ? 1 : 0,
              (v & GPU_VARIANT_OPAQUE) ? 1 : 0, (v & GPU_VARIANT_SCATTERING) ? 1 : 0,

@@ -2,7 +2,7 @@
  * program.h - compute programs built from the embedded GLSL, in variants.
  *
  * The marching kernels (render_view, trace_rays) are compiled once per variant: the
- * integrator, the optional channels a scene uses (attenuation, emission, opaque,
+ * stepper, the optional channels a scene uses (attenuation, emission, opaque,
  * scattering), the lights and empty-space skipping are preprocessor switches, so a scene
  * that has no emission never pays for an emission fetch (tevs2007 sect. 6.1: "some data
  * is not required for proper rendering"). Every variant
@@ -26,13 +26,13 @@ enum gpu_kernel {
 };
 
 /* Variant bits of the marching kernels. */
-/* The integrator is two bits, RK4 and INTEGRATOR_HI: none = Euler, RK4 = RK4, HI = RK2
+/* The stepper is two bits, RK4 and STEPPER_HI: none = Euler, RK4 = RK4, HI = RK2
  * (midpoint), both = adaptive (Bogacki-Shampine 3(2)); use the names below. */
 #define GPU_VARIANT_RK4 1u
-#define GPU_VARIANT_INTEGRATOR_HI 64u
-#define GPU_VARIANT_RK2 GPU_VARIANT_INTEGRATOR_HI
-#define GPU_VARIANT_ADAPTIVE (GPU_VARIANT_INTEGRATOR_HI | GPU_VARIANT_RK4)
-#define GPU_VARIANT_INTEGRATOR_BITS GPU_VARIANT_ADAPTIVE
+#define GPU_VARIANT_STEPPER_HI 64u
+#define GPU_VARIANT_RK2 GPU_VARIANT_STEPPER_HI
+#define GPU_VARIANT_ADAPTIVE (GPU_VARIANT_STEPPER_HI | GPU_VARIANT_RK4)
+#define GPU_VARIANT_STEPPER_BITS GPU_VARIANT_ADAPTIVE
 #define GPU_VARIANT_ATTENUATION 2u /* the scene has an attenuation channel */
 #define GPU_VARIANT_EMISSION 4u    /* ... an emission channel (render_view only) */
 #define GPU_VARIANT_OPAQUE 8u      /* ... an opaque channel */
@@ -47,15 +47,14 @@ enum gpu_kernel {
             scene has empty macro cells (docs/tracing.md "Empty space") */
 #define GPU_VARIANT_IOR_TRICUBIC                                                                   \
     256u /* tricubic Catmull-Rom index, its exact gradient (render.ior_filter) */
-#define GPU_VARIANT_SURFACES                                                                       \
-    512u /* the scene has exact surfaces (docs/tracing.md "Surfaces") */
+#define GPU_VARIANT_SURFACES 512u /* the scene has exact surfaces (docs/tracing.md "Surfaces") */
 #define GPU_VARIANT_COUNT 1024
 /* Variants with any of these bits, or without GPU_VARIANT_SKIP (skipping off is for
  * comparisons), are compiled on first use (gpu_program_get), not at start-up: doubling the
  * variant count five times would make the start-up 32 times longer. One variant with every
- * bit (the adaptive integrator) is compiled at start-up, so a shader error still stops it. */
+ * bit (the adaptive stepper) is compiled at start-up, so a shader error still stops it. */
 #define GPU_VARIANT_LAZY                                                                           \
-    (GPU_VARIANT_SCATTERING | GPU_VARIANT_LIGHTS | GPU_VARIANT_INTEGRATOR_HI |                     \
+    (GPU_VARIANT_SCATTERING | GPU_VARIANT_LIGHTS | GPU_VARIANT_STEPPER_HI |                        \
      GPU_VARIANT_IOR_TRICUBIC | GPU_VARIANT_SURFACES)
 
 struct gpu_program_desc {

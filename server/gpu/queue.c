@@ -15,6 +15,7 @@
 #include <time.h>
 
 #include "../core/log.h"
+#include "../core/metrics.h"
 
 struct work_list {
     struct gpu_work *head, *tail;
@@ -98,7 +99,11 @@ static void execute(struct gpu *g, struct gpu_work *w)
                 w->label ? w->label : "work", (long long)(gpu_now_ms() - w->queued_ms),
                 gpu_queue_length(g));
     } else {
+        double t0 = gpu_time_ms();
         w->run(w, g);
+        /* GET /metrics: GPU busy time and queue wait by priority (core/metrics.h). */
+        metrics_gpu_work((int)w->priority, (double)(gpu_now_ms() - w->queued_ms) * 1e-3,
+                         (gpu_time_ms() - t0) * 1e-3);
     }
     if (w->done)
         w->done(w);

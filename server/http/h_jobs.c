@@ -325,6 +325,7 @@ enum MHD_Result http_handle_job_archive(struct http_request *req)
     MHD_add_response_header(resp, "X-Job-State", st.state);
     http_response_common_headers(resp);
     enum MHD_Result r = MHD_queue_response(req->conn, MHD_HTTP_OK, resp);
+    req->status = MHD_HTTP_OK;
     MHD_destroy_response(resp);
     req->phase = HTTP_PHASE_ANSWERED;
     return r;

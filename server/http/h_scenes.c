@@ -46,6 +46,7 @@ enum MHD_Result http_handle_health(struct http_request *req)
     cJSON *lim = cJSON_AddObjectToObject(root, "limits");
     cJSON_AddNumberToObject(lim, "max_resolution", c->limits.max_resolution);
     cJSON_AddNumberToObject(lim, "max_voxels", (double)c->limits.max_voxels);
+    cJSON_AddNumberToObject(lim, "max_upload_voxels", (double)c->limits.max_upload_voxels);
     cJSON_AddNumberToObject(lim, "max_objects", c->limits.max_objects);
     cJSON_AddNumberToObject(lim, "max_image_dim", c->limits.max_image_dim);
     cJSON_AddNumberToObject(lim, "max_image_pixels", (double)c->max_image_pixels);

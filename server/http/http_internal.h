@@ -70,6 +70,7 @@ struct http_request {
     char upload_sha256[SHA256_HEX_SIZE];
     struct err upload_err; /* code != OK when writing the file failed (answered at the end) */
     enum http_phase phase;
+    int status; /* the status answered with (0 = none yet); GET /metrics counts it */
     double started_ms;
     /* Asynchronous GPU work (handler-specific). */
     struct gpu_work work;
@@ -127,7 +128,7 @@ enum refract_code http_parse_body(const char *body, size_t len, cJSON **root, st
  * (def, or the values *exposure_ev, *tonemap, *jpeg_quality hold on entry) and changes
  * only what root names; limits are the cfg's, with messages naming the flag.
  *   camera: "camera" {eye, look_at, up, fov_y_deg} (merged into def), "width", "height";
- *   settings: "integrator", "step", "max_steps", "boundary_threshold";
+ *   settings: "stepper", "step", "max_steps", "boundary_threshold";
  *   image options: "exposure", "tonemap", "jpeg_quality". */
 enum refract_code http_parse_camera(const cJSON *root, const struct scene_camera *def,
                                     const struct http_config *cfg, struct scene_camera *out,
@@ -201,6 +202,7 @@ enum MHD_Result http_handle_web_index(struct http_request *req);
 enum MHD_Result http_handle_web_viewer(struct http_request *req);
 enum MHD_Result http_handle_web_asset(struct http_request *req);
 enum MHD_Result http_handle_storage(struct http_request *req);
+enum MHD_Result http_handle_metrics(struct http_request *req);
 /* Batch jobs (h_jobs.c). */
 enum MHD_Result http_handle_job_create(struct http_request *req);
 enum MHD_Result http_handle_job_list(struct http_request *req);
@@ -228,7 +230,8 @@ void http_publish_scene(const struct http_app *app, const char *type, const char
 /* The irradiance status body (docs/api.md) of a version. */
 cJSON *http_irradiance_status(const struct http_app *app, struct store_scene *v);
 /* A version as render and irradiance source: render_request_scene_source and
- * render_request_irradiance_source (server/request/render_request.h, shared with the view sessions). */
+ * render_request_irradiance_source (server/request/render_request.h, shared with the view
+ * sessions). */
 
 /* Looks up the scene named by the first path parameter; answers 404 and returns NULL when
  * it does not exist. Returns a new reference. */

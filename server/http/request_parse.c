@@ -10,7 +10,7 @@
 #include "../scene/json_read.h"
 #include "http_internal.h"
 
-/* Order as enum scene_integrator. */
+/* Order as enum scene_stepper. */
 static const char *const format_names[] = {"png", "jpeg", "exr", NULL};
 
 enum refract_code http_parse_body(const char *body, size_t len, cJSON **root, struct err *e)
@@ -43,9 +43,11 @@ enum refract_code http_parse_settings(const cJSON *root, const struct scene_rend
                                       struct scene_render_settings *st, struct err *e)
 {
     *st = *def;
-    int integrator = (int)st->integrator, ior_filter = (int)st->ior_filter;
-    enum refract_code rc =
-        jr_enum(root, "", "integrator", false, integrator, scene_integrator_words, &integrator, e);
+    int stepper = (int)st->stepper, ior_filter = (int)st->ior_filter;
+    const char *stepper_key = "stepper";
+    enum refract_code rc = jr_renamed(root, "", "stepper", SCENE_STEPPER_OLD_KEY, &stepper_key, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_enum(root, "", stepper_key, false, stepper, scene_stepper_words, &stepper, e);
     if (rc == REFRACT_E_OK)
         rc = jr_enum(root, "", "ior_filter", false, ior_filter, scene_ior_filter_words, &ior_filter,
                      e);
@@ -60,7 +62,12 @@ enum refract_code http_parse_settings(const cJSON *root, const struct scene_rend
     if (rc == REFRACT_E_OK)
         rc = jr_number(root, "", "boundary_threshold", false, st->boundary_threshold, 1e-6, 10.0,
                        &st->boundary_threshold, e);
-    st->integrator = (enum scene_integrator)integrator;
+    if (rc == REFRACT_E_OK)
+        rc = scene_read_samples_per_pixel(cJSON_GetObjectItemCaseSensitive(root,
+                                                                           "samples_per_pixel"),
+                                          "samples_per_pixel", st->samples_per_pixel,
+                                          &cfg->limits, &st->samples_per_pixel, e);
+    st->stepper = (enum scene_stepper)stepper;
     st->ior_filter = (enum scene_ior_filter)ior_filter;
     return rc;
 }
@@ -132,10 +139,22 @@ enum refract_code http_parse_render_request(const char *body, size_t len, const 
                                             const struct http_config *cfg,
                                             struct http_render_request *out, struct err *e)
 {
-    static const char *const keys[] = {
-        "camera",     "width", "height",    "format",    "exposure",     "tonemap",
-        "integrator", "step",  "tolerance", "max_steps", "jpeg_quality", "boundary_threshold",
-        "ior_filter", NULL};
+    static const char *const keys[] = {"camera",
+                                       "width",
+                                       "height",
+                                       "format",
+                                       "exposure",
+                                       "tonemap",
+                                       "stepper",
+                                       "step",
+                                       "tolerance",
+                                       "max_steps",
+                                       "jpeg_quality",
+                                       "boundary_threshold",
+                                       "ior_filter",
+                                       "samples_per_pixel",
+                                       SCENE_STEPPER_OLD_KEY,
+                                       NULL};
     memset(out, 0, sizeof *out);
     cJSON *root = NULL;
     enum refract_code rc = http_parse_body(body, len, &root, e);
@@ -189,9 +208,9 @@ enum refract_code http_parse_trace_request(const char *body, size_t len, const s
                                            struct render_trace_ray **rays, size_t *count,
                                            bool *events, struct err *e)
 {
-    static const char *const keys[] = {"rays",       "step",      "tolerance",
-                                       "integrator", "max_steps", "boundary_threshold",
-                                       "ior_filter", "events",    NULL};
+    static const char *const keys[] = {
+        "rays",       "step",   "tolerance",           "stepper", "max_steps", "boundary_threshold",
+        "ior_filter", "events", SCENE_STEPPER_OLD_KEY, NULL};
     *rays = NULL;
     *count = 0;
     cJSON *root = NULL;

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "../core/log.h"
+#include "../core/utf8.h"
 #include "http_internal.h"
 
 void http_response_common_headers(struct MHD_Response *resp)
@@ -35,6 +36,7 @@ static enum MHD_Result queue(struct http_request *req, unsigned status, void *by
     enum MHD_Result r = MHD_queue_response(req->conn, status, resp);
     MHD_destroy_response(resp);
     req->phase = HTTP_PHASE_ANSWERED;
+    req->status = (int)status;
     return r;
 }
 
@@ -68,8 +70,12 @@ enum MHD_Result http_respond_empty(struct http_request *req, unsigned status)
 }
 
 static enum MHD_Result respond_error_text(struct http_request *req, enum refract_code code,
-                                          const char *message, const char *const *headers)
+                                          const char *raw_message, const char *const *headers)
 {
+    /* Messages quote what clients sent (URL parts, file headers): what is not printable
+     * UTF-8 is written as \xNN, so the body is valid JSON and shows every byte. */
+    char message[ERR_MSG_MAX * 4];
+    utf8_escape(message, sizeof message, raw_message, strlen(raw_message), NULL);
     int status = err_code_http_status(code);
     const char *route = req->route ? req->route->pattern : "(no route)";
     if (status >= 500)

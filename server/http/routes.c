@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "../core/metrics.h"
 #include "http_internal.h"
 #include "routes.h"
 
@@ -16,6 +17,7 @@ static const struct http_route routes[] = {
     /* API v1. */
     {"GET", "/v1/health", http_handle_health, HTTP_BODY_NONE},
     {"GET", "/v1/storage", http_handle_storage, HTTP_BODY_NONE},
+    {"GET", "/metrics", http_handle_metrics, HTTP_BODY_NONE},
     {"GET", "/v1/scenes", http_handle_scene_list, HTTP_BODY_NONE},
     {"POST", "/v1/scenes", http_handle_scene_create, HTTP_BODY_JSON},
     {"GET", "/v1/scenes/{id}", http_handle_scene_get, HTTP_BODY_NONE},
@@ -47,6 +49,12 @@ static const struct http_route routes[] = {
 };
 
 #define ROUTE_COUNT (sizeof routes / sizeof routes[0])
+_Static_assert(ROUTE_COUNT < METRICS_NO_ROUTE, "GET /metrics counts requests per route index");
+
+size_t http_route_index(const struct http_route *route)
+{
+    return route != NULL ? (size_t)(route - routes) : METRICS_NO_ROUTE;
+}
 
 size_t http_routes(const struct http_route_info **out)
 {

@@ -24,6 +24,7 @@
 #include <unistd.h>
 
 #include "../core/log.h"
+#include "../core/metrics.h"
 #include "access.h"
 #include "http_internal.h"
 #include "routes.h"
@@ -77,6 +78,8 @@ static void on_completed(void *cls, struct MHD_Connection *conn, void **con_cls,
         return;
     if (toe != MHD_REQUEST_TERMINATED_COMPLETED_OK)
         log_debug("http", "request ended early (code %d)", (int)toe);
+    metrics_http_request(http_route_index(req->route), req->status,
+                         (gpu_time_ms() - req->started_ms) * 1e-3);
     request_free(req);
     *con_cls = NULL;
 }

@@ -188,6 +188,7 @@ enum MHD_Result http_respond_stream(struct http_request *req, const char *conten
     pthread_mutex_unlock(&set->lock);
 
     enum MHD_Result r = MHD_queue_response(req->conn, MHD_HTTP_OK, resp);
+    req->status = MHD_HTTP_OK;
     /* On failure libmicrohttpd frees the response (and calls stream_response_freed) when
      * the connection closes; the set drops its reference on its next pass. */
     MHD_destroy_response(resp);

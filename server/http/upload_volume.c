@@ -94,7 +94,8 @@ static bool parse_query(struct http_request *req, struct io_volume_desc *d)
     }
     *d = (struct io_volume_desc){.scale = 1.0,
                                  .max_resolution = req->cfg->limits.max_resolution,
-                                 .max_voxels = req->cfg->limits.max_voxels};
+                                 .max_voxels = req->cfg->limits.max_voxels,
+                                 .max_upload_voxels = req->cfg->limits.max_upload_voxels};
     if (!choose_format(req, &d->format))
         return false;
     const char *dims = query(req, "dims"), *type = query(req, "type");

@@ -22,15 +22,16 @@ static enum refract_code parse_overrides(const cJSON *root, const struct scene *
                                          struct err *e)
 {
     if (has(root, "quality"))
-        st->has_integrator = st->has_step = st->has_max_steps = st->has_boundary_threshold = false;
+        st->has_stepper = st->has_step = st->has_max_steps = st->has_boundary_threshold =
+            st->has_samples_per_pixel = false;
     struct scene_render_settings preset, parsed;
     view_settings_render(st, scene, &preset);
     enum refract_code rc = http_parse_settings(root, &preset, cfg, &parsed, e);
     if (rc != REFRACT_E_OK)
         return rc;
-    if (has(root, "integrator")) {
-        st->has_integrator = true;
-        st->overrides.integrator = parsed.integrator;
+    if (has(root, "stepper") || has(root, SCENE_STEPPER_OLD_KEY)) {
+        st->has_stepper = true;
+        st->overrides.stepper = parsed.stepper;
     }
     if (has(root, "step")) {
         st->has_step = true;
@@ -44,6 +45,10 @@ static enum refract_code parse_overrides(const cJSON *root, const struct scene *
         st->has_boundary_threshold = true;
         st->overrides.boundary_threshold = parsed.boundary_threshold;
     }
+    if (has(root, "samples_per_pixel")) {
+        st->has_samples_per_pixel = true;
+        st->overrides.samples_per_pixel = parsed.samples_per_pixel;
+    }
     return REFRACT_E_OK;
 }
 
@@ -52,10 +57,22 @@ enum refract_code http_parse_view_settings(const char *body, size_t len, const s
                                            const struct view_settings *current,
                                            struct view_settings *out, struct err *e)
 {
-    static const char *const keys[] = {
-        "camera",       "width",      "height",      "exposure",  "tonemap",
-        "quality",      "integrator", "step",        "max_steps", "boundary_threshold",
-        "jpeg_quality", "max_fps",    "progressive", NULL};
+    static const char *const keys[] = {"camera",
+                                       "width",
+                                       "height",
+                                       "exposure",
+                                       "tonemap",
+                                       "quality",
+                                       "stepper",
+                                       "step",
+                                       "max_steps",
+                                       "boundary_threshold",
+                                       "jpeg_quality",
+                                       "max_fps",
+                                       "progressive",
+                                       "samples_per_pixel",
+                                       SCENE_STEPPER_OLD_KEY,
+                                       NULL};
     *out = *current;
     cJSON *root = NULL;
     enum refract_code rc = http_parse_body(body, len, &root, e);

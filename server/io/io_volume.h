@@ -57,6 +57,7 @@ struct io_volume_desc {
     double scale, offset;     /* value = offset + scale * sample */
     int max_resolution;       /* voxels per axis */
     long long max_voxels;
+    long long max_upload_voxels; /* decoded voxels of this upload; 0 = no limit */
 };
 
 /* What was stored. */

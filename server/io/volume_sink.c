@@ -231,6 +231,13 @@ enum refract_code volume_check_dims(const struct io_volume_desc *d, const int di
                            where, dims[a], "xyz"[a], d -> max_resolution);
     }
     long long voxels = (long long)dims[0] * dims[1] * dims[2];
+    /* Checked from the header, before a byte is decoded; a gzip stream that inflates past
+     * what the header says is stopped as it streams (volume_nrrd.c, inflate_into). */
+    if (d->max_upload_voxels > 0 && voxels > d->max_upload_voxels)
+        return err_set(e, REFRACT_E_LIMIT_EXCEEDED,
+                       "%s: %d x %d x %d = %lld voxels exceed the limit of %lld decoded voxels "
+                       "per upload (max_upload_voxels; refractd --max-upload-voxels)",
+                       where, dims[0], dims[1], dims[2], voxels, d->max_upload_voxels);
     if (d->max_voxels > 0 && voxels > d->max_voxels)
         return err_set(e, REFRACT_E_LIMIT_EXCEEDED,
                        "%s: %lld voxels exceed the limit of %lld (refractd --max-voxels)", where,

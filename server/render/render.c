@@ -13,6 +13,7 @@
 
 #include "../core/interface.h"
 #include "../core/log.h"
+#include "../core/metrics.h"
 #include "../core/macrocell.h"
 #include "../core/ray_status.h"
 #include "../lightsim/gpu/lightsim_gpu.h"
@@ -43,11 +44,9 @@ _Static_assert(sizeof(struct surface_params) == 2 * 64 + 7 * 16, "surface_params
 _Static_assert(MAX_SURFACES == SCENE_MAX_SURFACES && MAX_SURFACES == INTERFACE_MAX_SURFACES,
                "one bit per surface in a ray's inside set");
 _Static_assert(sizeof(struct volume_params) == 3 * 16 + 8 * 16, "volume_params layout");
-_Static_assert(SCENE_INTEGRATOR_EULER == INTEGRATOR_EULER &&
-                   SCENE_INTEGRATOR_RK4 == INTEGRATOR_RK4 &&
-                   SCENE_INTEGRATOR_RK2 == INTEGRATOR_RK2 &&
-                   SCENE_INTEGRATOR_ADAPTIVE == INTEGRATOR_ADAPTIVE,
-               "scene and shader integrator numbers");
+_Static_assert(SCENE_STEPPER_EULER == STEPPER_EULER && SCENE_STEPPER_RK4 == STEPPER_RK4 &&
+                   SCENE_STEPPER_RK2 == STEPPER_RK2 && SCENE_STEPPER_ADAPTIVE == STEPPER_ADAPTIVE,
+               "scene and shader stepper numbers");
 _Static_assert(sizeof(struct trace_ray_in) == 32, "trace_ray_in layout");
 _Static_assert(sizeof(struct trace_hit_out) == 64, "trace_hit_out layout");
 _Static_assert(sizeof(struct trace_event_out) == 64, "trace_event_out layout");
@@ -143,6 +142,7 @@ static void cache_make_room(struct render *r, size_t incoming, const struct scen
                  "--gpu-scene-budget",
                  r->cache[oldest]->id, (double)r->cache[oldest]->bytes / 1048576.0);
         cache_remove_at(r, oldest);
+        metrics_cache(METRICS_CACHE_GPU_SCENE, METRICS_EVICTION);
     }
 }
 
@@ -160,6 +160,7 @@ static struct scene_gpu *cache_get(struct render *r, const struct render_scene_s
         }
     }
     bool built = false;
+    metrics_cache(METRICS_CACHE_GPU_SCENE, found ? METRICS_HIT : METRICS_MISS);
     if (found == NULL) {
         found = scene_gpu_build_cells(r->gpu, src, r->budget_bytes, r->skip_cell_voxels, e);
         if (found == NULL)
@@ -224,13 +225,14 @@ static float set_bits(uint32_t set)
 static void fill_settings(struct march_params *mp, const struct scene *s,
                           const struct scene_render_settings *st)
 {
-    /* enum scene_integrator and INTEGRATOR_* (bindings.h) share their numbers. */
-    mp->settings_i = (ivec4){(int)st->integrator, st->max_steps, (int)s->object_count,
+    /* enum scene_stepper and STEPPER_* (bindings.h) share their numbers. */
+    mp->settings_i = (ivec4){(int)st->stepper, st->max_steps, (int)s->object_count,
                              s->environment.kind == SCENE_ENV_IMAGE ? 1 : 0};
     mp->settings_f = (vec4){(float)st->step_voxels, (float)st->boundary_threshold,
                             (float)s->ambient_ior, (float)s->environment.intensity};
     mp->env = (vec4){(float)s->environment.rotation_deg, 0.0f, 0.0f, 0.0f};
-    mp->settings_f2 = (vec4){(float)st->tolerance_voxels, 0.0f, 0.0f, 0.0f};
+    int spp = st->samples_per_pixel > 1 ? st->samples_per_pixel : 1;
+    mp->settings_f2 = (vec4){(float)st->tolerance_voxels, (float)spp, 0.0f, 0.0f};
     mp->settings_f3.x = (float)st->min_throughput;
 }
 
@@ -303,19 +305,19 @@ static void bind_lights(struct render *r, const struct scene_gpu *sg, const stru
     }
 }
 
-/* The kernel variant for a scene's channels, the chosen integrator and index filter, and
+/* The kernel variant for a scene's channels, the chosen stepper and index filter, and
  * empty-space skipping (only where the scene has empty cells); with the all_variant_bits
  * knob every optional channel and the lights are compiled in. */
 static unsigned march_variant(const struct render *r, const struct scene_gpu *sg,
                               const struct scene_render_settings *st)
 {
-    static const unsigned integrator_bits[] = {
-        [SCENE_INTEGRATOR_EULER] = 0u,
-        [SCENE_INTEGRATOR_RK4] = GPU_VARIANT_RK4,
-        [SCENE_INTEGRATOR_RK2] = GPU_VARIANT_RK2,
-        [SCENE_INTEGRATOR_ADAPTIVE] = GPU_VARIANT_ADAPTIVE,
+    static const unsigned stepper_bits[] = {
+        [SCENE_STEPPER_EULER] = 0u,
+        [SCENE_STEPPER_RK4] = GPU_VARIANT_RK4,
+        [SCENE_STEPPER_RK2] = GPU_VARIANT_RK2,
+        [SCENE_STEPPER_ADAPTIVE] = GPU_VARIANT_ADAPTIVE,
     };
-    unsigned v = integrator_bits[st->integrator];
+    unsigned v = stepper_bits[st->stepper];
     if (st->ior_filter == SCENE_FILTER_TRICUBIC)
         v |= GPU_VARIANT_IOR_TRICUBIC;
     for (size_t i = 0; i < sg->object_count; i++) {

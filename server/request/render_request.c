@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "../core/metrics.h"
 #include "../store/store_mesh.h"
 #include "../request/render_request.h"
 
@@ -109,8 +110,11 @@ enum refract_code render_request_version(struct render *r, struct irradiance_cac
     *irradiance = irradiance_cache_gather(c, &isrc, lights, &count);
     req->lights = lights;
     req->light_count = count;
+    double t0 = gpu_time_ms();
     enum refract_code rc = render_view(r, &src, req, out, e);
-    if (rc == REFRACT_E_OK)
+    if (rc == REFRACT_E_OK) {
+        metrics_render((gpu_time_ms() - t0) * 1e-3); /* GET /metrics */
         note_build(store, v, &out->scene);
+    }
     return rc;
 }

@@ -23,6 +23,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../core/utf8.h"
+
 /* Longest excerpt of a string value or key that a message quotes back. */
 #define QUOTE_MAX 48
 
@@ -47,28 +49,41 @@ static const char *shown(const char *path)
     return (path == NULL || path[0] == '\0') ? "(root)" : path;
 }
 
-/* Writes s (at most n bytes of it) as a double-quoted, escaped, shortened literal. */
+/* Writes s (at most n bytes of it) as a double-quoted, shortened literal: a quote and a
+ * backslash get a backslash, and what is not printable UTF-8 becomes \xNN through
+ * utf8_escape (the one escaping function), so "gr\u00f6\u00dfe" reads as itself and a
+ * control character as its byte. At most QUOTE_MAX bytes of s are shown, cut at a
+ * character; "..." marks a cut. */
 static void quote(char *buf, size_t size, const char *s, size_t n)
 {
-    size_t o = 0;
     if (size < 8)
         return;
+    size_t len = strnlen(s, n), show = len < QUOTE_MAX ? len : QUOTE_MAX;
+    /* Cut between characters, and leave room for the closing quote, "..." and the NUL. */
+    while (show < len && show > 0 && ((unsigned char)s[show] & 0xc0) == 0x80)
+        show--;
+    size_t room = size - 5;
+    size_t o = 0, i = 0;
     buf[o++] = '"';
-    for (size_t i = 0; i < n && s[i] != '\0'; i++) {
-        if (o + 8 >= size || i >= QUOTE_MAX) {
-            memcpy(buf + o, "...", 3);
-            o += 3;
-            break;
-        }
-        unsigned char c = (unsigned char)s[i];
-        if (c == '"' || c == '\\') {
+    while (i < show) {
+        if (s[i] == '"' || s[i] == '\\') {
+            if (o + 2 > room)
+                break;
             buf[o++] = '\\';
-            buf[o++] = (char)c;
-        } else if (c >= 0x20 && c < 0x7f) {
-            buf[o++] = (char)c;
-        } else {
-            o += (size_t)snprintf(buf + o, size - o, "\\x%02x", c);
+            buf[o++] = s[i++];
+            continue;
         }
+        size_t run = i, used = 0;
+        while (run < show && s[run] != '"' && s[run] != '\\')
+            run++;
+        o += utf8_escape(buf + o, room - o + 1, s + i, run - i, &used);
+        i += used;
+        if (i < run)
+            break; /* the rest does not fit */
+    }
+    if (i < len) {
+        memcpy(buf + o, "...", 3);
+        o += 3;
     }
     buf[o++] = '"';
     buf[o] = '\0';
@@ -256,6 +271,20 @@ enum refract_code jr_string(const cJSON *obj, const char *path, const char *key,
                            "at character %zu",
                            jr_path(p, sizeof p, path, key), i);
     memcpy(out, item->valuestring, n + 1);
+    return REFRACT_E_OK;
+}
+
+enum refract_code jr_renamed(const cJSON *obj, const char *path, const char *key,
+                             const char *old_key, const char **use, struct err *e)
+{
+    bool now = get(obj, key) != NULL, before = get(obj, old_key) != NULL;
+    *use = before && !now ? old_key : key;
+    if (now && before) {
+        char p[256];
+        return err_set(e, REFRACT_E_INVALID_FIELD,
+                       "%s: \"%s\" is the old name of \"%s\"; give only \"%s\"",
+                       jr_path(p, sizeof p, path, old_key), old_key, key, key);
+    }
     return REFRACT_E_OK;
 }
 
@@ -493,6 +522,17 @@ enum refract_code jr_parse(const char *text, size_t len, cJSON **out, struct err
     *out = NULL;
     if (text == NULL)
         return parse_clean(text, len, out, e);
+    /* JSON text is UTF-8 (RFC 8259 sect. 8.1). cJSON copies other bytes into strings
+     * unchecked; stored in a scene name they would make every later listing invalid JSON. */
+    size_t invalid = utf8_invalid_at(text, len);
+    if (invalid < len) {
+        char what[160];
+        snprintf(what, sizeof what,
+                 "byte 0x%02x is not valid UTF-8 (JSON text must be UTF-8; non-ASCII "
+                 "characters may also be sent as \\u escapes)",
+                 (unsigned char)text[invalid]);
+        return syntax_error(text, len, invalid, what, e);
+    }
     size_t nul_escapes = 0, bad = scan_strings(text, len, &nul_escapes, NULL);
     if (bad < len) {
         char what[96];

@@ -38,8 +38,8 @@ enum refract_code jr_parse(const char *text, size_t len, cJSON **out, struct err
 /* Checks obj is a JSON object whose keys all appear in allowed (NULL-terminated);
  * otherwise INVALID_FIELD (not an object) or UNKNOWN_FIELD naming the key and listing
  * the allowed keys. Duplicate keys are INVALID_FIELD. */
-enum refract_code jr_check_object(const cJSON *obj, const char *path,
-                                  const char *const *allowed, struct err *e);
+enum refract_code jr_check_object(const cJSON *obj, const char *path, const char *const *allowed,
+                                  struct err *e);
 
 /* Each getter: when key is absent, required -> MISSING_FIELD, else *out = def and OK.
  * Wrong type or out of [min, max] -> INVALID_FIELD with the path, the rule and what
@@ -52,23 +52,27 @@ enum refract_code jr_bool(const cJSON *obj, const char *path, const char *key, b
                           bool def, bool *out, struct err *e);
 /* Copies a string of 1..max_len bytes (max_len < size) into out. */
 enum refract_code jr_string(const cJSON *obj, const char *path, const char *key, bool required,
-                            const char *def, size_t max_len, char *out, size_t size,
-                            struct err *e);
+                            const char *def, size_t max_len, char *out, size_t size, struct err *e);
 /* One of names (NULL-terminated) -> its index in *out. The message lists the names. */
+/* A key that was renamed: *use = key, or old_key when only the old name is present, so
+ * documents written before the rename keep working; both present is an error naming them. */
+enum refract_code jr_renamed(const cJSON *obj, const char *path, const char *key,
+                             const char *old_key, const char **use, struct err *e);
+
 enum refract_code jr_enum(const cJSON *obj, const char *path, const char *key, bool required,
                           int def, const char *const *names, int *out, struct err *e);
 /* An array of exactly 3 finite numbers, each in [min, max]. */
 enum refract_code jr_vec3(const cJSON *obj, const char *path, const char *key, bool required,
                           vec3 def, double min, double max, vec3 *out, struct err *e);
 /* A unit-izable direction: 3 finite numbers with length > 1e-12; returned normalised. */
-enum refract_code jr_direction(const cJSON *obj, const char *path, const char *key,
-                               bool required, vec3 def, vec3 *out, struct err *e);
+enum refract_code jr_direction(const cJSON *obj, const char *path, const char *key, bool required,
+                               vec3 def, vec3 *out, struct err *e);
 
 /* As jr_number, for a half-open range: min_exclusive < value <= max
  * ("objects[0].ior.radius: expected a finite number > 0 and <= 1000000, got 0"). */
-enum refract_code jr_number_gt(const cJSON *obj, const char *path, const char *key,
-                               bool required, double def, double min_exclusive, double max,
-                               double *out, struct err *e);
+enum refract_code jr_number_gt(const cJSON *obj, const char *path, const char *key, bool required,
+                               double def, double min_exclusive, double max, double *out,
+                               struct err *e);
 
 /* Checks an item already in hand (an array element, say) whose full JSON path is
  * `path`: a finite number in [min, max], or in (min, max] when min_exclusive. */

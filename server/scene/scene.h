@@ -139,11 +139,11 @@ struct scene_environment {
     double rotation_deg; /* rotation of the environment about world +y */
 };
 
-enum scene_integrator {
-    SCENE_INTEGRATOR_EULER = 0,    /* tevs2007 eqs. 5.11/5.12 */
-    SCENE_INTEGRATOR_RK4 = 1,      /* classical Runge-Kutta */
-    SCENE_INTEGRATOR_RK2 = 2,      /* explicit midpoint */
-    SCENE_INTEGRATOR_ADAPTIVE = 3, /* Bogacki-Shampine 3(2), step control by tolerance */
+enum scene_stepper {
+    SCENE_STEPPER_EULER = 0,    /* tevs2007 eqs. 5.11/5.12 */
+    SCENE_STEPPER_RK4 = 1,      /* classical Runge-Kutta */
+    SCENE_STEPPER_RK2 = 2,      /* explicit midpoint */
+    SCENE_STEPPER_ADAPTIVE = 3, /* Bogacki-Shampine 3(2), step control by tolerance */
 };
 /* Storage of the index+gradient atlas (docs/tracing.md "Precision"). */
 enum scene_ior_texture { SCENE_IOR_FLOAT32 = 0, SCENE_IOR_FLOAT16 = 1 };
@@ -153,14 +153,17 @@ enum scene_tonemap { SCENE_TONEMAP_CLAMP = 0, SCENE_TONEMAP_FILMIC = 1 };
 
 /* The JSON words of these enums, indexed by value, NULL-terminated (scene_words.c): the one
  * table each that parsers (jr_enum) and status answers share. */
-extern const char *const scene_integrator_words[];
+extern const char *const scene_stepper_words[];
+/* The stepper's key was "integrator" (renamed: "integrator" is kept for a light-transport
+ * algorithm); documents and requests that use the old key keep working (jr_renamed). */
+#define SCENE_STEPPER_OLD_KEY "integrator" /* renamed: the old key */
 extern const char *const scene_ior_texture_words[];
 extern const char *const scene_ior_filter_words[];
 extern const char *const scene_tonemap_words[];
 
 /* Render defaults of a scene; a render request may override each. */
 struct scene_render_settings {
-    enum scene_integrator integrator;
+    enum scene_stepper stepper;
     double step_voxels;                 /* integration step, in voxels of the object being crossed;
                                            adaptive: the largest step */
     double tolerance_voxels;            /* adaptive: error per step, voxels (1e-6..1; 1e-3) */
@@ -176,6 +179,9 @@ struct scene_render_settings {
     double min_throughput;            /* T_f max(exp(-alpha)) below this ends a ray as absorbed
                                          (0..0.5; default 1e-6; 0: never) */
     enum scene_ior_filter ior_filter; /* trilinear (default) or tricubic Catmull-Rom */
+    int samples_per_pixel;            /* view renders: jittered rays per pixel, a square
+                                         (1, 4, 9, ...; default 1), box filter
+                                         (docs/tracing.md "Anti-aliasing") */
 };
 
 /* ---- lights, receiver and light simulation (tevs2007 ch. 4.2, 6.2) ---- */
@@ -250,7 +256,7 @@ struct scene_surface {
     int priority; /* nesting priority: the higher wins where solids overlap */
     struct scene_medium medium;
     struct scene_brdf brdf; /* reflection of lights where the surface refracts (eq. 5.6) */
-    int document_index; /* position in the document's "surfaces" (messages) */
+    int document_index;     /* position in the document's "surfaces" (messages) */
 };
 
 struct scene {
@@ -296,10 +302,21 @@ struct scene_limits {
     int max_image_dim; /* camera width/height */
     int max_steps;
     int64_t max_mesh_triangles; /* per uploaded mesh, after splitting polygons */
+    int max_samples_per_pixel;  /* view renders' jittered rays per pixel */
+    /* Decoded voxels of one uploaded volume. A gzip NRRD of 62 KB decodes to 64M voxels
+     * (256 MB as float32), so this, not the body size, bounds what an upload costs. */
+    int64_t max_upload_voxels;
 };
 
+/* render.samples_per_pixel and its request twins (render and view requests): a square
+ * number (k x k equal strata) in 1..lim->max_samples_per_pixel; def when item is NULL. */
+struct cJSON;
+enum refract_code scene_read_samples_per_pixel(const struct cJSON *item, const char *path,
+                                               int def, const struct scene_limits *lim, int *out,
+                                               struct err *e);
+
 /* Defaults: 512, 64M voxels, 8 objects, 64 layers, 1024 points, 64 chars, 4096, 100000,
- * 2M triangles. */
+ * 2M triangles, 32M voxels per upload. */
 struct scene_limits scene_limits_default(void);
 
 /* Parses and validates a whole scene document (not NUL-terminated; len bytes).

@@ -36,6 +36,8 @@ struct scene_limits scene_limits_default(void)
         .max_image_dim = 4096,
         .max_steps = 100000,
         .max_mesh_triangles = 2000000,
+        .max_samples_per_pixel = 64,
+        .max_upload_voxels = 32ll * 1024 * 1024,
     };
 }
 
@@ -67,6 +69,26 @@ enum refract_code scene_read_limited_int(const cJSON *item, const char *path, in
         return scene_limit_error(e, path, given, limit_name, limit, flag);
     }
     *out = (int)v;
+    return REFRACT_E_OK;
+}
+
+enum refract_code scene_read_samples_per_pixel(const cJSON *item, const char *path, int def,
+                                               const struct scene_limits *lim, int *out,
+                                               struct err *e)
+{
+    enum refract_code rc =
+        scene_read_limited_int(item, path, def, 1, lim->max_samples_per_pixel,
+                               "max_samples_per_pixel", "--max-samples-per-pixel", out, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    /* k x k strata of equal size: a box filter that weights the pixel evenly. */
+    int k = (int)floor(sqrt((double)*out) + 0.5);
+    if (k * k != *out)
+        return err_set(e, REFRACT_E_INVALID_FIELD,
+                       "%s: %d is not a square number; the pixel is split into k x k equal "
+                       "strata, so use 1, 4, 9, 16, 25, ... (%d or %d)",
+                       path, *out, (k - (k * k > *out)) * (k - (k * k > *out)),
+                       (k + (k * k < *out)) * (k + (k * k < *out)));
     return REFRACT_E_OK;
 }
 
@@ -168,19 +190,32 @@ static enum refract_code parse_camera(const cJSON *root, const struct scene_limi
 static enum refract_code parse_render(const cJSON *root, const struct scene_limits *lim,
                                       struct scene_render_settings *r, struct err *e)
 {
-    static const char *const keys[] = {
-        "integrator",         "step",    "tolerance",   "max_steps",  "exposure",
-        "boundary_threshold", "tonemap", "ior_texture", "ior_filter", "empty_space_skipping",
-        "min_throughput",     NULL};
-    /* Order as enum scene_integrator / scene_ior_texture / scene_ior_filter. */
+    static const char *const keys[] = {"stepper",
+                                       "step",
+                                       "tolerance",
+                                       "max_steps",
+                                       "exposure",
+                                       "boundary_threshold",
+                                       "tonemap",
+                                       "ior_texture",
+                                       "ior_filter",
+                                       "empty_space_skipping",
+                                       "min_throughput",
+                                       "samples_per_pixel",
+                                       SCENE_STEPPER_OLD_KEY,
+                                       NULL};
+    /* Order as enum scene_stepper / scene_ior_texture / scene_ior_filter. */
     const cJSON *o;
-    int integrator = SCENE_INTEGRATOR_RK4, tonemap = SCENE_TONEMAP_CLAMP;
+    int stepper = SCENE_STEPPER_RK4, tonemap = SCENE_TONEMAP_CLAMP;
     int ior_texture = SCENE_IOR_FLOAT32, ior_filter = SCENE_FILTER_TRILINEAR;
     int def_steps = lim->max_steps < 20000 ? lim->max_steps : 20000;
     enum refract_code rc = sub_object(root, "render", keys, &o, e);
+    const char *stepper_key = "stepper";
     if (rc == REFRACT_E_OK)
-        rc = jr_enum(o, "render", "integrator", false, SCENE_INTEGRATOR_RK4, scene_integrator_words,
-                     &integrator, e);
+        rc = jr_renamed(o, "render", "stepper", SCENE_STEPPER_OLD_KEY, &stepper_key, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_enum(o, "render", stepper_key, false, SCENE_STEPPER_RK4, scene_stepper_words,
+                     &stepper, e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(o, "render", "step", false, 0.5, 0.01, 8.0, &r->step_voxels, e);
     if (rc == REFRACT_E_OK)
@@ -206,8 +241,11 @@ static enum refract_code parse_render(const cJSON *root, const struct scene_limi
     if (rc == REFRACT_E_OK)
         rc = jr_enum(o, "render", "ior_filter", false, SCENE_FILTER_TRILINEAR,
                      scene_ior_filter_words, &ior_filter, e);
+    if (rc == REFRACT_E_OK)
+        rc = scene_read_samples_per_pixel(member(o, "samples_per_pixel"), "render.samples_per_pixel",
+                                          1, lim, &r->samples_per_pixel, e);
     r->ior_filter = (enum scene_ior_filter)ior_filter;
-    r->integrator = (enum scene_integrator)integrator;
+    r->stepper = (enum scene_stepper)stepper;
     r->tonemap = (enum scene_tonemap)tonemap;
     r->ior_texture = (enum scene_ior_texture)ior_texture;
     return rc;

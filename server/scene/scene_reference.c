@@ -24,16 +24,16 @@ static double analytic_constant(void *ctx, vec3 p, vec3 *grad)
     return *(const double *)ctx;
 }
 
-enum reftrace_integrator scene_reference_integrator(enum scene_integrator i)
+enum reftrace_stepper scene_reference_stepper(enum scene_stepper i)
 {
     switch (i) {
-    case SCENE_INTEGRATOR_EULER:
+    case SCENE_STEPPER_EULER:
         return REFTRACE_EULER;
-    case SCENE_INTEGRATOR_RK2:
+    case SCENE_STEPPER_RK2:
         return REFTRACE_RK2;
-    case SCENE_INTEGRATOR_ADAPTIVE:
+    case SCENE_STEPPER_ADAPTIVE:
         return REFTRACE_BS23;
-    case SCENE_INTEGRATOR_RK4:
+    case SCENE_STEPPER_RK4:
         break;
     }
     return REFTRACE_RK4;
@@ -42,7 +42,7 @@ enum reftrace_integrator scene_reference_integrator(enum scene_integrator i)
 static void fill_settings(const struct scene *s, struct reftrace_settings *st)
 {
     memset(st, 0, sizeof *st);
-    st->integrator = scene_reference_integrator(s->render.integrator);
+    st->stepper = scene_reference_stepper(s->render.stepper);
     st->tolerance_voxels = s->render.tolerance_voxels;
     st->step_voxels = s->render.step_voxels;
     st->max_steps = s->render.max_steps;

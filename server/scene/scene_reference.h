@@ -34,11 +34,11 @@ struct scene_reference {
     double constants[SCENE_REFERENCE_MAX_OBJECTS];
     struct macrocell_map cells[SCENE_REFERENCE_MAX_OBJECTS]; /* voxel mode: the empty-space
                                                                 maps (owned) */
-    struct reftrace_surface surfaces[SCENE_MAX_SURFACES]; /* settings.surfaces points here */
+    struct reftrace_surface surfaces[SCENE_MAX_SURFACES];    /* settings.surfaces points here */
 };
 
-/* The reference tracer's twin of a render integrator (adaptive -> REFTRACE_BS23). */
-enum reftrace_integrator scene_reference_integrator(enum scene_integrator i);
+/* The reference tracer's twin of a render stepper (adaptive -> REFTRACE_BS23). */
+enum reftrace_stepper scene_reference_stepper(enum scene_stepper i);
 
 /* INVALID_FIELD in analytic mode when an object's ior is not one profile or constant, or
  * has other channels; CONFLICT for missing volumes; OUT_OF_MEMORY. */

@@ -6,14 +6,14 @@
  */
 #include "scene.h"
 
-const char *const scene_integrator_words[] = {"euler", "rk4", "rk2", "adaptive", NULL};
+const char *const scene_stepper_words[] = {"euler", "rk4", "rk2", "adaptive", NULL};
 const char *const scene_ior_texture_words[] = {"float32", "float16", NULL};
 const char *const scene_ior_filter_words[] = {"trilinear", "tricubic", NULL};
 const char *const scene_tonemap_words[] = {"clamp", "filmic", NULL};
 
-_Static_assert(SCENE_INTEGRATOR_EULER == 0 && SCENE_INTEGRATOR_RK4 == 1 &&
-                   SCENE_INTEGRATOR_RK2 == 2 && SCENE_INTEGRATOR_ADAPTIVE == 3,
-               "scene_integrator_words order");
+_Static_assert(SCENE_STEPPER_EULER == 0 && SCENE_STEPPER_RK4 == 1 && SCENE_STEPPER_RK2 == 2 &&
+                   SCENE_STEPPER_ADAPTIVE == 3,
+               "scene_stepper_words order");
 _Static_assert(SCENE_IOR_FLOAT32 == 0 && SCENE_IOR_FLOAT16 == 1, "scene_ior_texture_words order");
 _Static_assert(SCENE_FILTER_TRILINEAR == 0 && SCENE_FILTER_TRICUBIC == 1,
                "scene_ior_filter_words order");

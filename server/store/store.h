@@ -114,7 +114,7 @@ struct store_desc {
     const char *data_dir;                 /* created if missing */
     struct scene_limits limits;           /* for parsing documents */
     int max_scenes;                       /* 0 = 64 */
-    long long max_env_pixels;             /* 0 = 64M */
+    long long max_env_pixels;             /* 0 = 8M */
     unsigned long long max_storage_bytes; /* total blob bytes; 0 = unlimited */
 };
 

@@ -231,7 +231,7 @@ static enum refract_code decode_env(struct store *s, const void *bytes, size_t l
                                     struct store_env **out, struct err *e)
 {
     struct io_image img;
-    long long max_px = s->desc.max_env_pixels > 0 ? s->desc.max_env_pixels : (64ll << 20);
+    long long max_px = s->desc.max_env_pixels > 0 ? s->desc.max_env_pixels : (8ll << 20);
     enum refract_code rc = io_image_decode(bytes, len, max_px, &img, e);
     if (rc != REFRACT_E_OK)
         return rc;

@@ -62,6 +62,9 @@ enum view_quality {
     VIEW_QUALITY_DRAFT = 1,  /* step doubled (at most 8 voxels), euler */
     VIEW_QUALITY_FINAL = 2,  /* step halved (at least 0.01 voxels), rk4 */
 };
+/* The least samples_per_pixel of the "final" quality preset (a square: 2 x 2). */
+#define VIEW_FINAL_SAMPLES_PER_PIXEL 4
+
 /* "normal", "draft", "final"; NULL-terminated, indexed by enum view_quality. */
 extern const char *const view_quality_names[];
 
@@ -72,7 +75,7 @@ struct view_settings {
     double exposure_ev;
     enum scene_tonemap tonemap;
     enum view_quality quality;
-    bool has_integrator, has_step, has_max_steps, has_boundary_threshold;
+    bool has_stepper, has_step, has_max_steps, has_boundary_threshold, has_samples_per_pixel;
     struct scene_render_settings overrides; /* only the has_* members count */
     int jpeg_quality;                       /* 1..100 */
     double max_fps;                         /* 0.1..120 */

@@ -31,19 +31,24 @@ void view_settings_render(const struct view_settings *st, const struct scene *s,
     /* The step limits are those of a render request (request_parse.c: 0.01..8 voxels). */
     if (st->quality == VIEW_QUALITY_DRAFT) {
         out->step_voxels = out->step_voxels * 2.0 > 8.0 ? 8.0 : out->step_voxels * 2.0;
-        out->integrator = SCENE_INTEGRATOR_EULER;
+        out->stepper = SCENE_STEPPER_EULER;
     } else if (st->quality == VIEW_QUALITY_FINAL) {
         out->step_voxels = out->step_voxels * 0.5 < 0.01 ? 0.01 : out->step_voxels * 0.5;
-        out->integrator = SCENE_INTEGRATOR_RK4;
+        out->stepper = SCENE_STEPPER_RK4;
+        /* Final frames are looked at still: 2 x 2 jittered rays per pixel at least. */
+        if (out->samples_per_pixel < VIEW_FINAL_SAMPLES_PER_PIXEL)
+            out->samples_per_pixel = VIEW_FINAL_SAMPLES_PER_PIXEL;
     }
-    if (st->has_integrator)
-        out->integrator = st->overrides.integrator;
+    if (st->has_stepper)
+        out->stepper = st->overrides.stepper;
     if (st->has_step)
         out->step_voxels = st->overrides.step_voxels;
     if (st->has_max_steps)
         out->max_steps = st->overrides.max_steps;
     if (st->has_boundary_threshold)
         out->boundary_threshold = st->overrides.boundary_threshold;
+    if (st->has_samples_per_pixel)
+        out->samples_per_pixel = st->overrides.samples_per_pixel;
     out->exposure_ev = st->exposure_ev;
     out->tonemap = st->tonemap;
 }
@@ -116,13 +121,14 @@ static bool render_settings_equal(const struct view_settings *a, const struct vi
     return vec3_equal(ca->eye, cb->eye) && vec3_equal(ca->look_at, cb->look_at) &&
            vec3_equal(ca->up, cb->up) && ca->fov_y_deg == cb->fov_y_deg && ca->width == cb->width &&
            ca->height == cb->height && a->quality == b->quality &&
-           a->has_integrator == b->has_integrator &&
-           (!a->has_integrator || oa->integrator == ob->integrator) && a->has_step == b->has_step &&
-           (!a->has_step || oa->step_voxels == ob->step_voxels) &&
+           a->has_stepper == b->has_stepper && (!a->has_stepper || oa->stepper == ob->stepper) &&
+           a->has_step == b->has_step && (!a->has_step || oa->step_voxels == ob->step_voxels) &&
            a->has_max_steps == b->has_max_steps &&
            (!a->has_max_steps || oa->max_steps == ob->max_steps) &&
            a->has_boundary_threshold == b->has_boundary_threshold &&
-           (!a->has_boundary_threshold || oa->boundary_threshold == ob->boundary_threshold);
+           (!a->has_boundary_threshold || oa->boundary_threshold == ob->boundary_threshold) &&
+           a->has_samples_per_pixel == b->has_samples_per_pixel &&
+           (!a->has_samples_per_pixel || oa->samples_per_pixel == ob->samples_per_pixel);
 }
 
 static bool settings_equal(const struct view_settings *a, const struct view_settings *b)
@@ -255,11 +261,11 @@ static void add_settings(cJSON *o, const struct view_settings *st,
     cJSON_AddNumberToObject(o, "exposure", st->exposure_ev);
     cJSON_AddStringToObject(o, "tonemap", scene_tonemap_words[st->tonemap]);
     cJSON_AddStringToObject(o, "quality", view_quality_names[st->quality]);
-    cJSON_AddStringToObject(o, "integrator",
-                            scene_integrator_words[rs->integrator]);
+    cJSON_AddStringToObject(o, "stepper", scene_stepper_words[rs->stepper]);
     cJSON_AddNumberToObject(o, "step", rs->step_voxels);
     cJSON_AddNumberToObject(o, "max_steps", rs->max_steps);
     cJSON_AddNumberToObject(o, "boundary_threshold", rs->boundary_threshold);
+    cJSON_AddNumberToObject(o, "samples_per_pixel", rs->samples_per_pixel);
     cJSON_AddNumberToObject(o, "jpeg_quality", st->jpeg_quality);
     cJSON_AddNumberToObject(o, "max_fps", st->max_fps);
     cJSON_AddBoolToObject(o, "progressive", st->progressive);

@@ -8,7 +8,7 @@
 
 (function () {
   const THUMB = { width: 240, height: 180, format: 'jpeg', jpeg_quality: 82,
-                  integrator: 'euler', step: 2 };
+                  stepper: 'euler', step: 2 };
   const $ = (id) => document.getElementById(id);
 
   async function getJSON(path) {

@@ -9,7 +9,7 @@
  * Checked per layout and filter:
  * - the GPU against its CPU twin (reftrace on scene_reference's voxels) ray by ray: the
  *   same status, exit point within 2e-4 and direction within 5e-4 rad (llvmpipe; ten times
- *   looser on hardware with 8-bit filter weights), as tests/gpu/test_integrators_vs_ref.c;
+ *   looser on hardware with 8-bit filter weights), as tests/gpu/test_steppers_vs_ref.c;
  * - the GPU against the Dormand-Prince reference on the exact field: the touching
  *   layout's median exit-direction error within 3x of the +-1.05 layout's, both below
  *   0.05 deg, the worst below 0.2 deg. Before the fix (the exit face refracting from the
@@ -112,7 +112,7 @@ static struct layout_result check_layout(struct gpu *gpu, double half, const cha
     CHECK_INT(scene_reference_build(s, SCENE_REFERENCE_ANALYTIC, NULL, NULL, &exact, &e),
               REFRACT_E_OK);
     struct reftrace_settings st = exact.settings;
-    st.integrator = REFTRACE_ADAPTIVE;
+    st.stepper = REFTRACE_ADAPTIVE;
     st.tolerance = 1e-10;
     st.step_voxels = 1.0;
     st.max_steps = 10000000;
@@ -159,8 +159,8 @@ int main(void)
         struct layout_result margin = check_layout(gpu, 1.05, filters[f], pos, dir);
         CHECK_MSG(touch.median <= 3.0 * margin.median, "%s: touching %g deg > 3 x %g", filters[f],
                   touch.median, margin.median);
-        CHECK_MSG(touch.median < 0.05 && margin.median < 0.05, "%s: medians %g, %g deg",
-                  filters[f], touch.median, margin.median);
+        CHECK_MSG(touch.median < 0.05 && margin.median < 0.05, "%s: medians %g, %g deg", filters[f],
+                  touch.median, margin.median);
         CHECK_MSG(touch.worst < 0.2 && margin.worst < 0.2, "%s: worst %g, %g deg", filters[f],
                   touch.worst, margin.worst);
     }

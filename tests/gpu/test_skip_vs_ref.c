@@ -19,14 +19,14 @@
  * exit point, direction, optical path, steps), and skipping against no skipping on each
  * side (the error it introduces); and that skipping takes far fewer steps. Bounds,
  * measured on llvmpipe (printed): GPU vs CPU 2e-4 in position and direction as
- * test_integrators_vs_ref (adaptive 5x, as there). Skip vs no skip: a jump is a whole
+ * test_steppers_vs_ref (adaptive 5x, as there). Skip vs no skip: a jump is a whole
  * number of fixed steps, so the fixed-step march after it samples the same points: 1e-7 on
  * the CPU for the sphere (seen: 1e-10, and acos's 1.5e-8 in direction), 1e-6 for the GRIN
  * lens, whose tails below MACROCELL_GRAD_EPS a jump ignores (seen: 1.7e-7), 1e-5 in its
  * direction (seen: 3.3e-6: the exit face refracts from |w|, docs/tracing.md "The rim", and
  * the ignored tails change |w| too); the GPU's float
  * rounding on the GPU (2e-4; seen: 1e-5). The
- * adaptive integrator restarts at its largest step after a jump and takes other steps
+ * adaptive stepper restarts at its largest step after a jump and takes other steps
  * than without: 1e-3 (seen: 1.6e-4), the error its tolerance allows.
  */
 #include <math.h>
@@ -345,7 +345,7 @@ static void check_scene(struct gpu *gpu, const char *label, const struct scene *
               gp);
     CHECK_MSG(cs <= max_step_ratio * cp, "%s: CPU %.1f steps with skipping, %.1f without", label,
               cs, cp);
-    check_view(gpu, label, s, &ref, s->render.integrator == SCENE_INTEGRATOR_ADAPTIVE);
+    check_view(gpu, label, s, &ref, s->render.stepper == SCENE_STEPPER_ADAPTIVE);
     scene_reference_free(&ref);
 }
 
@@ -364,7 +364,7 @@ static void check_scene(struct gpu *gpu, const char *label, const struct scene *
     "\"gaussian\", \"center\": [0, 0, 0], \"n_peak\": 1.5, \"n_out\": 1.0, \"sigma\": 0.15}}]}"
 #define GRIN_ADAPTIVE                                                                              \
     "{\"name\": \"t\", " CAM                                                                       \
-    "\"render\": {\"integrator\": \"adaptive\", \"step\": 2}, \"objects\": [{" BOX                 \
+    "\"render\": {\"stepper\": \"adaptive\", \"step\": 2}, \"objects\": [{" BOX                    \
     ", \"smoothing_sigma\": 0, \"ior\": {\"profile\": \"gaussian\", \"center\": [0, 0, 0], "       \
     "\"n_peak\": 1.5, \"n_out\": 1.0, \"sigma\": 0.15}}]}"
 #define GRIN_TRICUBIC                                                                              \
@@ -399,10 +399,10 @@ int main(void)
     const char *labels[] = {"sphere", "grin",     "grin-adaptive", "sphere-float16",
                             "block",  "absorber", "grin-tricubic"};
     /* Steps with skipping / without, at most (seen: 0.31, 0.72, 0.91, 0.31): the adaptive
-     * integrator already takes 2-voxel steps in empty space. */
+     * stepper already takes 2-voxel steps in empty space. */
     const double ratio[] = {0.5, 0.8, 0.95, 0.5, 0.5, 0.5, 0.9};
     const double loose[] = {1.0, 1.0, 5.0, 1.0,
-                            1.0, 1.0, 1.0}; /* adaptive: as test_integrators_vs_ref */
+                            1.0, 1.0, 1.0}; /* adaptive: as test_steppers_vs_ref */
     const double cpu_bound[] = {1e-7, 1e-6, 1e-3, 1e-7, 1e-7, 1e-7, 1e-6};
     for (int k = 0; k < 7; k++) {
         struct scene *s = parse_ok(docs[k]);

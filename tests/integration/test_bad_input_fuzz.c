@@ -72,7 +72,7 @@ static const char *const scene_seeds[] = {
     "\"center\": [0, 0, 0], \"radius\": 0.8, \"inside\": 1.5, \"outside\": 1.0}}]}",
 
     "{\"name\": \"layers\", \"ambient_ior\": 1.0, \"environment\": {\"type\": \"procedural\", "
-    "\"intensity\": 1.5, \"rotation_deg\": 30}, \"render\": {\"integrator\": \"euler\", \"step\": "
+    "\"intensity\": 1.5, \"rotation_deg\": 30}, \"render\": {\"stepper\": \"euler\", \"step\": "
     "1, \"max_steps\": 500, \"exposure\": 0.5, \"boundary_threshold\": 0.05, \"tonemap\": "
     "\"filmic\"}, \"camera\": {\"width\": 24, \"height\": 16}, \"objects\": [{\"name\": \"block\", "
     "\"bounds\": {\"min\": [-1, -0.5, -0.5], \"max\": [1, 0.5, 0.5]}, \"resolution\": [16, 8, 8], "
@@ -103,12 +103,12 @@ static const char *const scene_seeds[] = {
 static const char *const render_seed =
     "{\"format\": \"png\", \"width\": 32, \"height\": 24, \"camera\": {\"eye\": [0, 0, 4], "
     "\"look_at\": [0, 0, 0], \"up\": [0, 1, 0], \"fov_y_deg\": 40}, \"exposure\": 0.5, "
-    "\"tonemap\": \"filmic\", \"integrator\": \"rk4\", \"step\": 0.5, \"max_steps\": 1000, "
+    "\"tonemap\": \"filmic\", \"stepper\": \"rk4\", \"step\": 0.5, \"max_steps\": 1000, "
     "\"jpeg_quality\": 80, \"boundary_threshold\": 0.05}";
 
 static const char *const trace_seed =
     "{\"rays\": [{\"origin\": [0, 0, 4], \"direction\": [0, 0, -1]}, {\"origin\": [0.3, 0.2, 4], "
-    "\"direction\": [0, -0.1, -1]}], \"step\": 0.5, \"integrator\": \"euler\", \"max_steps\": "
+    "\"direction\": [0, -0.1, -1]}], \"step\": 0.5, \"stepper\": \"euler\", \"max_steps\": "
     "500, \"boundary_threshold\": 0.05}";
 
 /* Text that byte-level mutations insert: JSON punctuation, numbers at and past the
@@ -135,7 +135,7 @@ static const char *const keys[] = {
     "text",      "depth",       "inside",      "outside",     "volume",     "offset",
     "n0",        "gradient",    "n_peak",      "n_out",       "sigma",      "type",
     "intensity", "rotation_deg", "eye",        "look_at",     "up",         "fov_y_deg",
-    "width",     "format",      "exposure",    "tonemap",     "integrator", "step",
+    "width",     "format",      "exposure",    "tonemap",     "stepper", "step",
     "max_steps", "jpeg_quality", "boundary_threshold", "rays", "origin",   "direction",
     "bogus",     "Name",        "",
 };
@@ -616,10 +616,12 @@ static void broken_http_leaves_the_daemon_serving(struct test_daemon *d, const c
     static const char cut_short[] = "POST /v1/scenes HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: "
                                     "application/json\r\nContent-Length: 100\r\n\r\n{\"na";
     static const char garbage[] = "GARBAGE\r\n\r\n";
-    static const char bad_chunk[] = "POST /v1/scenes HTTP/1.1\r\nHost: 127.0.0.1\r\nTransfer-Encoding: "
-                                    "chunked\r\n\r\nzz\r\nabc\r\n0\r\n\r\n";
-    static const char bad_length[] = "POST /v1/scenes HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: "
-                                     "abc\r\n\r\n{}";
+    static const char bad_chunk[] =
+        "POST /v1/scenes HTTP/1.1\r\nHost: 127.0.0.1\r\nTransfer-Encoding: "
+        "chunked\r\n\r\nzz\r\nabc\r\n0\r\n\r\n";
+    static const char bad_length[] =
+        "POST /v1/scenes HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: "
+        "abc\r\n\r\n{}";
     raw_exchange(d, cut_short, sizeof cut_short - 1, false);
     raw_exchange(d, cut_short, sizeof cut_short - 1, true);
     raw_exchange(d, garbage, sizeof garbage - 1, true);

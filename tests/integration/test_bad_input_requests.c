@@ -325,7 +325,7 @@ static const struct json_error_case render_cases[] = {
     {__LINE__, "[]", 400, "invalid_field", {"(root): expected an object"}},
     {__LINE__, "{\"colour\": 1}", 400, "unknown_field",
      {"(root): unknown field \"colour\"",
-      "allowed: camera, width, height, format, exposure, tonemap, integrator, step, tolerance, "
+      "allowed: camera, width, height, format, exposure, tonemap, stepper, step, tolerance, "
       "max_steps"}},
     {__LINE__, "{\"camera\": {\"fov\": 30}}", 400, "unknown_field",
      {"camera: unknown field \"fov\"", "allowed: eye, look_at, up, fov_y_deg"}},
@@ -360,8 +360,10 @@ static const struct json_error_case render_cases[] = {
      {"step: expected a finite number in 0.01..8, got 0"}},
     {__LINE__, "{\"step\": 100}", 400, "invalid_field",
      {"step: expected a finite number in 0.01..8, got 100"}},
-    {__LINE__, "{\"integrator\": \"verlet\"}", 400, "invalid_field",
-     {"integrator: expected one of \"euler\", \"rk4\", \"rk2\", \"adaptive\", got \"verlet\""}},
+    {__LINE__, "{\"stepper\": \"verlet\"}", 400, "invalid_field",
+     {"stepper: expected one of \"euler\", \"rk4\", \"rk2\", \"adaptive\", got \"verlet\""}},
+    {__LINE__, "{\"stepper\": \"rk4\", \"integrator\": \"euler\"}", 400, "invalid_field", /* renamed: */
+     {"integrator: \"integrator\" is the old name of \"stepper\"; give only \"stepper\""}}, /* renamed: */
     {__LINE__, "{\"ior_filter\": \"bicubic\"}", 400, "invalid_field",
      {"ior_filter: expected one of \"trilinear\", \"tricubic\", got \"bicubic\""}},
     {__LINE__, "{\"exposure\": 1e999}", 400, "invalid_field",
@@ -463,7 +465,7 @@ static const struct json_error_case trace_cases[] = {
     {__LINE__, "{\"rays\": [{\"direction\": [0, 0, -1]}]}", 400, "missing_field",
      {"rays[0]: missing required field \"origin\""}},
     {__LINE__, "{\"ray\": [" ONE_RAY "]}", 400, "unknown_field",
-     {"(root): unknown field \"ray\"", "allowed: rays, step, tolerance, integrator, max_steps"}},
+     {"(root): unknown field \"ray\"", "allowed: rays, step, tolerance, stepper, max_steps"}},
     {__LINE__, "{\"rays\": [" ONE_RAY "], \"max_steps\": 5001}", 422, "limit_exceeded",
      {"max_steps:", "--max-steps"}},
     {__LINE__, "{\"rays\": [" ONE_RAY "], \"ior_filter\": true}", 400, "invalid_field",

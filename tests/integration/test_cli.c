@@ -134,7 +134,7 @@ int main(void)
     snprintf(exr, sizeof exr, "%s/view.exr", d.dir);
     r = run_cli(&d, NULL, NULL,
                 (const char *[]){"render", id, "-o", png, "--width", "64", "--height", "48",
-                                 "--integrator", "euler", "--step", "1", NULL});
+                                 "--stepper", "euler", "--step", "1", NULL});
     CHECK_INT(r.status, 0);
     CHECK_CONTAINS(r.err, "64x48");
     cli_run_free(&r);

@@ -36,7 +36,7 @@ static void *render_once(void *arg)
     struct client_job *j = arg;
     refract_client *c = refract_client_create(j->url);
     struct refract_image img;
-    j->rc = refract_render(c, j->id, "{\"integrator\": \"rk4\", \"step\": 0.25}", &img);
+    j->rc = refract_render(c, j->id, "{\"stepper\": \"rk4\", \"step\": 0.25}", &img);
     if (j->rc == REFRACT_E_OK)
         refract_image_free(&img);
     else
@@ -107,7 +107,7 @@ int main(void)
     CHECK(test_create_scene(&d, scene, id));
     struct refract_image warm; /* builds the scene and compiles the variant first */
     CHECK_INT(refract_render(d.client, id,
-                             "{\"integrator\": \"rk4\", \"width\": 8, "
+                             "{\"stepper\": \"rk4\", \"width\": 8, "
                              "\"height\": 8}",
                              &warm),
               REFRACT_E_OK);

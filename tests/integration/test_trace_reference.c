@@ -2,9 +2,9 @@
  * test_trace_reference.c - optical ray queries through a real refractd (/trace, the GPU
  * march) against the CPU double-precision reference tracer (server/core/reftrace.c):
  *
- *   1. on the same voxel fields with the same integrator (scene_reference VOXELS): the
+ *   1. on the same voxel fields with the same stepper (scene_reference VOXELS): the
  *      GPU's float32 march must agree closely: this bounds the GPU's deviation;
- *   2. on the exact continuous GRIN profile with an adaptive Dormand-Prince integrator
+ *   2. on the exact continuous GRIN profile with an adaptive Dormand-Prince stepper
  *      (scene_reference ANALYTIC): this bounds the discretisation error of the voxel
  *      representation at the resolution used, with closed forms where they exist
  *      (a Luneburg lens focuses a parallel bundle on its far surface; a Maxwell fish-eye
@@ -146,7 +146,7 @@ static void report(const char *what, struct deviation d)
 #define MAX_CHECK_RAYS 32
 
 /* What one scene's rays gave: the GPU hits, the CPU reference on the same voxels and
- * integrator (same_voxels), and the adaptive trace of the exact continuous field
+ * stepper (same_voxels), and the adaptive trace of the exact continuous field
  * (vs_exact, exact_hits) when the scene has an analytic form. */
 struct traced {
     struct scene *scene;
@@ -190,7 +190,7 @@ static bool trace_both_ways(struct test_daemon *d, const char *json, const char 
         return false;
     t->has_exact = true;
     struct reftrace_settings adaptive = t->exact.settings;
-    adaptive.integrator = REFTRACE_ADAPTIVE;
+    adaptive.stepper = REFTRACE_ADAPTIVE;
     adaptive.tolerance = 1e-10;
     t->vs_exact = compare(&t->exact, &adaptive, rays, t->hits, n, t->exact_hits);
     snprintf(what, sizeof what, "%s: GPU vs exact field (adaptive)", label);
@@ -208,7 +208,7 @@ static void traced_free(struct traced *t)
 /* ---- Luneburg ------------------------------------------------------------------------ */
 
 static const char *const luneburg_json =
-    "{\"render\": {\"integrator\": \"rk4\", \"step\": 0.5},"
+    "{\"render\": {\"stepper\": \"rk4\", \"step\": 0.5},"
     " \"objects\": [{\"bounds\": {\"min\": [-1.05, -1.05, -1.05], \"max\": [1.05, 1.05, 1.05]},"
     " \"resolution\": 64, \"smoothing_sigma\": 0,"
     " \"ior\": {\"profile\": \"luneburg\", \"center\": [0, 0, 0], \"radius\": 1.0}}]}";
@@ -238,7 +238,7 @@ static void luneburg_focuses_parallel_rays_on_far_side(struct test_daemon *d)
         printf("luneburg focus: exact reference %.2e R, GPU 64^3 %.2e R\n", worst_exact, worst_gpu);
         CHECK_MSG(worst_exact < 1e-5, "exact focus error %g", worst_exact);
         CHECK_MSG(worst_gpu < 0.03, "GPU focus error %g R", worst_gpu);
-        /* GPU float32 vs CPU double on the same voxels and integrator. */
+        /* GPU float32 vs CPU double on the same voxels and stepper. */
         CHECK_INT(t.same_voxels.status_mismatch, 0);
         CHECK_MSG(t.same_voxels.pos < gpu_tol, "position deviation %g", t.same_voxels.pos);
         CHECK_MSG(t.same_voxels.dir < gpu_tol, "direction deviation %g", t.same_voxels.dir);
@@ -254,7 +254,7 @@ static void luneburg_focuses_parallel_rays_on_far_side(struct test_daemon *d)
 /* ---- Maxwell fish-eye ---------------------------------------------------------------- */
 
 static const char *const fisheye_json =
-    "{\"render\": {\"integrator\": \"rk4\", \"step\": 0.5, \"boundary_threshold\": 1},"
+    "{\"render\": {\"stepper\": \"rk4\", \"step\": 0.5, \"boundary_threshold\": 1},"
     " \"objects\": [{\"bounds\": {\"min\": [-1.1, -1.1, -1.1], \"max\": [1.1, 1.1, 1.1]},"
     " \"resolution\": 64, \"smoothing_sigma\": 0,"
     " \"ior\": {\"profile\": \"maxwell_fisheye\", \"radius\": 1.0, \"n0\": 2}}]}";
@@ -298,7 +298,7 @@ static void fisheye_images_surface_point_to_antipode(struct test_daemon *d)
 /* ---- linear gradient: face refraction, and a mirage ------------------------------------ */
 
 static const char *const linear_json =
-    "{\"render\": {\"integrator\": \"rk4\", \"step\": 0.5},"
+    "{\"render\": {\"stepper\": \"rk4\", \"step\": 0.5},"
     " \"objects\": [{\"bounds\": {\"min\": [-1, -2, -2], \"max\": [1, 2, 2]},"
     " \"resolution\": [32, 64, 64], \"smoothing_sigma\": 0,"
     " \"ior\": {\"profile\": \"linear\", \"n0\": 1.3, \"gradient\": [0, 0.2, 0]}}]}";
@@ -338,7 +338,7 @@ static void linear_gradient_bends_rays_and_turns_grazing_ones(struct test_daemon
 /* ---- gaussian lens ---------------------------------------------------------------------- */
 
 static const char *const gaussian_json =
-    "{\"render\": {\"integrator\": \"rk4\", \"step\": 0.5, \"boundary_threshold\": 1},"
+    "{\"render\": {\"stepper\": \"rk4\", \"step\": 0.5, \"boundary_threshold\": 1},"
     " \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]},"
     " \"resolution\": 64, \"smoothing_sigma\": 0,"
     " \"ior\": {\"profile\": \"gaussian\", \"n_peak\": 1.6, \"n_out\": 1.0, \"sigma\": 0.35}}]}";
@@ -364,7 +364,7 @@ static void gaussian_lens_matches_reference(struct test_daemon *d)
 /* ---- the tricubic index filter (render.ior_filter) ------------------------------------ */
 
 static const char *const gaussian_tricubic_json =
-    "{\"render\": {\"integrator\": \"rk4\", \"step\": 0.5, \"boundary_threshold\": 1,"
+    "{\"render\": {\"stepper\": \"rk4\", \"step\": 0.5, \"boundary_threshold\": 1,"
     " \"ior_filter\": \"tricubic\"},"
     " \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]},"
     " \"resolution\": 64, \"smoothing_sigma\": 0,"
@@ -420,7 +420,7 @@ static void tricubic_filter_matches_reference(struct test_daemon *d)
 /* ---- a sharp glass sphere: Fresnel events agree --------------------------------------- */
 
 static const char *const glass_json =
-    "{\"render\": {\"integrator\": \"rk4\", \"step\": 0.5},"
+    "{\"render\": {\"stepper\": \"rk4\", \"step\": 0.5},"
     " \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]},"
     " \"resolution\": 64, \"smoothing_sigma\": 1,"
     " \"ior\": {\"shape\": \"sphere\", \"radius\": 0.8, \"inside\": 1.5, \"outside\": 1.0},"

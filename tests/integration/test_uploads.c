@@ -24,11 +24,11 @@
 #define RES 16
 
 static const char *const volume_scene =
-    "{\"name\": \"uploaded ramp\", \"render\": {\"integrator\": \"rk4\", \"step\": 0.5},"
+    "{\"name\": \"uploaded ramp\", \"render\": {\"stepper\": \"rk4\", \"step\": 0.5},"
     " \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 16,"
     " \"smoothing_sigma\": 0, \"ior\": {\"volume\": \"ramp\"}}]}";
 static const char *const profile_scene =
-    "{\"name\": \"profile ramp\", \"render\": {\"integrator\": \"rk4\", \"step\": 0.5},"
+    "{\"name\": \"profile ramp\", \"render\": {\"stepper\": \"rk4\", \"step\": 0.5},"
     " \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 16,"
     " \"smoothing_sigma\": 0,"
     " \"ior\": {\"profile\": \"linear\", \"n0\": 1.3, \"gradient\": [0, 0.2, 0]}}]}";

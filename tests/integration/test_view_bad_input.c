@@ -36,7 +36,7 @@ static const struct json_error_case body_cases[] = {
     {__LINE__, "{\"exposure\": 30}", 400, "invalid_field", {"exposure"}},
     {__LINE__, "{\"tonemap\": \"aces\"}", 400, "invalid_field", {"tonemap", "filmic"}},
     {__LINE__, "{\"quality\": \"ultra\"}", 400, "invalid_field", {"quality", "draft"}},
-    {__LINE__, "{\"integrator\": \"rk45\"}", 400, "invalid_field", {"integrator", "rk4"}},
+    {__LINE__, "{\"stepper\": \"rk45\"}", 400, "invalid_field", {"stepper", "rk4"}},
     {__LINE__, "{\"step\": 0}", 400, "invalid_field", {"step"}},
     {__LINE__, "{\"max_steps\": 0}", 400, "invalid_field", {"max_steps"}},
     {__LINE__, "{\"max_steps\": 200000}", 422, "limit_exceeded", {"max_steps", "--max-steps"}},
@@ -59,7 +59,7 @@ static const char *string(const cJSON *o, const char *key)
     return cJSON_IsString(v) ? v->valuestring : "";
 }
 
-/* The scene's render block is step 1.0 (view_sphere_scene) with the default integrator. */
+/* The scene's render block is step 1.0 (view_sphere_scene) with the default stepper. */
 static void status_echoes_settings(struct test_daemon *d, const char *scene)
 {
     char vid[32];
@@ -71,7 +71,7 @@ static void status_echoes_settings(struct test_daemon *d, const char *scene)
                         vid, &st),
               201);
     CHECK(strcmp(string(st, "quality"), "draft") == 0);
-    CHECK(strcmp(string(st, "integrator"), "euler") == 0);
+    CHECK(strcmp(string(st, "stepper"), "euler") == 0);
     CHECK_NEAR(number(st, "step"), 2.0, 1e-12); /* draft doubles the scene's 1.0 */
     CHECK_INT((int)number(st, "width"), 32);
     CHECK_INT((int)number(st, "jpeg_quality"), 55);
@@ -94,13 +94,13 @@ static void status_echoes_settings(struct test_daemon *d, const char *scene)
     body = EXPECT_STATUS(d, "PATCH", path, "{\"step\": 0.75}", 200);
     st = body ? cJSON_Parse(body) : NULL;
     CHECK_NEAR(number(st, "step"), 0.75, 1e-12);
-    CHECK(strcmp(string(st, "integrator"), "euler") == 0);
+    CHECK(strcmp(string(st, "stepper"), "euler") == 0);
     cJSON_Delete(st);
     free(body);
     body = EXPECT_STATUS(d, "PATCH", path, "{\"quality\": \"final\"}", 200);
     st = body ? cJSON_Parse(body) : NULL;
     CHECK_NEAR(number(st, "step"), 0.5, 1e-12);
-    CHECK(strcmp(string(st, "integrator"), "rk4") == 0);
+    CHECK(strcmp(string(st, "stepper"), "rk4") == 0);
     CHECK_INT((int)number(st, "width"), 32); /* what the PATCH does not name stays */
     cJSON_Delete(st);
     free(body);
@@ -109,14 +109,23 @@ static void status_echoes_settings(struct test_daemon *d, const char *scene)
     const char *const steppers[] = {"rk2", "adaptive", "euler", "rk4"};
     for (int k = 0; k < 4; k++) {
         char patch[64];
-        snprintf(patch, sizeof patch, "{\"integrator\": \"%s\"}", steppers[k]);
+        snprintf(patch, sizeof patch, "{\"stepper\": \"%s\"}", steppers[k]);
         body = EXPECT_STATUS(d, "PATCH", path, patch, 200);
         st = body ? cJSON_Parse(body) : NULL;
-        CHECK_MSG(st != NULL && strcmp(string(st, "integrator"), steppers[k]) == 0,
-                  "set %s, status says %s", steppers[k], st ? string(st, "integrator") : "?");
+        CHECK_MSG(st != NULL && strcmp(string(st, "stepper"), steppers[k]) == 0,
+                  "set %s, status says %s", steppers[k], st ? string(st, "stepper") : "?");
         cJSON_Delete(st);
         free(body);
     }
+
+    /* renamed: the stepper's old key sets it too; both together are refused. */
+    body = EXPECT_STATUS(d, "PATCH", path, "{\"integrator\": \"rk2\"}", 200); /* renamed: */
+    st = body ? cJSON_Parse(body) : NULL;
+    CHECK(st != NULL && strcmp(string(st, "stepper"), "rk2") == 0);
+    cJSON_Delete(st);
+    free(body);
+    EXPECT_ERROR(d, "PATCH", path, "{\"stepper\": \"rk4\", \"integrator\": \"rk2\"}", /* renamed: */
+                 400, "invalid_field", "old name of \"stepper\"");
 
     /* A refused PATCH changes nothing. */
     EXPECT_ERROR(d, "PATCH", path, "{\"width\": 40, \"max_fps\": 0}", 400, "invalid_field",

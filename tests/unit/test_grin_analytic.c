@@ -35,7 +35,7 @@ static double angle_between(vec3 a, vec3 b)
 static struct reftrace_settings dopri(double tolerance)
 {
     return (struct reftrace_settings){
-        .integrator = REFTRACE_ADAPTIVE,
+        .stepper = REFTRACE_ADAPTIVE,
         .step_voxels = 1.0,
         .max_steps = 10000000,
         .boundary_threshold = 1e9, /* no Fresnel events: only the path matters here */

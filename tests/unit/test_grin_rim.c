@@ -195,7 +195,7 @@ static void luneburg_errors(double half, double *median, double *worst)
         return;
     }
     struct reftrace_settings st = exact.settings;
-    st.integrator = REFTRACE_ADAPTIVE;
+    st.stepper = REFTRACE_ADAPTIVE;
     st.tolerance = 1e-10;
     st.step_voxels = 1.0;
     st.max_steps = 10000000;

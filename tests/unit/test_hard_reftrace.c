@@ -11,7 +11,7 @@
  * budget, a documented status) and its radiance stays within the environment's. Where a
  * closed form exists it bounds the error:
  *   1e-9 (positions, OPL: relative) and 1e-12 (directions, T): uniform media, where every
- *        integrator is exact and what remains is rounding over a few hundred steps;
+ *        stepper is exact and what remains is rounding over a few hundred steps;
  *   the billiard closed form of a ray trapped in a box (unfolding its reflections);
  *   looser bounds, each explained where it is used, for interfaces in the voxel field.
  */
@@ -23,9 +23,8 @@
 #include "core/fresnel.h"
 #include "hard_checks.h"
 
-static const enum reftrace_integrator integrators[3] = {REFTRACE_EULER, REFTRACE_RK4,
-                                                        REFTRACE_ADAPTIVE};
-static const char *const integrator_names[3] = {"euler", "rk4", "adaptive"};
+static const enum reftrace_stepper steppers[3] = {REFTRACE_EULER, REFTRACE_RK4, REFTRACE_ADAPTIVE};
+static const char *const stepper_names[3] = {"euler", "rk4", "adaptive"};
 
 /* A scene and its voxel reference; NULL scene when either failed (already reported). */
 struct hard_case {
@@ -105,7 +104,7 @@ static void ray_trapped_in_a_block_ends_at_its_budget_where_the_billiard_says(vo
     vec3 x0 = {0.1, 0.2, -0.05}, d = vec3_normalize((vec3){1.0, 1.1, 0.9});
     for (int i = 0; i < 3; i++) {
         struct reftrace_settings s = c.ref.settings;
-        s.integrator = integrators[i];
+        s.stepper = steppers[i];
         CHECK_INT(s.max_steps, 400);
         struct reftrace_result r = trace("trapped", i, &c, &s, x0, d, false);
         CHECK_INT(r.status, RAY_MAX_STEPS);
@@ -116,12 +115,12 @@ static void ray_trapped_in_a_block_ends_at_its_budget_where_the_billiard_says(vo
         /* 1e-10 further: a ray stopped on a face (a jump over empty space ends on one) has
          * already reflected there, and the direction is the one after the reflection. */
         billiard(x0, d, -0.5, 0.5, r.optical_path_length / 1.5 + 1e-10, &x, &dir);
-        /* the adaptive integrator lands on faces by bisection to its tolerance (1e-9) */
-        double tol = integrators[i] == REFTRACE_ADAPTIVE ? 1e-7 : 1e-9;
+        /* the adaptive stepper lands on faces by bisection to its tolerance (1e-9) */
+        double tol = steppers[i] == REFTRACE_ADAPTIVE ? 1e-7 : 1e-9;
         check_vec(r.exit_origin, x, tol);
         check_vec(r.exit_direction, dir, 1e-9);
-        printf("trapped (%s): %d steps, path %.4f (the box is 1 wide)\n", integrator_names[i],
-               r.steps, r.optical_path_length / 1.5);
+        printf("trapped (%s): %d steps, path %.4f (the box is 1 wide)\n", stepper_names[i], r.steps,
+               r.optical_path_length / 1.5);
     }
     /* A budget of one step ends the same way after one step. */
     struct reftrace_settings s = c.ref.settings;
@@ -155,7 +154,7 @@ static void light_pipe_reflects_many_times_and_leaves_per_the_closed_form(void)
     int reflections = (int)(fabs(t.y) * len / 0.2) + (int)(fabs(t.z) * len / 0.2);
     for (int i = 0; i < 3; i++) {
         struct reftrace_settings s = c.ref.settings;
-        s.integrator = integrators[i];
+        s.stepper = steppers[i];
         struct reftrace_result r = trace("light pipe", i, &c, &s, origin, d, false);
         CHECK_INT(r.status, RAY_EXITED);
         /* the unfolded exit: y and z folded into [-0.1, 0.1] */
@@ -163,7 +162,7 @@ static void light_pipe_reflects_many_times_and_leaves_per_the_closed_form(void)
         billiard((vec3){0, entry.y, entry.z}, (vec3){0, t.y, t.z}, -0.1, 0.1, len, &x, &dir);
         vec3 exit = {2.0, x.y, x.z};
         vec3 exit_dir = {d.x, dir.y * t.y > 0.0 ? d.y : -d.y, dir.z * t.z > 0.0 ? d.z : -d.z};
-        double tol = integrators[i] == REFTRACE_ADAPTIVE ? 1e-7 : 1e-9;
+        double tol = steppers[i] == REFTRACE_ADAPTIVE ? 1e-7 : 1e-9;
         check_vec(r.exit_origin, exit, tol);
         check_vec(r.exit_direction, exit_dir, 1e-9);
         CHECK_NEAR(r.transmittance.x, (1.0 - R) * (1.0 - R), 1e-12);
@@ -211,12 +210,12 @@ static void grazing_rays_enter_a_block_and_keep_energy_bounded(void)
         vec3 exit = {0.5 - l2 * st, 0.1, 0.5};
         for (int i = 0; i < 3; i++) {
             struct reftrace_settings s = c.ref.settings;
-            s.integrator = integrators[i];
+            s.stepper = steppers[i];
             struct reftrace_result r = trace("grazing block", k * 3 + i, &c, &s, origin, d, false);
             CHECK_INT(r.status, RAY_EXITED);
             CHECK_NEAR(r.transmittance.x, (1.0 - R) * (1.0 - R), 1e-12);
             check_vec(r.exit_direction, (vec3){-d.x, 0.0, d.z}, 1e-9);
-            check_vec(r.exit_origin, exit, integrators[i] == REFTRACE_ADAPTIVE ? 1e-7 : 1e-9);
+            check_vec(r.exit_origin, exit, steppers[i] == REFTRACE_ADAPTIVE ? 1e-7 : 1e-9);
         }
     }
     case_close(&c);
@@ -278,7 +277,7 @@ static void a_jump_from_1_to_3_at_the_faces_matches_fresnel(void)
         return;
     for (int i = 0; i < 3; i++) {
         struct reftrace_settings s = c.ref.settings;
-        s.integrator = integrators[i];
+        s.stepper = steppers[i];
         struct reftrace_result r =
             trace("n = 3 block", i, &c, &s, (vec3){0.1, 0.2, -2}, (vec3){0, 0, 1}, false);
         CHECK_INT(r.status, RAY_EXITED);
@@ -312,7 +311,7 @@ static void a_jump_from_1_to_3_inside_the_field_matches_fresnel(void)
         return;
     for (int i = 0; i < 3; i++) {
         struct reftrace_settings s = c.ref.settings;
-        s.integrator = integrators[i];
+        s.stepper = steppers[i];
         struct reftrace_result r =
             trace("n = 3 slab", i, &c, &s, (vec3){0.1, 0.2, -3}, (vec3){0, 0, 1}, false);
         CHECK_INT(r.status, RAY_EXITED);
@@ -405,7 +404,7 @@ static void steep_gradient_bends_rays_per_the_stratified_closed_form(void)
         vec3 entry = {-0.8, -1.0, 0.1};
         for (int i = 0; i < 3; i++) {
             struct reftrace_settings s = c.ref.settings;
-            s.integrator = integrators[i];
+            s.stepper = steppers[i];
             struct reftrace_result r =
                 trace("steep GRIN", k * 3 + i, &c, &s, vec3_madd(entry, d, -1.0), d, false);
             CHECK_INT(r.status, RAY_EXITED);
@@ -444,7 +443,7 @@ static void unsmoothed_index_step_stays_finite_and_bounded(void)
         return;
     for (int k = 0; k < 16; k++) {
         struct reftrace_settings s = c.ref.settings;
-        s.integrator = integrators[k % 3];
+        s.stepper = steppers[k % 3];
         trace("step sphere", k, &c, &s, (vec3){0.05 * k, 0.01, -3}, (vec3){0, 0, 1}, false);
     }
     case_close(&c);
@@ -470,10 +469,10 @@ static void camera_inside_a_block_sees_per_snell_and_fresnel(void)
                          vec3_scale(env_procedural(out), 1.0 - R));
     for (int i = 0; i < 3; i++) {
         struct reftrace_settings s = c.ref.settings;
-        s.integrator = integrators[i];
+        s.stepper = steppers[i];
         struct reftrace_result r = trace("inside block", i, &c, &s, o, d, false);
         CHECK_INT(r.status, RAY_EXITED);
-        check_vec(r.exit_origin, exit, integrators[i] == REFTRACE_ADAPTIVE ? 1e-7 : 1e-9);
+        check_vec(r.exit_origin, exit, steppers[i] == REFTRACE_ADAPTIVE ? 1e-7 : 1e-9);
         check_vec(r.exit_direction, out, 1e-9);
         CHECK_NEAR(r.transmittance.x, 1.0 - R, 1e-12);
         CHECK_NEAR(r.optical_path_length, 1.5 * l, 1e-8);
@@ -519,7 +518,7 @@ static void zero_and_enormous_attenuation(void)
             continue;
         for (int i = 0; i < 3; i++) {
             struct reftrace_settings s = c.ref.settings;
-            s.integrator = integrators[i];
+            s.stepper = steppers[i];
             struct reftrace_result r = trace("attenuation", k * 3 + i, &c, &s, (vec3){0.1, 0.1, -2},
                                              (vec3){0, 0, 1}, false);
             if (k < 2) {
@@ -550,7 +549,7 @@ static void ray_reflecting_between_objects_ends_at_the_entry_cap(void)
         return;
     for (int i = 0; i < 3; i++) {
         struct reftrace_settings s = c.ref.settings;
-        s.integrator = integrators[i];
+        s.stepper = steppers[i];
         struct reftrace_result r =
             trace("mirrors", i, &c, &s, (vec3){-0.9, 0, 0.1}, (vec3){1, 1, 0}, true);
         CHECK_INT(r.status, RAY_MAX_STEPS);

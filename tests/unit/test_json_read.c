@@ -149,6 +149,17 @@ static void unknown_key_is_quoted_with_escapes_and_shortened(void)
     cJSON_Delete(o);
 }
 
+static void unknown_key_keeps_printable_utf8_and_escapes_c1_controls(void)
+{
+    static const char *const allowed[] = {"a", NULL};
+    cJSON *o = doc("{\"gr\u00f6\u00dfe\\u0085\": 1}");
+    struct err e;
+    CHECK_INT(jr_check_object(o, "p", allowed, &e), REFRACT_E_UNKNOWN_FIELD);
+    CHECK_CONTAINS(e.msg, "\"gr\xc3\xb6\xc3\x9f"
+                          "e\\xc2\\x85\"");
+    cJSON_Delete(o);
+}
+
 static void number_applies_default_and_requires_when_asked(void)
 {
     cJSON *o = doc("{}");
@@ -254,11 +265,11 @@ static void string_checks_type_and_length(void)
 static void enum_lists_the_names_it_accepts(void)
 {
     static const char *const names[] = {"euler", "rk4", NULL};
-    cJSON *o = doc("{\"integrator\": \"rk5\", \"ok\": \"euler\"}");
+    cJSON *o = doc("{\"stepper\": \"rk5\", \"ok\": \"euler\"}");
     struct err e;
     int v = -1;
-    CHECK_INT(jr_enum(o, "render", "integrator", false, 1, names, &v, &e), REFRACT_E_INVALID_FIELD);
-    CHECK_STR(e.msg, "render.integrator: expected one of \"euler\", \"rk4\", got \"rk5\"");
+    CHECK_INT(jr_enum(o, "render", "stepper", false, 1, names, &v, &e), REFRACT_E_INVALID_FIELD);
+    CHECK_STR(e.msg, "render.stepper: expected one of \"euler\", \"rk4\", got \"rk5\"");
     CHECK_INT(jr_enum(o, "render", "ok", false, 1, names, &v, &e), REFRACT_E_OK);
     CHECK_INT(v, 0);
     CHECK_INT(jr_enum(o, "render", "absent", false, 1, names, &v, &e), REFRACT_E_OK);
@@ -323,6 +334,7 @@ int main(void)
     check_object_rejects_duplicate_keys();
     check_object_rejects_a_non_object_naming_what_it_got();
     unknown_key_is_quoted_with_escapes_and_shortened();
+    unknown_key_keeps_printable_utf8_and_escapes_c1_controls();
     number_applies_default_and_requires_when_asked();
     number_rejects_out_of_range_with_rule_and_value();
     number_rejects_overflow_to_infinity();

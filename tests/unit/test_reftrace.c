@@ -6,7 +6,7 @@
  * emission, statuses, several objects and transforms, sharp-boundary Fresnel events.
  *
  * Tolerances, and why:
- *   1e-9 (relative where said): straight paths, where every integrator is exact and
+ *   1e-9 (relative where said): straight paths, where every stepper is exact and
  *        only rounding over a few hundred steps remains.
  *   1e-6 R: adaptive Dormand-Prince with tolerance 1e-10 per step over a few hundred
  *        steps, and the kink of the Luneburg / fish-eye profiles at r = R.
@@ -25,11 +25,10 @@
 
 /* ---- fixtures ------------------------------------------------------------------- */
 
-static struct reftrace_settings settings_for(enum reftrace_integrator integrator,
-                                             double step_voxels)
+static struct reftrace_settings settings_for(enum reftrace_stepper stepper, double step_voxels)
 {
     return (struct reftrace_settings){
-        .integrator = integrator,
+        .stepper = stepper,
         .step_voxels = step_voxels,
         .max_steps = 1000000,
         .boundary_threshold = 0.02,
@@ -127,20 +126,20 @@ static void check_vec(vec3 a, vec3 b, double tol)
     CHECK_NEAR(a.z, b.z, tol);
 }
 
-static const enum reftrace_integrator all_integrators[3] = {REFTRACE_EULER, REFTRACE_RK4,
-                                                            REFTRACE_ADAPTIVE};
+static const enum reftrace_stepper all_steppers[3] = {REFTRACE_EULER, REFTRACE_RK4,
+                                                      REFTRACE_ADAPTIVE};
 
 /* ---- uniform media and faces ------------------------------------------------------ */
 
 /* A glass cube n = 1.5 (voxel grid) at normal incidence: straight through, OPL = 2
- * (ambient) + 1.5 * 1, T = (1 - 0.04)^2. Every integrator is exact when grad n = 0. */
+ * (ambient) + 1.5 * 1, T = (1 - 0.04)^2. Every stepper is exact when grad n = 0. */
 static void uniform_field_ray_goes_straight_and_opl_is_n_times_length(void)
 {
     struct uniform_grid u;
     uniform_grid_init(&u, 8, 1.5, (vec3){0, 0, 0}, (vec3){0, 0, 0});
     struct reftrace_object obj = grid_object((vec3){0, 0, 0}, (vec3){1, 1, 1}, &u);
     for (int i = 0; i < 3; i++) {
-        struct reftrace_settings s = settings_for(all_integrators[i], 0.5);
+        struct reftrace_settings s = settings_for(all_steppers[i], 0.5);
         struct reftrace_result r;
         reftrace_ray(&obj, 1, &s, (vec3){0.3, 0.4, -2.0}, (vec3){0, 0, 1}, &r);
         CHECK_INT(r.status, RAY_EXITED);
@@ -167,7 +166,7 @@ static void uniform_field_ray_goes_straight_and_opl_is_n_times_length(void)
     double T =
         (1.0 - fresnel_unpolarized(cos_i, 1.0, 1.5)) * (1.0 - fresnel_unpolarized(cos_t, 1.5, 1.0));
     for (int i = 0; i < 3; i++) {
-        struct reftrace_settings s = settings_for(all_integrators[i], 0.5);
+        struct reftrace_settings s = settings_for(all_steppers[i], 0.5);
         struct reftrace_result r;
         reftrace_ray(&obj, 1, &s, (vec3){-0.5, 0.4, -2.0}, d, &r);
         CHECK_INT(r.status, RAY_EXITED);
@@ -197,7 +196,7 @@ static void parallel_grin_slab_refracts_per_snell_and_exits_parallel(void)
                (1.0 - fresnel_unpolarized(cos_t, 1.5, 1.0));
     double opl = 1.0 / cos(th) + 1.5 * 0.5 / cos_t;
     for (int i = 0; i < 3; i++) {
-        struct reftrace_settings s = settings_for(all_integrators[i], 0.5);
+        struct reftrace_settings s = settings_for(all_steppers[i], 0.5);
         struct reftrace_result r;
         reftrace_ray(&obj, 1, &s, origin, d, &r);
         CHECK_INT(r.status, RAY_EXITED);
@@ -227,7 +226,7 @@ static void ray_inside_glass_totally_reflects_at_a_steep_face(void)
     vec3 exit_dir = {-0.75, 0.0, sqrt(1.0 - 0.75 * 0.75)};
     double T = 1.0 - fresnel_unpolarized(cos(M_PI / 6.0), 1.5, 1.0);
     for (int i = 0; i < 3; i++) {
-        struct reftrace_settings s = settings_for(all_integrators[i], 0.5);
+        struct reftrace_settings s = settings_for(all_steppers[i], 0.5);
         struct reftrace_result r;
         reftrace_ray(&obj, 1, &s, origin, d, &r);
         CHECK_INT(r.status, RAY_EXITED);
@@ -285,10 +284,10 @@ static void luneburg_focuses_parallel_rays_on_the_far_side(void)
            "OPL %.3g, %d steps for 18 rays\n",
            worst, worst_dir, worst_opl, steps);
 
-    /* The fixed-step integrators accumulate OPL with the trapezoid rule (second order):
+    /* The fixed-step steppers accumulate OPL with the trapezoid rule (second order):
      * at half a voxel of 128 the error is well under 1e-4 of the path. */
     for (int i = 0; i < 2; i++) {
-        struct reftrace_settings fs = settings_for(all_integrators[i], 0.5);
+        struct reftrace_settings fs = settings_for(all_steppers[i], 0.5);
         struct reftrace_result r;
         reftrace_ray(&obj, 1, &fs, (vec3){0, 0, -3}, (vec3){0, 0, 1}, &r);
         CHECK_NEAR(r.optical_path_length, 3.0 + M_PI / 2.0, 1e-4);
@@ -401,10 +400,10 @@ static void reversed_exit_ray_retraces_its_path(void)
 }
 
 /* Exit-point error against the adaptive reference, for the bump at 64 voxels. */
-static double bump_exit_error(enum reftrace_integrator integrator, double step, vec3 ref)
+static double bump_exit_error(enum reftrace_stepper stepper, double step, vec3 ref)
 {
     struct reftrace_object obj = analytic_object((vec3){-1, -1, -1}, (vec3){1, 1, 1}, 64, &bump);
-    struct reftrace_settings s = settings_for(integrator, step);
+    struct reftrace_settings s = settings_for(stepper, step);
     struct reftrace_result r;
     reftrace_ray(&obj, 1, &s, (vec3){-3.0, 0.1, 0.05}, (vec3){1, 0, 0}, &r);
     CHECK_INT(r.status, RAY_EXITED);
@@ -471,11 +470,11 @@ static void linear_gradient_bends_a_grazing_ray_back_up_like_a_mirage(void)
     CHECK(r.exit_direction.y > 0.0);
     CHECK_NEAR(r.optical_path_length, opl, 1e-8);
 
-    /* The fixed-step integrators turn it around too. At half a voxel RK4 is limited by
+    /* The fixed-step steppers turn it around too. At half a voxel RK4 is limited by
      * the straight cut of the last step (bounded by h^2 kappa / 8 ~ 4e-6; measured
      * 4e-7), Euler by its first order (measured 2e-3). */
     for (int i = 0; i < 2; i++) {
-        s = settings_for(all_integrators[i], 0.5);
+        s = settings_for(all_steppers[i], 0.5);
         reftrace_ray(&obj, 1, &s, origin, d, &r);
         CHECK_INT(r.status, RAY_EXITED);
         CHECK(r.exit_direction.y > 0.0);
@@ -497,7 +496,7 @@ static void constant_absorption_follows_beer_lambert(void)
     uniform_grid_init(&u, 8, 1.0, (vec3){1, 2, 3}, (vec3){0, 0, 0});
     struct reftrace_object obj = grid_object((vec3){0, 0, 0}, (vec3){1, 1, 1}, &u);
     for (int i = 0; i < 3; i++) {
-        struct reftrace_settings s = settings_for(all_integrators[i], 0.5);
+        struct reftrace_settings s = settings_for(all_steppers[i], 0.5);
         struct reftrace_result r;
         reftrace_ray(&obj, 1, &s, (vec3){0.5, 0.5, -1}, (vec3){0, 0, 1}, &r);
         CHECK_INT(r.status, RAY_EXITED);
@@ -585,7 +584,7 @@ static void two_boxes_on_a_line_are_crossed_in_order(void)
         grid_object((vec3){0, 0, 0}, (vec3){1, 1, 1}, &ua),
     };
     for (int i = 0; i < 3; i++) {
-        struct reftrace_settings s = settings_for(all_integrators[i], 0.5);
+        struct reftrace_settings s = settings_for(all_steppers[i], 0.5);
         struct reftrace_result r;
         vec3 d = {0, 0, 1};
         reftrace_ray(objs, 2, &s, (vec3){0.5, 0.5, -1}, d, &r);
@@ -608,7 +607,7 @@ static void uniform_emission_adds_radiance_times_length(void)
     struct reftrace_object obj = grid_object((vec3){0, 0, 0}, (vec3){1, 1, 2}, &u);
     vec3 d = vec3_normalize((vec3){0, 0.1, 1});
     for (int i = 0; i < 3; i++) {
-        struct reftrace_settings s = settings_for(all_integrators[i], 0.5);
+        struct reftrace_settings s = settings_for(all_steppers[i], 0.5);
         s.env_intensity = 1.5;
         struct reftrace_result r;
         reftrace_ray(&obj, 1, &s, (vec3){0.5, 0.4, -1}, d, &r);
@@ -638,7 +637,7 @@ static void transformed_object_matches_the_equivalent_untransformed_one(void)
     struct reftrace_object b = analytic_object((vec3){2, -1, -1}, (vec3){4, 1, 1}, 16, &g_world);
     vec3 o = {0, 0.3, 0.2}, d = vec3_normalize((vec3){1, 0.1, -0.05});
     for (int i = 0; i < 3; i++) {
-        struct reftrace_settings s = settings_for(all_integrators[i], 0.5);
+        struct reftrace_settings s = settings_for(all_steppers[i], 0.5);
         struct reftrace_result ra, rb;
         reftrace_ray(&a, 1, &s, o, d, &ra);
         reftrace_ray(&b, 1, &s, o, d, &rb);
@@ -648,7 +647,7 @@ static void transformed_object_matches_the_equivalent_untransformed_one(void)
         check_vec(ra.exit_direction, rb.exit_direction, 1e-10);
         CHECK_NEAR(ra.optical_path_length, rb.optical_path_length, 1e-9);
         CHECK_NEAR(ra.transmittance.x, rb.transmittance.x, 1e-12);
-        if (all_integrators[i] != REFTRACE_ADAPTIVE)
+        if (all_steppers[i] != REFTRACE_ADAPTIVE)
             CHECK_INT(ra.steps, rb.steps);
     }
 
@@ -659,7 +658,7 @@ static void transformed_object_matches_the_equivalent_untransformed_one(void)
     c.xf = xf;
     double R = (0.2 / 2.2) * (0.2 / 2.2);
     for (int i = 0; i < 3; i++) {
-        struct reftrace_settings s = settings_for(all_integrators[i], 0.5);
+        struct reftrace_settings s = settings_for(all_steppers[i], 0.5);
         struct reftrace_result r;
         reftrace_ray(&c, 1, &s, (vec3){0, 0.1, 0.2}, (vec3){1, 0, 0}, &r);
         CHECK_INT(r.status, RAY_EXITED);
@@ -781,7 +780,7 @@ static void steep_ramp_has_no_interface_but_a_sharp_ball_does(void)
                                    .xf = xform_identity(),
                                    .grid = &grid};
     for (int i = 0; i < 2; i++) {
-        struct reftrace_settings s = settings_for(all_integrators[i], 0.5), off = s;
+        struct reftrace_settings s = settings_for(all_steppers[i], 0.5), off = s;
         off.boundary_threshold = 10.0;
         struct reftrace_result with_zones, without;
         for (int k = 0; k < 5; k++) {
@@ -826,7 +825,7 @@ static void luneburg_grid_at_128_voxels_focuses_near_the_analytic_point(void)
                                   .grid = &grid};
     double worst[2] = {0, 0}, mean[2] = {0, 0};
     for (int i = 0; i < 2; i++) {
-        struct reftrace_settings s = settings_for(all_integrators[i], 0.5);
+        struct reftrace_settings s = settings_for(all_steppers[i], 0.5);
         for (int k = 1; k <= 9; k++) {
             struct reftrace_result r;
             reftrace_ray(&obj, 1, &s, (vec3){0, 0.1 * k, -3}, (vec3){0, 0, 1}, &r);

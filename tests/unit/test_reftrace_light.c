@@ -84,9 +84,9 @@ static struct reftrace_object slab_object(vec3 bmin, vec3 bmax, const struct sla
                                     .grid = &u->grid};
 }
 
-static struct reftrace_settings settings(enum reftrace_integrator integ, double step)
+static struct reftrace_settings settings(enum reftrace_stepper integ, double step)
 {
-    return (struct reftrace_settings){.integrator = integ,
+    return (struct reftrace_settings){.stepper = integ,
                                       .step_voxels = step,
                                       .max_steps = 1000000,
                                       .boundary_threshold = 0.02,
@@ -115,15 +115,15 @@ static void emitting_medium_is_seen_with_basic_radiance(void)
     double T;
     vec3 t = enter(d, n, &T);
     double len = 2.0 / t.z;
-    const enum reftrace_integrator integ[3] = {REFTRACE_EULER, REFTRACE_RK4, REFTRACE_ADAPTIVE};
+    const enum reftrace_stepper integ[3] = {REFTRACE_EULER, REFTRACE_RK4, REFTRACE_ADAPTIVE};
     for (int i = 0; i < 3; i++) {
         struct reftrace_settings s = settings(integ[i], 0.5);
         struct reftrace_result r;
         reftrace_ray(&obj, 1, &s, (vec3){0, 0, -1}, d, &r);
         CHECK_INT(r.status, RAY_EXITED);
         vec3 expect = vec3_scale(le, T * len / (n * n));
-        printf("basic radiance (integrator %d): L = %.9f, T_f L_e len / n^2 = %.9f\n", i,
-               r.radiance.x, expect.x);
+        printf("basic radiance (stepper %d): L = %.9f, T_f L_e len / n^2 = %.9f\n", i, r.radiance.x,
+               expect.x);
         CHECK_NEAR(r.radiance.x, expect.x, 1e-9);
         CHECK_NEAR(r.radiance.y, expect.y, 1e-9);
         CHECK_NEAR(r.radiance.z, expect.z, 1e-9);
@@ -184,7 +184,7 @@ static void slab_single_scattering_matches_the_closed_form(void)
     double len = 1.0 / t.z;
     vec3 lf = vec3_normalize((vec3){vol.direction[0], vol.direction[1], vol.direction[2]});
     double p = phase_hg(g, vec3_dot(lf, vec3_scale(t, -1.0)));
-    const enum reftrace_integrator integ[2] = {REFTRACE_EULER, REFTRACE_RK4};
+    const enum reftrace_stepper integ[2] = {REFTRACE_EULER, REFTRACE_RK4};
     for (int i = 0; i < 2; i++) {
         struct reftrace_settings s = settings(integ[i], 0.02);
         s.lighting = &lt;
@@ -198,7 +198,7 @@ static void slab_single_scattering_matches_the_closed_form(void)
         for (int c = 0; c < 3; c++) {
             double st = sig_a[c] + sig_s[c];
             double expect = T * sig_s[c] * p * (1.0 - exp(-st * len)) / st / (n * n);
-            printf("single scattering (integrator %d, channel %d): L = %.7f, closed form %.7f "
+            printf("single scattering (stepper %d, channel %d): L = %.7f, closed form %.7f "
                    "(rel %.1e)\n",
                    i, c, got[c], expect, fabs(got[c] / expect - 1.0));
             CHECK(fabs(got[c] / expect - 1.0) < 1e-3);

@@ -66,8 +66,14 @@ static const struct bad_case bad_cases[] = {
     {TOP("\"camera\": {\"look_at\": [0, 0, 2e6]}"), REFRACT_E_INVALID_FIELD, "camera.look_at[2]",
      "-1000000..1000000"},
     /* render */
-    {TOP("\"render\": {\"integrator\": \"rk5\"}"), REFRACT_E_INVALID_FIELD, "render.integrator",
+    {TOP("\"render\": {\"stepper\": \"rk5\"}"), REFRACT_E_INVALID_FIELD, "render.stepper",
      "\"euler\", \"rk4\""},
+    /* renamed: the old key "integrator" is read like "stepper", but not both */
+    {TOP("\"render\": {\"integrator\": \"rk5\"}"), /* renamed: */
+     REFRACT_E_INVALID_FIELD, "render.integrator", /* renamed: */
+     "\"euler\", \"rk4\""},                                              /* renamed: the old key */
+    {TOP("\"render\": {\"stepper\": \"rk4\", \"integrator\": \"rk2\"}"), /* renamed: */
+     REFRACT_E_INVALID_FIELD, "render.integrator", "old name of \"stepper\""}, /* renamed: */
     {TOP("\"render\": {\"step\": 12}"), REFRACT_E_INVALID_FIELD,
      "render.step: expected a finite number in 0.01..8, got 12", NULL},
     {TOP("\"render\": {\"max_steps\": 1000000}"), REFRACT_E_LIMIT_EXCEEDED, "render.max_steps",
@@ -319,7 +325,7 @@ static void applies_defaults_to_a_minimal_document(void)
     CHECK_NEAR(s->camera.fov_y_deg, 40.0, 0);
     CHECK_INT(s->camera.width, 640);
     CHECK_INT(s->camera.height, 480);
-    CHECK_INT(s->render.integrator, SCENE_INTEGRATOR_RK4);
+    CHECK_INT(s->render.stepper, SCENE_STEPPER_RK4);
     CHECK_NEAR(s->render.step_voxels, 0.5, 0);
     CHECK_INT(s->render.max_steps, 20000);
     CHECK_NEAR(s->render.exposure_ev, 0.0, 0);
@@ -367,6 +373,18 @@ static void defaults_stay_within_lowered_limits(void)
     scene_destroy(s);
 }
 
+/* renamed: a document that still says "integrator" (the stepper's old key) keeps working. */
+static void reads_the_steppers_old_key(void)
+{
+    struct scene *s = parse_ok("{\"render\": {\"integrator\": \"rk2\"}, " /* renamed: */
+                               "\"objects\": [{" BOUNDS
+                               ", \"ior\": 1.5}]}");
+    if (s == NULL)
+        return;
+    CHECK_INT(s->render.stepper, SCENE_STEPPER_RK2);
+    scene_destroy(s);
+}
+
 static void reads_every_field_of_a_full_document(void)
 {
     const char *doc =
@@ -374,7 +392,7 @@ static void reads_every_field_of_a_full_document(void)
         " \"environment\": {\"type\": \"image\", \"intensity\": 2, \"rotation_deg\": 90},"
         " \"camera\": {\"eye\": [1, 2, 3], \"look_at\": [0, 1, 0], \"up\": [0, 2, 0],"
         "   \"fov_y_deg\": 30, \"width\": 320, \"height\": 200},"
-        " \"render\": {\"integrator\": \"euler\", \"step\": 0.25, \"max_steps\": 500,"
+        " \"render\": {\"stepper\": \"euler\", \"step\": 0.25, \"max_steps\": 500,"
         "   \"exposure\": -1, \"boundary_threshold\": 0.1, \"tonemap\": \"filmic\","
         "   \"empty_space_skipping\": false, \"min_throughput\": 0.01,"
         "   \"ior_filter\": \"tricubic\"},"
@@ -393,7 +411,7 @@ static void reads_every_field_of_a_full_document(void)
     CHECK_NEAR(s->environment.rotation_deg, 90, 0);
     CHECK_NEAR(s->camera.up.y, 1.0, 1e-15);
     CHECK_INT(s->camera.height, 200);
-    CHECK_INT(s->render.integrator, SCENE_INTEGRATOR_EULER);
+    CHECK_INT(s->render.stepper, SCENE_STEPPER_EULER);
     CHECK_INT(s->render.tonemap, SCENE_TONEMAP_FILMIC);
     CHECK_INT(s->render.ior_filter, SCENE_FILTER_TRICUBIC);
     CHECK_INT(s->render.max_steps, 500);
@@ -634,6 +652,7 @@ int main(void)
     applies_defaults_to_a_minimal_document();
     defaults_stay_within_lowered_limits();
     reads_every_field_of_a_full_document();
+    reads_the_steppers_old_key();
     reads_layer_lists_and_shape_parameters();
     an_ior_array_of_numbers_is_a_list_of_constant_layers();
     survives_every_truncation_of_a_valid_document();

@@ -68,7 +68,7 @@ static const struct hash_case same_transport[] = {
      "\"width\": 64, \"height\": 48}, \"environment\": {\"intensity\": 3, \"rotation_deg\": 90}, "
      "\"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", " SMOKE "]}"},
     {"render settings other than boundary_threshold",
-     "{\"render\": {\"integrator\": \"euler\", \"step\": 0.25, \"max_steps\": 100, \"exposure\": 2, "
+     "{\"render\": {\"stepper\": \"euler\", \"step\": 0.25, \"max_steps\": 100, \"exposure\": 2, "
      "\"tonemap\": \"filmic\"}, \"receiver\": {\"height\": -2}, \"objects\": [" GLASS ", " SMOKE "]}"},
     {"receiver albedo",
      "{\"receiver\": {\"height\": -2, \"albedo\": [0.1, 0.5, 0.9]}, \"objects\": [" GLASS ", " SMOKE "]}"},

@@ -28,7 +28,7 @@
 static struct reftrace_settings base_settings(void)
 {
     return (struct reftrace_settings){
-        .integrator = REFTRACE_RK4,
+        .stepper = REFTRACE_RK4,
         .step_voxels = 0.5,
         .max_steps = 1000,
         .boundary_threshold = 0.02,

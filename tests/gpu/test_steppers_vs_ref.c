@@ -1,23 +1,23 @@
 /*
- * test_integrators_vs_ref.c - every integrator of the march (euler, rk2, rk4, adaptive)
+ * test_steppers_vs_ref.c - every stepper of the march (euler, rk2, rk4, adaptive)
  * and the float16 index atlas on the GPU (trace_rays.comp through render_trace) against
  * their double-precision CPU twins (reftrace: REFTRACE_EULER, _RK2, _RK4, _BS23) on the
  * same voxels (scene_reference, which rounds the atlas to half floats for float16), ray
  * by ray: exit point and exit direction.
  *
  * Each case also checks that the GPU's exit lies closer to its own twin than to the other
- * integrators' CPU exits, and closer to it than to the twin reconstructing the same voxels
+ * steppers' CPU exits, and closer to it than to the twin reconstructing the same voxels
  * with the other index filter (render.ior_filter trilinear / tricubic): a kernel variant
- * that silently ran another integrator or filter would fail there even when all of them
- * land close to each other. Every integrator runs with both filters; tricubic (Catmull-Rom
+ * that silently ran another stepper or filter would fail there even when all of them
+ * land close to each other. Every stepper runs with both filters; tricubic (Catmull-Rom
  * of n and its exact gradient, 64 texel fetches on the GPU, the same 64 taps in double on
  * the CPU) has the same bounds (seen: 8e-6 in position, 3e-6 rad with fixed steps; 4e-4
  * and 2e-4 adaptive).
  *
  * Scenes: a Luneburg lens and a strong Gaussian lens (n_peak 1.8) at 32^3, a parallel
  * bundle of 8 x 8 rays. Bounds, measured on llvmpipe (printed): the fixed-step
- * integrators 2e-4 (seen: 3e-6), the float arithmetic of the GPU against double over some
- * 100 steps; 2e-4 rad in direction. The adaptive integrator 1e-3 in position and
+ * steppers 2e-4 (seen: 3e-6), the float arithmetic of the GPU against double over some
+ * 100 steps; 2e-4 rad in direction. The adaptive stepper 1e-3 in position and
  * 2.5e-3 rad in direction (seen: 2e-4 and 6e-4): where an error estimate lies near
  * the tolerance (1e-3 voxels here), float and double accept or reject differently, and the
  * two step sequences then differ by about the error the tolerance allows. A hardware GPU
@@ -59,17 +59,17 @@ static void trace_run(struct gpu_work *w, struct gpu *gpu)
     render_destroy(r);
 }
 
-static const enum scene_integrator integrators[4] = {
-    SCENE_INTEGRATOR_EULER, SCENE_INTEGRATOR_RK2, SCENE_INTEGRATOR_RK4, SCENE_INTEGRATOR_ADAPTIVE};
+static const enum scene_stepper steppers[4] = {SCENE_STEPPER_EULER, SCENE_STEPPER_RK2,
+                                               SCENE_STEPPER_RK4, SCENE_STEPPER_ADAPTIVE};
 static const char *const names[4] = {"euler", "rk2", "rk4", "adaptive"};
 
-/* Traces the bundle with integrator `which` on the GPU and all four on the CPU; checks the
+/* Traces the bundle with stepper `which` on the GPU and all four on the CPU; checks the
  * GPU against its twin within (pos_bound, dir_bound) and closer to it than to the others. */
 static void check_case(struct gpu *gpu, const char *label, const struct scene *s, int which,
                        double step, double pos_bound, double dir_bound)
 {
     struct trace_work t = {.scene = s, .id = label, .settings = s->render};
-    t.settings.integrator = integrators[which];
+    t.settings.stepper = steppers[which];
     t.settings.step_voxels = step;
     t.settings.tolerance_voxels = 1e-3;
     vec3 lo = s->objects[0].bounds_min, hi = s->objects[0].bounds_max;
@@ -104,7 +104,7 @@ static void check_case(struct gpu *gpu, const char *label, const struct scene *s
         double own = INFINITY, other = INFINITY;
         for (int m = 0; m < 4; m++) {
             struct reftrace_settings st = ref.settings;
-            st.integrator = scene_reference_integrator(integrators[m]);
+            st.stepper = scene_reference_stepper(steppers[m]);
             st.step_voxels = step;
             st.tolerance_voxels = 1e-3;
             struct reftrace_result cpu;
@@ -137,8 +137,8 @@ static void check_case(struct gpu *gpu, const char *label, const struct scene *s
               pos_bound);
     CHECK_MSG(worst_d <= dir_bound, "%s %s: direction %g > %g", label, names[which], worst_d,
               dir_bound);
-    /* Rays through the lens centre are nearly straight for every integrator; the rest
-     * tell the integrators apart. */
+    /* Rays through the lens centre are nearly straight for every stepper; the rest
+     * tell the steppers apart. */
     CHECK_MSG(own_closest >= RAYS * 3 / 4, "%s %s: only %d of %d rays closest to their twin", label,
               names[which], own_closest, RAYS);
     /* A variant that silently sampled with the other filter fails here. */
@@ -160,7 +160,7 @@ static void check_case(struct gpu *gpu, const char *label, const struct scene *s
 
 int main(void)
 {
-    struct gpu *gpu = test_gpu_create("test_integrators_vs_ref");
+    struct gpu *gpu = test_gpu_create("test_steppers_vs_ref");
     bool software = strstr(gpu_info(gpu)->renderer, "llvmpipe") != NULL;
     double pos = software ? 2e-4 : 2e-3, dir = software ? 2e-4 : 2e-3;
     struct scene *lens = parse_ok(LENS(32, ""));
@@ -169,7 +169,7 @@ int main(void)
     struct scene *lens3 = parse_ok(LENS(32, "\"render\": {\"ior_filter\": \"tricubic\"}, "));
     struct scene *gauss3 = parse_ok(GAUSS(32, "\"render\": {\"ior_filter\": \"tricubic\"}, "));
     for (int m = 0; m < 4 && lens && gauss; m++) {
-        bool adaptive = integrators[m] == SCENE_INTEGRATOR_ADAPTIVE;
+        bool adaptive = steppers[m] == SCENE_STEPPER_ADAPTIVE;
         double step = adaptive ? 2.0 : 0.5, loose = adaptive ? 5.0 : 1.0;
         check_case(gpu, "luneburg", lens, m, step, loose * pos, 2.5 * loose * dir);
         check_case(gpu, "gaussian", gauss, m, step, loose * pos, 2.5 * loose * dir);
@@ -181,7 +181,7 @@ int main(void)
     scene_destroy(lens);
     scene_destroy(gauss);
     for (int m = 0; m < 4 && lens3 && gauss3; m++) {
-        bool adaptive = integrators[m] == SCENE_INTEGRATOR_ADAPTIVE;
+        bool adaptive = steppers[m] == SCENE_STEPPER_ADAPTIVE;
         double step = adaptive ? 2.0 : 0.5, loose = adaptive ? 5.0 : 1.0;
         check_case(gpu, "luneburg-tricubic", lens3, m, step, loose * pos, 2.5 * loose * dir);
         check_case(gpu, "gaussian-tricubic", gauss3, m, step, loose * pos, 2.5 * loose * dir);
@@ -190,5 +190,5 @@ int main(void)
     scene_destroy(lens3);
     scene_destroy(gauss3);
     gpu_destroy(gpu, NULL);
-    return test_summary("test_integrators_vs_ref");
+    return test_summary("test_steppers_vs_ref");
 }
