@@ -289,6 +289,13 @@ enum refract_code scene_parse_particles(const cJSON *obj, const char *path,
         rc = jr_number_gt(item, p, "units_per_meter", false, 1.0, 0.0, 1e9, &units, e);
     if (rc != REFRACT_E_OK)
         return rc;
+    double work = mie_medium_work(&m);
+    if (work > MIE_MAX_WORK)
+        return err_set(e, REFRACT_E_INVALID_FIELD,
+                       "%s: these particles need about %.3g Lorenz-Mie terms, above the limit "
+                       "of %.3g (about a second of the upload); use smaller radii (r_max_um, "
+                       "radius_um) or fewer populations",
+                       p, work, MIE_MAX_WORK);
     struct mie_spectrum s;
     if (!mie_medium_spectrum(&m, &s))
         return err_set(e, REFRACT_E_INVALID_FIELD,

@@ -155,6 +155,7 @@ static void test_milk(void)
     CHECK(!mie_preset_milk_riboflavin(3.5, 3.4, -1.0, &m));
     CHECK(!mie_preset_milk(-1.0, 3.4, &m));
     CHECK(!mie_preset_milk(3.5, 20.0, &m));
+    CHECK(mie_medium_work(&m) < 0.5 * MIE_MAX_WORK); /* whole milk is well inside the limit */
     printf("whole milk (3.5%% fat, 3.4%% protein): sigma_s %.4g %.4g %.4g /m, sigma_a %.4g %.4g "
            "%.4g /m, g %.4f\n",
            whole.sigma_s[0], whole.sigma_s[1], whole.sigma_s[2], whole.sigma_a[0], whole.sigma_a[1],

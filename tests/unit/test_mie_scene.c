@@ -153,6 +153,11 @@ static void test_bad_input(void)
          REFRACT_E_INVALID_FIELD, "objects[0].particles.region.shape", NULL},
         {OBJ("\"particles\": {" MILK ", \"region\": {\"shape\": \"sphere\", \"inside\": 1}}"),
          REFRACT_E_UNKNOWN_FIELD, "objects[0].particles.region: unknown field \"inside\"", NULL},
+        {OBJ("\"particles\": {\"populations\": [{\"ior\": 1.5, \"volume_fraction\": 1e-6, "
+             "\"lognormal\": {\"r_vs_um\": 100, \"c_s_um\": 50, \"r_min_um\": 1, "
+             "\"r_max_um\": 1000}}]}"),
+         REFRACT_E_INVALID_FIELD, "objects[0].particles: these particles need about",
+         "use smaller radii"},
         {OBJ("\"particles\": [1]"), REFRACT_E_INVALID_FIELD,
          "objects[0].particles: expected "
          "an object",
