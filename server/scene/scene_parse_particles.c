@@ -239,16 +239,16 @@ static enum refract_code parse_medium(const cJSON *o, const char *path, struct m
     return rc;
 }
 
-/* One layer per channel: a constant, or the region's shape holding the value inside. */
+/* One layer per channel: a constant, or the region's shape holding the value inside (0
+ * until the caller writes the medium's value into layers[0].inside). */
 static enum refract_code set_field(const cJSON *region, const char *path,
                                    const struct scene_parse_ctx *ctx, struct scene_field *f,
-                                   const double v[4], struct err *e)
+                                   struct err *e)
 {
     f->layers = calloc(1, sizeof *f->layers);
     if (f->layers == NULL)
         return err_set(e, REFRACT_E_OUT_OF_MEMORY, "%s: out of memory", path);
     f->count = 1;
-    memcpy(f->layers[0].inside, v, 4 * sizeof v[0]);
     if (region == NULL) {
         f->layers[0].kind = SCENE_LAYER_CONSTANT;
         return REFRACT_E_OK;
@@ -289,6 +289,14 @@ enum refract_code scene_parse_particles(const cJSON *obj, const char *path,
         rc = jr_number_gt(item, p, "units_per_meter", false, 1.0, 0.0, 1e9, &units, e);
     if (rc != REFRACT_E_OK)
         return rc;
+    /* The region first: a typo in it should not wait for the Mie sums. */
+    static const enum scene_channel channels[] = {SCENE_CH_ATTENUATION, SCENE_CH_SCATTERING,
+                                                  SCENE_CH_ANISOTROPY};
+    const cJSON *region = member(item, "region");
+    for (int i = 0; i < 3 && rc == REFRACT_E_OK; i++)
+        rc = set_field(region, p, ctx, &o->fields[channels[i]], e);
+    if (rc != REFRACT_E_OK)
+        return rc;
     double work = mie_medium_work(&m);
     if (work > MIE_MAX_WORK)
         return err_set(e, REFRACT_E_INVALID_FIELD,
@@ -304,23 +312,18 @@ enum refract_code scene_parse_particles(const cJSON *obj, const char *path,
                        p, MIE_MAX_SIZE_PARAMETER);
     struct mie_rgb rgb;
     mie_spectrum_to_rgb(&s, &rgb);
-    double att[4] = {0}, sca[4] = {0}, g[4] = {0};
+    double *att = o->fields[SCENE_CH_ATTENUATION].layers[0].inside;
+    double *sca = o->fields[SCENE_CH_SCATTERING].layers[0].inside;
     for (int c = 0; c < 3; c++) {
         att[c] = rgb.sigma_a[c] / units;
         sca[c] = rgb.sigma_s[c] / units;
     }
-    g[0] = fmax(-0.99, fmin(0.99, rgb.g_scene));
+    o->fields[SCENE_CH_ANISOTROPY].layers[0].inside[0] = fmax(-0.99, fmin(0.99, rgb.g_scene));
     double biggest = fmax(fmax(fmax(att[0], att[1]), fmax(att[2], sca[0])), fmax(sca[1], sca[2]));
     if (biggest > 1e5)
         return err_set(e, REFRACT_E_INVALID_FIELD,
                        "%s: gives %.6g per world unit, above the fields' 1e5; world units are "
                        "metres unless \"units_per_meter\" says otherwise (100 for centimetres)",
                        p, biggest);
-    const cJSON *region = member(item, "region");
-    rc = set_field(region, p, ctx, &o->fields[SCENE_CH_ATTENUATION], att, e);
-    if (rc == REFRACT_E_OK)
-        rc = set_field(region, p, ctx, &o->fields[SCENE_CH_SCATTERING], sca, e);
-    if (rc == REFRACT_E_OK)
-        rc = set_field(region, p, ctx, &o->fields[SCENE_CH_ANISOTROPY], g, e);
     return rc;
 }
