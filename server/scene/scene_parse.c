@@ -383,7 +383,7 @@ static enum refract_code parse_channels(const cJSON *obj, const char *path,
     if (channels_used_except(o, SCENE_CH_ANISOTROPY) == 0)
         return err_set(e, REFRACT_E_MISSING_FIELD,
                        "%s: an object needs at least one of ior, attenuation, emission, opaque, "
-                       "scattering",
+                       "scattering, particles",
                        path);
     if (!scene_channel_used(o, SCENE_CH_SCATTERING) && scene_channel_used(o, SCENE_CH_ANISOTROPY))
         return err_set(e, REFRACT_E_INVALID_FIELD,
@@ -398,8 +398,9 @@ static enum refract_code parse_object(const cJSON *obj, const char *path, int in
                                       struct err *e)
 {
     static const char *const keys[] = {
-        "name",     "bounds", "resolution", "transform",  "smoothing_sigma", "ior",  "attenuation",
-        "emission", "opaque", "opaque_ior", "scattering", "anisotropy",      "brdf", NULL};
+        "name",       "bounds",      "resolution", "transform", "smoothing_sigma",
+        "ior",        "attenuation", "emission",   "opaque",    "opaque_ior",
+        "scattering", "anisotropy",  "brdf",       "particles", NULL};
     char def_name[32];
     snprintf(def_name, sizeof def_name, "object%d", index);
     enum refract_code rc = jr_check_object(obj, path, keys, e);
@@ -424,6 +425,11 @@ static enum refract_code parse_object(const cJSON *obj, const char *path, int in
     struct scene_parse_ctx ctx = *outer;
     ctx.bounds_min = o->bounds_min;
     ctx.bounds_max = o->bounds_max;
+    /* "particles" fills attenuation, scattering and anisotropy (and refuses them beside
+     * it), so parse_channels then sees the channels as set. */
+    rc = scene_parse_particles(obj, path, &ctx, o, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
     return parse_channels(obj, path, &ctx, o, e);
 }
 

@@ -445,6 +445,29 @@ static enum refract_code parse_shape_layer(const cJSON *o, const char *path, enu
     return rc;
 }
 
+/* A bare shape (the "region" of a particle medium, scene_parse_particles.c): "shape" and
+ * its geometry keys only. */
+enum refract_code scene_parse_region(const cJSON *o, const char *path,
+                                     const struct scene_parse_ctx *ctx, struct scene_shape *out,
+                                     struct err *e)
+{
+    int kind;
+    enum refract_code rc = jr_enum(o, path, "shape", true, 0, shape_names, &kind, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    const char *allowed[10];
+    size_t n = 0;
+    allowed[n++] = "shape";
+    for (size_t i = 0; shape_keys[kind][i] != NULL; i++)
+        allowed[n++] = shape_keys[kind][i];
+    allowed[n] = NULL;
+    rc = jr_check_object(o, path, allowed, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    out->kind = (enum scene_shape_kind)kind;
+    return scene_parse_geometry(o, path, ctx->limits, out, e);
+}
+
 /* ---- GRIN profiles (ior only) ---- */
 
 static const char *const profile_keys[][6] = {

@@ -35,6 +35,17 @@ enum refract_code scene_parse_field(const cJSON *item, const char *path, enum sc
                                     const struct scene_parse_ctx *ctx, struct scene_field *out,
                                     struct err *e);
 
+/* A bare shape object ("shape" and its geometry keys) into out (scene_parse_field.c). */
+enum refract_code scene_parse_region(const cJSON *o, const char *path,
+                                     const struct scene_parse_ctx *ctx, struct scene_shape *out,
+                                     struct err *e);
+
+/* scene_parse_particles.c: an object's "particles" medium (docs/media.md), turned into its
+ * attenuation, scattering and anisotropy fields. Absent -> OK and nothing changes. */
+enum refract_code scene_parse_particles(const cJSON *obj, const char *path,
+                                        const struct scene_parse_ctx *ctx, struct scene_object *o,
+                                        struct err *e);
+
 /* The geometry keys of a voxel shape kind (after "shape": centre, radius, ...), and their
  * parser (scene_parse_field.c), shared with the surfaces' parser. */
 const char *const *scene_shape_keys(enum scene_shape_kind kind);

@@ -84,6 +84,23 @@ static const struct schema_case cases[] = {
      OBJ_WITH("\"scattering\": 1, \"anisotropy\": {\"shape\": \"box\", \"size\": [1, 1, 1], "
               "\"inside\": 0.5, " UNKNOWN "}")},
     {"brdf", {"/$defs/brdf", NULL}, OBJ_WITH("\"ior\": 1.5, \"brdf\": {" UNKNOWN "}")},
+    {"particles milk", {"/$defs/particles/oneOf/0", NULL},
+     OBJ_WITH("\"particles\": {\"preset\": \"milk\", \"fat_percent\": 1, " UNKNOWN "}")},
+    {"particles water", {"/$defs/particles/oneOf/1", NULL},
+     OBJ_WITH("\"particles\": {\"preset\": \"water\", " UNKNOWN "}")},
+    {"particles explicit", {"/$defs/particles/oneOf/2", NULL},
+     OBJ_WITH("\"particles\": {\"populations\": [], " UNKNOWN "}")},
+    {"particle population", {"/$defs/particle_population", NULL},
+     OBJ_WITH("\"particles\": {\"populations\": [{\"ior\": 1.5, " UNKNOWN "}]}")},
+    {"particle lognormal", {"/$defs/particle_population/properties/lognormal", NULL},
+     OBJ_WITH("\"particles\": {\"populations\": [{\"ior\": 1.5, \"volume_fraction\": 0.01, "
+              "\"lognormal\": {" UNKNOWN "}}]}")},
+    {"particle power_law", {"/$defs/particle_population/properties/power_law", NULL},
+     OBJ_WITH("\"particles\": {\"populations\": [{\"ior\": 1.5, \"volume_fraction\": 0.01, "
+              "\"power_law\": {" UNKNOWN "}}]}")},
+    {"particle region sphere", {"/$defs/shape_sphere", NULL},
+     OBJ_WITH("\"particles\": {\"preset\": \"water\", \"region\": {\"shape\": \"sphere\", "
+              "\"radius\": 0.5, " UNKNOWN "}}")},
     {"directional light", {"/$defs/light_directional", NULL},
      "{\"lights\": [{\"type\": \"directional\", \"direction\": [0, -1, 0], " UNKNOWN "}], "
      "\"objects\": [{" BOUNDS ", \"resolution\": 8, \"ior\": 1.5}]}"},
@@ -100,7 +117,8 @@ static const struct schema_case cases[] = {
 };
 /* clang-format on */
 
-/* Follows a JSON pointer ("/a/b"; "" is the root) through objects. */
+/* Follows a JSON pointer ("/a/b", "/a/oneOf/0"; "" is the root) through objects and
+ * arrays. */
 static const cJSON *at_pointer(const cJSON *root, const char *pointer)
 {
     const cJSON *node = root;
@@ -109,7 +127,8 @@ static const cJSON *at_pointer(const cJSON *root, const char *pointer)
         pointer++;
         size_t n = strcspn(pointer, "/");
         snprintf(key, sizeof key, "%.*s", (int)n, pointer);
-        node = cJSON_GetObjectItemCaseSensitive(node, key);
+        node = cJSON_IsArray(node) ? cJSON_GetArrayItem(node, atoi(key))
+                                   : cJSON_GetObjectItemCaseSensitive(node, key);
         pointer += n;
     }
     return node;

@@ -353,6 +353,21 @@ static void light_examples_hold_what_their_names_promise(const char *dir)
         CHECK(tan(s->lights[0].spot_angle_deg * M_PI / 180) * dist > 0.4);
         scene_destroy(s);
     }
+    s = parse_file(dir, "milk_glass.json");
+    if (s != NULL) {
+        /* The particle medium (docs/media.md) fills the water and only the water: milky
+         * water scatters blue more than red and forward (fat globules), the glass wall and
+         * the air above do not scatter. */
+        vec3 water = vec3_make(0.01, -0.2, 0.01);
+        CHECK(scene_needs_light_simulation(s));
+        CHECK(rgb_at(s, SCENE_CH_SCATTERING, water, 2) > rgb_at(s, SCENE_CH_SCATTERING, water, 0));
+        CHECK(rgb_at(s, SCENE_CH_SCATTERING, water, 0) > 1.0);
+        CHECK(s->objects[0].fields[SCENE_CH_ANISOTROPY].layers[0].inside[0] > 0.8);
+        CHECK_NEAR(rgb_at(s, SCENE_CH_SCATTERING, vec3_make(0.48, -0.2, 0.0), 1), 0.0, 0.0);
+        CHECK_NEAR(rgb_at(s, SCENE_CH_SCATTERING, vec3_make(0.0, 0.55, 0.0), 1), 0.0, 0.0);
+        CHECK_NEAR(ior_at(s, vec3_make(0.48, -0.2, 0.0)), 1.5, 1e-3);
+        scene_destroy(s);
+    }
     s = parse_file(dir, "wine_glass.json");
     if (s != NULL) {
         CHECK_INT(s->light_count, 1);
