@@ -35,6 +35,8 @@ struct http_config {
     int max_rays;               /* per trace request; 0 = 65536 */
     long long max_image_pixels; /* width * height of a render; 0 = 4096 * 4096 */
     int request_timeout_ms;     /* deadline of queued GPU work; 0 = 120000 */
+    int max_reference_samples;  /* "mode": "reference" samples per pixel; 0 = 65536 */
+    int max_reference_ms;       /* "mode": "reference" time per render; 0 = 120000 */
     struct scene_limits limits;
     /* Access control (access.c; docs/api.md "Security"). All borrowed for the server's
      * life. token: the bearer token every route except GET /v1/health and the viewer's
@@ -81,6 +83,9 @@ void http_server_end_streams(struct http_server *s);
 /* Waits up to timeout_ms until no request is in progress (answered or not). Returns true
  * when idle. Used at shutdown so connections resumed with "shutting_down" get answered. */
 bool http_server_wait_idle(struct http_server *s, int timeout_ms);
+/* Ends the reference renders in progress (they answer 503 shutting_down at once). For
+ * shutdown, after quiesce and before waiting for idle. Any thread. */
+void http_reference_cancel_all(void);
 /* Stops the daemon. Call after the GPU queue has been drained (so no connection is
  * suspended). NULL is a no-op. */
 void http_server_stop(struct http_server *s);
