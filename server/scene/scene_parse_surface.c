@@ -51,7 +51,8 @@ static enum refract_code parse_rgb(const cJSON *o, const char *path, const char 
 static enum refract_code parse_medium(const cJSON *o, const char *path, struct scene_medium *m,
                                       struct err *e)
 {
-    static const char *const keys[] = {"ior", "attenuation", "emission", NULL};
+    static const char *const keys[] = {"ior",        "attenuation", "emission",
+                                       "scattering", "anisotropy",  NULL};
     char p[256];
     jr_path(p, sizeof p, path, "medium");
     const cJSON *mo = member(o, "medium");
@@ -67,6 +68,10 @@ static enum refract_code parse_medium(const cJSON *o, const char *path, struct s
         rc = parse_rgb(mo, p, "attenuation", m->attenuation, e);
     if (rc == REFRACT_E_OK)
         rc = parse_rgb(mo, p, "emission", m->emission, e);
+    if (rc == REFRACT_E_OK) /* reference mode only (scene.h) */
+        rc = parse_rgb(mo, p, "scattering", m->scattering, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_number(mo, p, "anisotropy", false, 0.0, -0.99, 0.99, &m->anisotropy, e);
     return rc;
 }
 

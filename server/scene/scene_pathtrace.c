@@ -19,6 +19,13 @@ static void convert_light(const struct scene_light *l, struct pathtrace_light *p
         break;
     case SCENE_LIGHT_POINT:
         p->kind = PATHTRACE_LIGHT_POINT;
+        if (l->radius > 0.0) { /* the same far-field intensity I: L_e = I / (pi r^2) */
+            p->kind = PATHTRACE_LIGHT_SPHERE;
+            p->radius = l->radius;
+            p->visible = l->camera_visible;
+            for (int c = 0; c < 3; c++)
+                p->value[c] /= M_PI * l->radius * l->radius;
+        }
         break;
     case SCENE_LIGHT_SPOT:
         p->kind = PATHTRACE_LIGHT_SPOT;
@@ -58,8 +65,11 @@ enum refract_code scene_pathtrace_init(const struct scene *s, scene_volume_looku
                            "\"Not yet\"); use \"mode\": \"fast\"",
                            sf->document_index, sf->name);
         ps->medium.ior = sf->medium.ior;
-        for (int c = 0; c < 3; c++)
+        for (int c = 0; c < 3; c++) {
             ps->medium.sigma_a[c] = sf->medium.attenuation[c];
+            ps->medium.sigma_s[c] = sf->medium.scattering[c];
+        }
+        ps->medium.g = sf->medium.anisotropy;
     }
     p->surfaces = s->surface_count > 0 ? out->surfaces : NULL;
     p->surface_count = (int)s->surface_count;
