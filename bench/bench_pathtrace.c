@@ -118,8 +118,8 @@ int main(int argc, char **argv)
         return 1;
     }
     const struct scene_camera *c = &s->camera;
-    struct pathtrace_camera cam = {c->eye, c->look_at, c->up, c->fov_y_deg, w ? w : c->width,
-                                   h ? h : c->height};
+    struct pathtrace_camera cam = {c->eye,       c->look_at,       c->up,
+                                   c->fov_y_deg, w ? w : c->width, h ? h : c->height};
     printf("%s, %dx%d, %d threads\n\n", argv[1], cam.width, cam.height, threads);
     printf("| samples/pixel | s | paths/s | image noise | median pixel | p90 pixel | "
            "s to 2 %% (image) | s to 2 %% (median pixel) |\n|---|---|---|---|---|---|---|---|\n");

@@ -28,14 +28,14 @@ struct pt_hit {
 
 /* Where the path is and what it carries (one line per member). */
 struct pt_state {
-    vec3 o, d;          /* the ray */
-    uint32_t inside;    /* surfaces whose solids contain o */
-    double beta[3];     /* throughput */
-    bool specular;      /* the last event was delta (or the camera): emitters count fully */
-    bool camera;        /* still the camera ray: invisible emitters are skipped */
-    double last_pdf;    /* solid-angle pdf of the last diffuse/phase sampling */
-    vec3 last_p;        /* where that sampling happened */
-    int last_surface;   /* the surface o lies on (-1: none), for mesh self-hits */
+    vec3 o, d;        /* the ray */
+    uint32_t inside;  /* surfaces whose solids contain o */
+    double beta[3];   /* throughput */
+    bool specular;    /* the last event was delta (or the camera): emitters count fully */
+    bool camera;      /* still the camera ray: invisible emitters are skipped */
+    double last_pdf;  /* solid-angle pdf of the last diffuse/phase sampling */
+    vec3 last_p;      /* where that sampling happened */
+    int last_surface; /* the surface o lies on (-1: none), for mesh self-hits */
     int64_t last_prim;
 };
 
@@ -258,13 +258,18 @@ static bool cross_surface(const struct pathtrace_scene *s, struct pt_state *st,
 void pathtrace_radiance(const struct pathtrace_scene *s, vec3 origin, vec3 dir, uint32_t inside,
                         bool camera, struct pathtrace_rng *rng, double L[3])
 {
-    struct pt_state st = {.o = origin, .d = dir, .inside = inside, .beta = {1.0, 1.0, 1.0},
-                          .specular = true, .camera = camera, .last_surface = -1,
+    struct pt_state st = {.o = origin,
+                          .d = dir,
+                          .inside = inside,
+                          .beta = {1.0, 1.0, 1.0},
+                          .specular = true,
+                          .camera = camera,
+                          .last_surface = -1,
                           .last_prim = -1};
     L[0] = L[1] = L[2] = 0.0;
     for (int depth = 0; depth < PATHTRACE_MAX_DEPTH; depth++) {
-        struct pt_hit h = nearest(s, st.o, st.d, INFINITY, st.last_surface, st.last_prim, true,
-                                  st.camera);
+        struct pt_hit h =
+            nearest(s, st.o, st.d, INFINITY, st.last_surface, st.last_prim, true, st.camera);
         double t;
         if (pathtrace_medium_sample(medium_of(s, st.inside), h.t, rng, st.beta, &t)) {
             st.camera = false;

@@ -85,9 +85,9 @@ struct pathtrace_light {
     vec3 position;  /* point, spot, sphere: world */
     vec3 direction; /* spot, directional: unit, the way the light travels */
     double cos_spot;
-    double radius;      /* sphere: > 0 */
-    double value[3];    /* point, spot: I (W/sr); directional: E (W/unit^2); sphere: L_e */
-    bool visible;       /* sphere: seen by camera rays (specular and indirect rays always) */
+    double radius;   /* sphere: > 0 */
+    double value[3]; /* point, spot: I (W/sr); directional: E (W/unit^2); sphere: L_e */
+    bool visible;    /* sphere: seen by camera rays (specular and indirect rays always) */
 };
 
 enum pathtrace_env_kind {

@@ -43,8 +43,7 @@ void pathtrace_camera_sample(const struct pathtrace_scene *s, const struct patht
 }
 
 void pathtrace_image_pass(struct pathtrace_image *img, const struct pathtrace_scene *s,
-                          const struct pathtrace_camera *cam, uint64_t seed, int row_lo,
-                          int row_hi)
+                          const struct pathtrace_camera *cam, uint64_t seed, int row_lo, int row_hi)
 {
     for (int r = row_lo; r < row_hi; r++) {
         for (int c = 0; c < img->width; c++) {

@@ -56,8 +56,8 @@ static void point_sample(const struct pathtrace_light *l, vec3 p,
     out->dist = sqrt(d2);
     out->wi = vec3_scale(v, 1.0 / out->dist);
     double k = d2 > 0.0 ? 1.0 / d2 : 0.0;
-    if (l->kind == PATHTRACE_LIGHT_SPOT && vec3_dot(vec3_scale(out->wi, -1.0), l->direction) <
-                                               l->cos_spot)
+    if (l->kind == PATHTRACE_LIGHT_SPOT &&
+        vec3_dot(vec3_scale(out->wi, -1.0), l->direction) < l->cos_spot)
         k = 0.0;
     for (int c = 0; c < 3; c++)
         out->Li_over_pdf[c] = l->value[c] * k;

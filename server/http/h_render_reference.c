@@ -45,8 +45,8 @@ struct reference_job {
     struct scene_pathtrace pt;   /* borrows version->scene */
     struct pathtrace_camera cam;
     struct pathtrace_image img;
-    int samples;            /* target per pixel */
-    double deadline_ms;     /* gpu_time_ms() clock */
+    int samples;        /* target per pixel */
+    double deadline_ms; /* gpu_time_ms() clock */
     uint64_t seed;
     int threads;
     enum { REF_PNG, REF_JPEG, REF_EXR } format;
@@ -54,8 +54,8 @@ struct reference_job {
     enum scene_tonemap tonemap;
     int jpeg_quality;
     double render_ms;
-    bool cancelled;     /* the daemon is stopping */
-    bool start_failed;  /* no coordinator thread could be started */
+    bool cancelled;    /* the daemon is stopping */
+    bool start_failed; /* no coordinator thread could be started */
 };
 
 struct reference_worker {
@@ -199,22 +199,32 @@ static enum MHD_Result reference_answer(struct http_request *req)
                                     &len, &e);
         type = "image/x-exr";
     } else {
-        rc = io_encode_frame(rgba, job->img.width, job->img.height,
-                             job->format == REF_JPEG ? IO_FRAME_JPEG : IO_FRAME_PNG,
-                             job->exposure_ev,
-                             job->tonemap == SCENE_TONEMAP_FILMIC ? IO_TONEMAP_FILMIC
-                                                                  : IO_TONEMAP_CLAMP,
-                             job->jpeg_quality, &bytes, &len, &e);
+        rc = io_encode_frame(
+            rgba, job->img.width, job->img.height,
+            job->format == REF_JPEG ? IO_FRAME_JPEG : IO_FRAME_PNG, job->exposure_ev,
+            job->tonemap == SCENE_TONEMAP_FILMIC ? IO_TONEMAP_FILMIC : IO_TONEMAP_CLAMP,
+            job->jpeg_quality, &bytes, &len, &e);
         type = job->format == REF_JPEG ? "image/jpeg" : "image/png";
     }
     free(rgba);
     free(exr);
     if (rc != REFRACT_E_OK)
         return http_respond_err(req, &e);
-    const char *headers[] = {"X-Render-Time-Ms",       render_ms, "X-Image-Size",           size,
-                             "X-Render-Mode",          "reference", "X-Reference-Samples",  samples,
-                             "X-Reference-Samples-Max", samples_max, "X-Reference-Noise",   noise,
-                             "X-Reference-Samples-Per-Second", spp_s, NULL};
+    const char *headers[] = {"X-Render-Time-Ms",
+                             render_ms,
+                             "X-Image-Size",
+                             size,
+                             "X-Render-Mode",
+                             "reference",
+                             "X-Reference-Samples",
+                             samples,
+                             "X-Reference-Samples-Max",
+                             samples_max,
+                             "X-Reference-Noise",
+                             noise,
+                             "X-Reference-Samples-Per-Second",
+                             spp_s,
+                             NULL};
     return http_respond_bytes(req, MHD_HTTP_OK, bytes, len, type, headers);
 }
 
@@ -222,9 +232,9 @@ static enum refract_code parse_reference(const char *body, size_t len, const str
                                          const struct http_config *cfg, struct reference_job *job,
                                          struct err *e)
 {
-    static const char *const keys[] = {"mode",     "camera",         "width", "height",
-                                       "format",   "exposure",       "tonemap", "jpeg_quality",
-                                       "samples",  "time_budget_ms", "seed",  NULL};
+    static const char *const keys[] = {"mode",    "camera",         "width",   "height",
+                                       "format",  "exposure",       "tonemap", "jpeg_quality",
+                                       "samples", "time_budget_ms", "seed",    NULL};
     static const char *const formats[] = {"png", "jpeg", "exr", NULL};
     cJSON *root = NULL;
     enum refract_code rc = http_parse_body(body, len, &root, e);
@@ -241,8 +251,8 @@ static enum refract_code parse_reference(const char *body, size_t len, const str
     job->tonemap = scene->render.tonemap;
     job->jpeg_quality = 90;
     if (rc == REFRACT_E_OK)
-        rc = http_parse_image_options(root, &job->exposure_ev, &job->tonemap, &job->jpeg_quality,
-                                      e);
+        rc =
+            http_parse_image_options(root, &job->exposure_ev, &job->tonemap, &job->jpeg_quality, e);
     int max_samples =
         cfg->max_reference_samples > 0 ? cfg->max_reference_samples : REFERENCE_MAX_SAMPLES;
     int max_ms = cfg->max_reference_ms > 0 ? cfg->max_reference_ms : REFERENCE_MAX_MS;
@@ -251,7 +261,7 @@ static enum refract_code parse_reference(const char *body, size_t len, const str
     int budget = max_ms;
     if (rc == REFRACT_E_OK)
         rc = jr_int(root, "", "time_budget_ms", false, budget, 1, max_ms, &budget, e);
-    int def_samples = has_budget                               ? max_samples
+    int def_samples = has_budget                                ? max_samples
                       : REFERENCE_DEFAULT_SAMPLES < max_samples ? REFERENCE_DEFAULT_SAMPLES
                                                                 : max_samples;
     if (rc == REFRACT_E_OK)
@@ -263,8 +273,9 @@ static enum refract_code parse_reference(const char *body, size_t len, const str
     if (rc != REFRACT_E_OK) {
         if (e->code == REFRACT_E_INVALID_FIELD &&
             (strstr(e->msg, "samples") == e->msg || strstr(e->msg, "time_budget_ms") == e->msg))
-            strncat(e->msg, " (refractd's --max-reference-samples and --max-reference-ms set "
-                            "the limits)",
+            strncat(e->msg,
+                    " (refractd's --max-reference-samples and --max-reference-ms set "
+                    "the limits)",
                     sizeof e->msg - strlen(e->msg) - 1);
         return rc;
     }

@@ -43,8 +43,8 @@ static void floor_reads_the_scene_a_check_value(struct test_daemon *d, const cha
     float *px = NULL;
     int w = 0, h = 0;
     struct err e = {0};
-    CHECK(io_decode_exr_channels(img.bytes, img.len, 4, names, 1 << 20, &px, &w, &h, NULL, NULL,
-                                 0, &e) == REFRACT_E_OK);
+    CHECK(io_decode_exr_channels(img.bytes, img.len, 4, names, 1 << 20, &px, &w, &h, NULL, NULL, 0,
+                                 &e) == REFRACT_E_OK);
     refract_image_free(&img);
     if (px == NULL)
         return;

@@ -24,8 +24,11 @@ static struct pathtrace_scene small_scene(void)
     ball = pt_sphere(vec3_make(0, 0, 0), 1.0, 1.5);
     s.surfaces = &ball;
     s.surface_count = 1;
-    s.lights[0] = (struct pathtrace_light){.kind = PATHTRACE_LIGHT_SPHERE, .position = {2, 4, 1},
-                                           .radius = 0.5, .value = {5, 5, 5}, .visible = true};
+    s.lights[0] = (struct pathtrace_light){.kind = PATHTRACE_LIGHT_SPHERE,
+                                           .position = {2, 4, 1},
+                                           .radius = 0.5,
+                                           .value = {5, 5, 5},
+                                           .visible = true};
     s.light_count = 1;
     return s;
 }

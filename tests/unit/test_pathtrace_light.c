@@ -54,8 +54,8 @@ static void scene_a_floor_under_the_point_light_reads_the_check_value(void)
  * (32.6, 199.5), and as the mean of the 3 x 3 pixels about it, as the peers measured. */
 static void scene_a_floor_through_the_camera_reads_the_check_value(void)
 {
-    struct pathtrace_light l = {.kind = PATHTRACE_LIGHT_SPHERE, .position = {2, 6, 1},
-                                .radius = 0.1, .visible = false};
+    struct pathtrace_light l = {
+        .kind = PATHTRACE_LIGHT_SPHERE, .position = {2, 6, 1}, .radius = 0.1, .visible = false};
     for (int c = 0; c < 3; c++)
         l.value[c] = pathtrace_sphere_radiance(1000.0, 0.1);
     CHECK_NEAR(l.value[0], 2533.03, 0.01);
@@ -82,8 +82,8 @@ static void scene_a_floor_through_the_camera_reads_the_check_value(void)
  * pi r^2 L_e), so the check value holds with the emitter too. */
 static void scene_a_floor_under_the_spherical_emitter_reads_the_check_value(void)
 {
-    struct pathtrace_light l = {.kind = PATHTRACE_LIGHT_SPHERE, .position = {2, 6, 1},
-                                .radius = 0.1, .visible = false};
+    struct pathtrace_light l = {
+        .kind = PATHTRACE_LIGHT_SPHERE, .position = {2, 6, 1}, .radius = 0.1, .visible = false};
     for (int c = 0; c < 3; c++)
         l.value[c] = pathtrace_sphere_radiance(1000.0, 0.1);
     struct pathtrace_scene s = scene_a_floor(&l);
@@ -97,8 +97,8 @@ static void scene_a_floor_under_the_spherical_emitter_reads_the_check_value(void
  * cosine-sampled rays hit it: MIS decides how much each strategy contributes. */
 static void large_spherical_light_over_plane_is_counted_once_by_mis(void)
 {
-    struct pathtrace_light l = {.kind = PATHTRACE_LIGHT_SPHERE, .position = {0, 0, 0},
-                                .radius = 0.6, .visible = true};
+    struct pathtrace_light l = {
+        .kind = PATHTRACE_LIGHT_SPHERE, .position = {0, 0, 0}, .radius = 0.6, .visible = true};
     for (int c = 0; c < 3; c++)
         l.value[c] = 2.0;
     struct pathtrace_scene s = pt_scene(0.0);
@@ -137,8 +137,8 @@ static void beer_lambert_through_a_slab(void)
             slab.medium.sigma_a[c] = sigma[c];
         s.surfaces = &slab;
         s.surface_count = 1;
-        struct pt_estimate e = pt_estimate_ray(&s, vec3_make(0.3, 0.2, 5), vec3_make(0, 0, -1),
-                                               k == 0 ? 8 : 40000, 4);
+        struct pt_estimate e =
+            pt_estimate_ray(&s, vec3_make(0.3, 0.2, 5), vec3_make(0, 0, -1), k == 0 ? 8 : 40000, 4);
         for (int c = 0; c < 3; c++) {
             double expect = slab_expect(n, exp(-sigma[c] * d));
             CHECK_NEAR(e.mean[c], expect, k == 0 ? 1e-12 : 0.01 * expect);

@@ -125,10 +125,11 @@ static void new_keys_are_checked(void)
                             &e);
     CHECK(s == NULL && e.code == REFRACT_E_INVALID_FIELD);
     CHECK_CONTAINS(e.msg, "lights[0].radius");
-    s = parse("{\"lights\": [{\"type\": \"spot\", \"position\": [0, 1, 0], \"direction\": [0, -1, "
-              "0], \"radius\": 0.1}], \"surfaces\": [{\"shape\": \"sphere\", \"radius\": 1, \"medium\": "
-              "{\"ior\": 1.5}}]}",
-              &e);
+    s = parse(
+        "{\"lights\": [{\"type\": \"spot\", \"position\": [0, 1, 0], \"direction\": [0, -1, "
+        "0], \"radius\": 0.1}], \"surfaces\": [{\"shape\": \"sphere\", \"radius\": 1, \"medium\": "
+        "{\"ior\": 1.5}}]}",
+        &e);
     CHECK(s == NULL && e.code == REFRACT_E_UNKNOWN_FIELD);
     CHECK_CONTAINS(e.msg, "radius");
     s = parse("{\"surfaces\": [{\"shape\": \"sphere\", \"radius\": 1, \"medium\": {\"ior\": 1.5, "
@@ -156,7 +157,8 @@ static void what_the_path_tracer_cannot_render_is_refused(void)
         CHECK_CONTAINS(e.msg, "objects[0] (\"lens\") is a volume object");
         scene_destroy(s);
     }
-    s = parse("{\"surfaces\": [{\"name\": \"lamp\", \"shape\": \"sphere\", \"radius\": 1, \"medium\": {\"ior\": "
+    s = parse("{\"surfaces\": [{\"name\": \"lamp\", \"shape\": \"sphere\", \"radius\": 1, "
+              "\"medium\": {\"ior\": "
               "1.0, \"emission\": [1, 1, 1]}}]}",
               &e);
     CHECK_MSG(s != NULL, "%s", e.msg);
