@@ -61,8 +61,8 @@ static const char *const light_types[] = {"directional", "point", "spot", NULL};
 /* Keys of each light type. */
 static const char *const light_keys[][8] = {
     [SCENE_LIGHT_DIRECTIONAL] = {"name", "type", "direction", "color", "intensity", NULL},
-    [SCENE_LIGHT_POINT] = {"name",      "type",   "position",       "color",
-                           "intensity", "radius", "camera_visible", NULL},
+    [SCENE_LIGHT_POINT] = {"name", "type", "position", "color", "intensity", "radius",
+                           "camera_visible", NULL},
     [SCENE_LIGHT_SPOT] = {"name", "type", "position", "direction", "angle_deg", "color",
                           "intensity", NULL},
 };
