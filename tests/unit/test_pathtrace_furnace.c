@@ -64,6 +64,24 @@ static void glass_sphere_filled_with_albedo_one_medium_conserves_energy(void)
     furnace(1.5, grey, vec3_make(0.1, 0.0, -1), 2000);
 }
 
+/* Henyey-Greenstein sampling is exact (its pdf is the phase function), so a forward- or
+ * back-scattering medium of albedo 1 is as white as an isotropic one. */
+static void white_furnace_holds_for_anisotropic_scattering(void)
+{
+    const double g[2] = {0.7, -0.5};
+    for (int k = 0; k < 2; k++) {
+        struct pathtrace_scene s = pt_scene(L_ENV);
+        struct pathtrace_surface ball = pt_sphere(vec3_make(0, 0, 0), 1.0, 1.0);
+        for (int c = 0; c < 3; c++)
+            ball.medium.sigma_s[c] = 3.0;
+        ball.medium.g = g[k];
+        s.surfaces = &ball;
+        s.surface_count = 1;
+        double expect[3] = {L_ENV, L_ENV, L_ENV};
+        check_pixel(&s, vec3_make(0, 0, 5), vec3_make(0.05, 0.02, -1), 2000, expect);
+    }
+}
+
 static void lambertian_plane_under_uniform_sky_reflects_albedo_times_sky(void)
 {
     struct pathtrace_scene s = pt_scene(L_ENV);
@@ -93,6 +111,7 @@ int main(void)
     white_furnace_holds_for_a_chromatic_medium();
     glass_sphere_without_absorption_conserves_energy();
     glass_sphere_filled_with_albedo_one_medium_conserves_energy();
+    white_furnace_holds_for_anisotropic_scattering();
     lambertian_plane_under_uniform_sky_reflects_albedo_times_sky();
     glass_ball_on_white_plane_in_furnace_renders_the_environment();
     return test_summary("test_pathtrace_furnace");

@@ -114,6 +114,30 @@ static void large_spherical_light_over_plane_is_counted_once_by_mis(void)
     check_estimate(e, 2.0, 1e-12);
 }
 
+/* A directional light of irradiance E at 60 degrees from the normal: L = rho / pi E cos;
+ * a spot light straight above: I / h^2 rho / pi inside its cone, nothing outside. */
+static void directional_and_spot_lights_light_the_floor_in_closed_form(void)
+{
+    struct pathtrace_scene s = pt_scene(0.0);
+    s.receiver = (struct pathtrace_receiver){true, -1.0, INFINITY, {0.6, 0.6, 0.6}};
+    vec3 dir = vec3_normalize(vec3_make(sin(M_PI / 3), -cos(M_PI / 3), 0.0));
+    s.lights[0] = (struct pathtrace_light){
+        .kind = PATHTRACE_LIGHT_DIRECTIONAL, .direction = dir, .value = {2.0, 2.0, 2.0}};
+    s.light_count = 1;
+    vec3 eye = vec3_make(0, 1, 3);
+    struct pt_estimate e = pt_estimate_ray(&s, eye, vec3_sub(vec3_make(0, -1, 0), eye), 4, 5);
+    check_estimate(e, 0.6 / M_PI * 2.0 * 0.5, 1e-12);
+    s.lights[0] = (struct pathtrace_light){.kind = PATHTRACE_LIGHT_SPOT,
+                                           .position = {0, 1, 0},
+                                           .direction = {0, -1, 0},
+                                           .cos_spot = cos(0.5),
+                                           .value = {8.0, 8.0, 8.0}};
+    e = pt_estimate_ray(&s, eye, vec3_sub(vec3_make(0, -1, 0), eye), 4, 5);
+    check_estimate(e, 0.6 / M_PI * 8.0 / 4.0, 1e-12);
+    e = pt_estimate_ray(&s, eye, vec3_sub(vec3_make(1.5, -1, 0), eye), 4, 5); /* 37 deg off */
+    CHECK(e.mean[1] == 0.0);
+}
+
 /* A slab |z| < d / 2 of index n and absorption sigma_a under a uniform sky L, seen along
  * its normal: with tau = exp(-sigma_a d) and R the normal-incidence reflectance, the
  * transmitted part is (1 - R)^2 tau / (1 - R^2 tau^2) and the reflected part
@@ -154,5 +178,6 @@ int main(void)
     scene_a_floor_under_the_spherical_emitter_reads_the_check_value();
     large_spherical_light_over_plane_is_counted_once_by_mis();
     beer_lambert_through_a_slab();
+    directional_and_spot_lights_light_the_floor_in_closed_form();
     return test_summary("test_pathtrace_light");
 }
