@@ -16,13 +16,16 @@
 #include "test.h"
 
 /* Scene A's camera, light and floor; a small glass ball far from the check point's view
- * and shadow rays (the scene format needs no ball, it keeps a surface in the path). */
+ * and shadow rays (the scene format needs no ball, it keeps a surface in the path). The
+ * floor is 6 x 6, not peer_scene_a.json's 200 x 200: a receiver makes refractd compute
+ * the fast renderer's light simulation in the background, over a domain that spans the
+ * receiver, and stopping waits for it (minutes for 200 x 200 on llvmpipe). */
 static const char *const floor_scene =
     "{\"name\": \"peer floor\", \"camera\": {\"eye\": [0, 2.5, 7], \"look_at\": [0, -0.5, 0], "
     "\"up\": [0, 1, 0], \"fov_y_deg\": 35, \"width\": 320, \"height\": 240}, "
     "\"environment\": {\"type\": \"procedural\", \"intensity\": 0}, "
     "\"lights\": [{\"type\": \"point\", \"position\": [2, 6, 1], \"intensity\": 79.5775}], "
-    "\"receiver\": {\"height\": -1, \"half_size\": 100, \"albedo\": 0.8}, "
+    "\"receiver\": {\"height\": -1, \"half_size\": 3, \"albedo\": 0.8}, "
     "\"surfaces\": [{\"name\": \"ball\", \"shape\": \"sphere\", \"center\": [2, -0.5, -2], "
     "\"radius\": 0.5, \"medium\": {\"ior\": 1.5}}]}";
 
