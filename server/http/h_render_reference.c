@@ -269,6 +269,9 @@ static enum refract_code parse_reference(const char *body, size_t len, const str
     double seed = 1.0;
     if (rc == REFRACT_E_OK)
         rc = jr_number(root, "", "seed", false, 1.0, 0.0, 4294967295.0, &seed, e);
+    if (rc == REFRACT_E_OK && seed != floor(seed))
+        rc = err_set(e, REFRACT_E_INVALID_FIELD,
+                     "seed: expected an integer in 0..4294967295, got %g", seed);
     cJSON_Delete(root);
     if (rc != REFRACT_E_OK) {
         if (e->code == REFRACT_E_INVALID_FIELD &&

@@ -105,6 +105,9 @@ static void bad_requests_get_exact_errors(struct test_daemon *d, const char *id)
     st = test_request(d, "POST", path, "{\"mode\": \"reference\", \"stepper\": \"rk4\"}", &body);
     CHECK(st == 400 && test_error_is(body, "unknown_field", "stepper"));
     free(body);
+    st = test_request(d, "POST", path, "{\"mode\": \"reference\", \"seed\": 1.5}", &body);
+    CHECK(st == 400 && test_error_is(body, "invalid_field", "seed"));
+    free(body);
     st = test_request(d, "POST", path, "{\"mode\": \"bogus\"}", &body);
     CHECK(st == 400 && test_error_is(body, "invalid_field", "mode"));
     free(body);
