@@ -90,6 +90,10 @@ static const struct option_def options[] = {
     {"max-steps", OPT_INT, 1, 10000000, "N", "integration steps per ray (default 100000)"},
     {"max-samples-per-pixel", OPT_INT, 1, 4096, "N",
      "jittered rays per pixel of a render or view (default 64)"},
+    {"max-reference-samples", OPT_INT, 1, 1 << 30, "N",
+     "samples per pixel of a \"mode\": \"reference\" render (default 65536)"},
+    {"max-reference-ms", OPT_INT, 1, 86400000, "MS",
+     "time a \"mode\": \"reference\" render may take (default 120000)"},
     {"max-mesh-triangles", OPT_SIZE, 1, 1ll << 31, "N",
      "triangles of an uploaded mesh, after splitting polygons (default 2M)"},
     {"max-scenes", OPT_INT, 1, 1000000, "N", "scenes held (default 64)"},
@@ -276,6 +280,10 @@ static void store_int(struct config *c, const char *name, long long v)
         l->max_steps = (int)v;
     else if (!strcmp(name, "max-samples-per-pixel"))
         l->max_samples_per_pixel = (int)v;
+    else if (!strcmp(name, "max-reference-samples"))
+        c->http.max_reference_samples = (int)v;
+    else if (!strcmp(name, "max-reference-ms"))
+        c->http.max_reference_ms = (int)v;
     else if (!strcmp(name, "max-mesh-triangles"))
         l->max_mesh_triangles = v;
     else if (!strcmp(name, "max-scenes"))

@@ -321,6 +321,7 @@ static int run(const struct config *cfg)
     sigwait(&stop_signals, &sig);
     log_info("main", "signal %d: shutting down", sig);
     http_server_quiesce(http);
+    http_reference_cancel_all();   /* reference renders answer at once (CPU, not the queue) */
     view_registry_stop(views);     /* sessions end, frames in flight finish on the GPU */
     job_runner_stop(jobs);         /* the frame in flight finishes; jobs resume next start */
     http_server_end_streams(http); /* no stream may keep its connection suspended */

@@ -75,6 +75,10 @@
 #define TRACE_EVENT_REFRACTED 0
 #define TRACE_EVENT_REFLECTED 1 /* total internal reflection */
 
+/* ---- the GPU path tracer (pathtrace_render.comp, docs/pathtracer.md) ---- */
+#define BIND_SSBO_PT_PARAMS 27 /* pt_params (pathtrace_types.h) */
+#define BIND_SSBO_PT_ACCUM 28  /* vec4 sum, vec4 sum of squares per pixel */
+
 /* ---- texture units (samplers) ---- */
 #define UNIT_IOR_GRAD 0    /* sampler3D atlas: rgb = grad n (object units), a = n */
 #define UNIT_ATTENUATION 1 /* sampler3D atlas: rgb = sigma_a per world unit */

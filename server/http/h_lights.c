@@ -44,6 +44,10 @@ static cJSON *light_json(const struct scene_light *l)
         cJSON_AddNumberToObject(o, "angle_deg", l->spot_angle_deg);
     cJSON_AddItemToObject(o, "color", cJSON_CreateDoubleArray(l->color, 3));
     cJSON_AddNumberToObject(o, "intensity", l->intensity);
+    if (l->kind == SCENE_LIGHT_POINT) {
+        cJSON_AddNumberToObject(o, "radius", l->radius);
+        cJSON_AddBoolToObject(o, "camera_visible", l->camera_visible);
+    }
     return o;
 }
 

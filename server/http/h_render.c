@@ -205,6 +205,8 @@ static enum MHD_Result render_answer(struct http_request *req)
 
 enum MHD_Result http_handle_render(struct http_request *req)
 {
+    if (http_render_is_reference(req->body, req->body_len))
+        return http_handle_render_reference(req);
     enum MHD_Result answer = MHD_NO;
     struct store_scene *v = http_scene_or_404(req, &answer);
     if (v == NULL)

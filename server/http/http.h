@@ -47,6 +47,8 @@ struct http_config {
     int connection_timeout_s;     /* idle seconds allowed while answering; 0 = 300 */
     long long render_tile_pixels; /* pixels a render draws per GPU turn: larger renders are
                                      drawn in tiles of rows, other work between; 0 = 65536 */
+    int max_reference_samples;  /* "mode": "reference" samples per pixel; 0 = 65536 */
+    int max_reference_ms;       /* "mode": "reference" time per render; 0 = 120000 */
     struct scene_limits limits;
     /* Access control (access.c; docs/api.md "Security"). All borrowed for the server's
      * life. token: the bearer token every route except GET /v1/health and the viewer's
@@ -93,6 +95,9 @@ void http_server_end_streams(struct http_server *s);
 /* Waits up to timeout_ms until no request is in progress (answered or not). Returns true
  * when idle. Used at shutdown so connections resumed with "shutting_down" get answered. */
 bool http_server_wait_idle(struct http_server *s, int timeout_ms);
+/* Ends the reference renders in progress (they answer 503 shutting_down at once). For
+ * shutdown, after quiesce and before waiting for idle. Any thread. */
+void http_reference_cancel_all(void);
 /* Stops the daemon. Call after the GPU queue has been drained (so no connection is
  * suspended). NULL is a no-op. */
 void http_server_stop(struct http_server *s);

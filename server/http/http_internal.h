@@ -120,6 +120,15 @@ struct http_stream_set *http_server_streams(const struct http_server *srv);
  * answers the error at once. */
 enum MHD_Result http_suspend_for_gpu(struct http_request *req, http_handler_fn on_resume);
 
+/* ---- reference renders (h_render_reference.c; docs/pathtracer.md) ---- */
+
+/* True when body is a JSON object with "mode": "reference" (anything else, including
+ * invalid JSON, is for the fast renderer's parser to judge). */
+bool http_render_is_reference(const char *body, size_t len);
+/* POST /v1/scenes/{id}/render with "mode": "reference": the CPU path tracer on worker
+ * threads; suspends the connection until the image is done. */
+enum MHD_Result http_handle_render_reference(struct http_request *req);
+
 /* ---- request parsing (request_parse.c) ---- */
 
 struct http_render_request {

@@ -153,14 +153,20 @@ enum refract_code http_parse_render_request(const char *body, size_t len, const 
                                        "boundary_threshold",
                                        "ior_filter",
                                        "samples_per_pixel",
+                                       "mode",
                                        SCENE_STEPPER_OLD_KEY,
                                        NULL};
+    /* "reference" is answered by h_render_reference.c before this parser runs */
+    static const char *const modes[] = {"fast", "reference", NULL};
     memset(out, 0, sizeof *out);
     cJSON *root = NULL;
     enum refract_code rc = http_parse_body(body, len, &root, e);
     if (rc != REFRACT_E_OK)
         return rc;
     rc = jr_check_object(root, "", keys, e);
+    int mode = 0;
+    if (rc == REFRACT_E_OK)
+        rc = jr_enum(root, "", "mode", false, 0, modes, &mode, e);
     if (rc == REFRACT_E_OK)
         rc = http_parse_camera(root, &scene->camera, cfg, &out->view.camera, e);
     if (rc == REFRACT_E_OK)

@@ -209,6 +209,12 @@ struct scene_light {
     double color[3];       /* linear RGB, each 0..1e3; default (1, 1, 1) */
     double intensity;      /* directional: irradiance normal to the beam; point/spot:
                               radiant intensity per steradian. 0..1e6, default 1 */
+    /* Point lights in "mode": "reference" only (docs/pathtracer.md "Lights"); the fast
+     * renderer and the light simulator treat the light as the point at its centre. */
+    double radius;       /* > 0: a Lambertian sphere of this radius and the same far-field
+                            intensity (radiance intensity / (pi r^2)); 0: a point */
+    bool camera_visible; /* the sphere is seen by camera rays (default true); reflections,
+                            refractions and indirect rays always see it */
 };
 
 /* A diffuse plane y = height that receives caustics and shadows (thesis fig. 7.4). */
@@ -253,6 +259,10 @@ struct scene_medium {
     double emission[3];    /* L_e per world unit, >= 0; 0 when has_object */
     bool has_object;       /* the medium is the fields of scene.objects[object] */
     int object;            /* when has_object: index into scene.objects */
+    /* Rendered by "mode": "reference" only (docs/pathtracer.md); the fast renderer ignores
+     * them (it shows the medium's absorption alone). */
+    double scattering[3]; /* sigma_s per world unit, >= 0 */
+    double anisotropy;    /* Henyey-Greenstein g, -0.99..0.99 */
 };
 
 /* A surface bounding a medium: its shape (sphere, box, cylinder, plane, lathe, mesh) in

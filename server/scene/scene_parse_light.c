@@ -61,7 +61,8 @@ static const char *const light_types[] = {"directional", "point", "spot", NULL};
 /* Keys of each light type. */
 static const char *const light_keys[][8] = {
     [SCENE_LIGHT_DIRECTIONAL] = {"name", "type", "direction", "color", "intensity", NULL},
-    [SCENE_LIGHT_POINT] = {"name", "type", "position", "color", "intensity", NULL},
+    [SCENE_LIGHT_POINT] = {"name", "type", "position", "color", "intensity", "radius",
+                           "camera_visible", NULL},
     [SCENE_LIGHT_SPOT] = {"name", "type", "position", "direction", "angle_deg", "color",
                           "intensity", NULL},
 };
@@ -130,6 +131,11 @@ enum refract_code scene_parse_light(const cJSON *o, const char *path, int index,
         rc = read_rgb(o, path, "color", 1.0, 1e3, l->color, e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(o, path, "intensity", false, 1.0, 0.0, 1e6, &l->intensity, e);
+    l->camera_visible = true;
+    if (rc == REFRACT_E_OK && l->kind == SCENE_LIGHT_POINT)
+        rc = jr_number(o, path, "radius", false, 0.0, 0.0, m, &l->radius, e);
+    if (rc == REFRACT_E_OK && l->kind == SCENE_LIGHT_POINT)
+        rc = jr_bool(o, path, "camera_visible", false, true, &l->camera_visible, e);
     return rc;
 }
 

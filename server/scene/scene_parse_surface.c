@@ -61,8 +61,9 @@ static enum refract_code parse_medium_object(const cJSON *mo, const char *p,
 {
     char got[80];
     const cJSON *name = member(mo, "object");
-    static const char *const constants[] = {"ior", "attenuation", "emission"};
-    for (size_t i = 0; i < 3; i++)
+    static const char *const constants[] = {"ior", "attenuation", "emission", "scattering",
+                                            "anisotropy"};
+    for (size_t i = 0; i < 5; i++)
         if (member(mo, constants[i]) != NULL)
             return err_set(e, REFRACT_E_INVALID_FIELD,
                            "%s.%s: not allowed with \"object\": the object's fields give the "
@@ -95,7 +96,8 @@ static enum refract_code parse_medium_object(const cJSON *mo, const char *p,
 static enum refract_code parse_medium(const cJSON *o, const char *path, const struct scene *s,
                                       struct scene_medium *m, struct err *e)
 {
-    static const char *const keys[] = {"ior", "attenuation", "emission", "object", NULL};
+    static const char *const keys[] = {"ior",        "attenuation", "emission", "object",
+                                       "scattering", "anisotropy",  NULL};
     char p[256];
     jr_path(p, sizeof p, path, "medium");
     const cJSON *mo = member(o, "medium");
@@ -113,6 +115,10 @@ static enum refract_code parse_medium(const cJSON *o, const char *path, const st
         rc = parse_rgb(mo, p, "attenuation", m->attenuation, e);
     if (rc == REFRACT_E_OK)
         rc = parse_rgb(mo, p, "emission", m->emission, e);
+    if (rc == REFRACT_E_OK) /* reference mode only (scene.h) */
+        rc = parse_rgb(mo, p, "scattering", m->scattering, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_number(mo, p, "anisotropy", false, 0.0, -0.99, 0.99, &m->anisotropy, e);
     return rc;
 }
 

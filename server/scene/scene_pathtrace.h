@@ -1,0 +1,32 @@
+/*
+ * scene_pathtrace.h - a parsed scene as the reference path tracer sees it
+ * (core/pathtrace.h, docs/pathtracer.md "From a scene"): its exact surfaces with their
+ * constant media, the receiver (a half_size as large as the scene allows is the infinite
+ * floor for every practical view), the lights, and the procedural environment times its
+ * intensity.
+ *
+ * What it refuses, with a message that says so: volume objects (voxel fields: GRIN and
+ * heterogeneous media are not in the path tracer yet), an image environment, mesh
+ * surfaces whose mesh is missing.
+ *
+ * Ownership: scene_pathtrace_init fills a struct scene_pathtrace that borrows `s` (and the
+ * meshes lookup finds) for as long as it is used; it owns nothing itself.
+ */
+#ifndef REFRACT_SCENE_PATHTRACE_H
+#define REFRACT_SCENE_PATHTRACE_H
+
+#include "../core/pathtrace.h"
+#include "scene.h"
+
+struct scene_pathtrace {
+    struct pathtrace_surface surfaces[SCENE_MAX_SURFACES];
+    struct pathtrace_scene scene; /* scene.surfaces points into surfaces[] */
+};
+
+/* Fills *out from s. Returns REFRACT_E_OK, or REFRACT_E_CONFLICT with a message naming
+ * what the reference mode cannot render yet. *out must not be copied: scene.surfaces
+ * points into it. */
+enum refract_code scene_pathtrace_init(const struct scene *s, scene_volume_lookup_fn lookup,
+                                       void *ctx, struct scene_pathtrace *out, struct err *e);
+
+#endif
