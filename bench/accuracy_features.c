@@ -33,7 +33,7 @@ static const char *const examples[] = {"glass_sphere_voxels",
                                        "wine_glass_voxels",
                                        "ball_lens_caustic_voxels",
                                        "rounded_cube_three_layers_voxels",
-                                       "glass_block_lettering",
+                                       "glass_block_lettering_voxels",
                                        "smoke_spot"};
 #define EXAMPLE_COUNT (int)(sizeof examples / sizeof examples[0])
 #define SPARSE_CAMERA                                                                              \

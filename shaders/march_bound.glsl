@@ -85,7 +85,7 @@ float march_bound_exit_index(int obj, vec3 p, vec4 s_at_p, vec3 w)
 }
 
 // A lower bound of the world distance from x to surface k (0 where the kind has none that
-// is cheap: lathes and meshes). Exact for spheres, boxes, cylinders and planes (the
+// is cheap: lathes and meshes). Exact for spheres, boxes, rounded boxes, cylinders and planes (the
 // magnitudes of their signed distances in object space, times the scale).
 float march_surface_distance(int k, vec3 x)
 {
@@ -98,6 +98,9 @@ float march_surface_distance(int k, vec3 x)
     } else if (kind == GEOM_BOX) {
         vec3 q = abs(p - a.xyz) - 0.5 * b.xyz;
         d = abs(min(max(q.x, max(q.y, q.z)), 0.0) + length(max(q, vec3(0.0))));
+    } else if (kind == GEOM_ROUNDED_BOX) { // the box's distance, less the rounding radius
+        vec3 q = abs(p - a.xyz) - (0.5 * b.xyz - vec3(a.w));
+        d = abs(min(max(q.x, max(q.y, q.z)), 0.0) + length(max(q, vec3(0.0))) - a.w);
     } else if (kind == GEOM_CYLINDER) {
         vec3 rel = p - a.xyz;
         int axis = surfaces[k].kind.y;

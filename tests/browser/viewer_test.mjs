@@ -33,7 +33,7 @@ const HERE = path.dirname(fileURLToPath(import.meta.url));
 const CHROMIUM = process.env.REFRACT_CHROMIUM || '/usr/bin/chromium';
 const REFRACTD = process.env.REFRACTD;
 const SOURCE = process.env.REFRACT_SOURCE_DIR || path.resolve(HERE, '../..');
-const SCENE = process.env.REFRACT_BROWSER_SCENE || 'glass_block_lettering';
+const SCENE = process.env.REFRACT_BROWSER_SCENE || 'glass_block_lettering_voxels';
 const VIEWPORT = (() => {
   const m = /^(\d+)x(\d+)$/.exec(process.env.REFRACT_BROWSER_VIEWPORT || '700x420');
   return m ? { width: +m[1], height: +m[2] } : { width: 700, height: 420 };

@@ -249,6 +249,18 @@ static void examples_hold_what_their_names_promise(const char *dir)
     }
     s = parse_file(dir, "glass_block_lettering.json");
     if (s != NULL) {
+        /* An exact rounded box filled by the voxel object "block": n 1.5 constant, the
+         * letters in its attenuation field. */
+        CHECK_INT((int)s->surface_count, 1);
+        CHECK_INT(s->surfaces[0].shape.kind, SCENE_SHAPE_ROUNDED_BOX);
+        CHECK(s->surfaces[0].medium.has_object && s->surfaces[0].medium.object == 0);
+        const struct scene_field *a = &s->objects[0].fields[SCENE_CH_ATTENUATION];
+        CHECK_INT(a->count, 2);
+        CHECK_INT(a->layers[1].shape.kind, SCENE_SHAPE_TEXT);
+        scene_destroy(s);
+    }
+    s = parse_file(dir, "glass_block_lettering_voxels.json");
+    if (s != NULL) {
         const struct scene_field *a = &s->objects[0].fields[SCENE_CH_ATTENUATION];
         CHECK_INT(a->count, 2);
         CHECK_INT(a->layers[1].shape.kind, SCENE_SHAPE_TEXT);
