@@ -264,6 +264,7 @@ static int run(const struct config *cfg)
     vdesc.irradiance = fw.irradiance;
     vdesc.events = events;
     vdesc.request_timeout_ms = cfg->http.request_timeout_ms;
+    vdesc.tile_pixels = cfg->http.render_tile_pixels;
     struct view_registry *views = view_registry_create(&vdesc, &e);
     if (views == NULL) {
         log_error("main", "view sessions: %s", e.msg);

@@ -55,6 +55,8 @@ struct view_registry_desc {
     double idle_timeout_s;               /* 0 = 120 (--view-idle-timeout) */
     int encoder_threads;                 /* 0 = 2 (--view-encoder-threads) */
     int request_timeout_ms;              /* deadline of a frame's GPU work; 0 = 120000 */
+    long long tile_pixels; /* frames larger than this are drawn in tiles of rows, one per
+                              GPU turn, other work between (--render-tile-pixels); 0 = 65536 */
 };
 
 enum view_quality {
