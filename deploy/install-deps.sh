@@ -28,6 +28,10 @@ PACKAGES=(
     libsqlite3-dev zlib1g-dev
     # the TLS test makes a self-signed certificate (tests/integration/test_tls.c)
     openssl
+    # the fuzz harnesses (tests/fuzz, docs/fuzzing.md): clang, and its compiler-rt with
+    # libFuzzer and the sanitizer runtimes (only recommended by clang, and recommends
+    # are not installed here)
+    clang libclang-rt-dev
 )
 
 missing=()
