@@ -44,7 +44,7 @@ release_warnings() {
         }
     done
 }
-# Each libFuzzer harness of tests/fuzz for REFRACT_FUZZ_SECONDS (15) on its seed corpus, two
+# Each libFuzzer harness of tests/fuzz for REFRACT_FUZZ_SECONDS (10) on its seed corpus, two
 # at a time: about 2-3 minutes with the build. Only the harnesses and the libraries they
 # link are built (not the tests: they run in the two builds above).
 run_fuzz() {
