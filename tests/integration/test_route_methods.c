@@ -50,13 +50,12 @@ int main(void)
             char out[256];
             memset(out, 'X', sizeof out);
             size_t used = http_route_methods(url, out, size);
-            CHECK_MSG(used < size && strlen(out) == used, "%s in %zu bytes: %zu, \"%s\"", url,
-                      size, used, out);
+            CHECK_MSG(used < size && strlen(out) == used, "%s in %zu bytes: %zu, \"%s\"", url, size,
+                      used, out);
             /* A prefix of the full list that ends at a whole name (or holds none). */
             CHECK_MSG(strncmp(out, full, used) == 0 &&
                           (used == 0 || full[used] == '\0' || strncmp(full + used, ", ", 2) == 0),
-                      "%s in %zu bytes: \"%s\" is not whole names of \"%s\"", url, size, out,
-                      full);
+                      "%s in %zu bytes: \"%s\" is not whole names of \"%s\"", url, size, out, full);
         }
         /* The route itself is found for its method, with its path known. */
         char params[HTTP_MAX_PARAMS][HTTP_PARAM_MAX];
