@@ -32,6 +32,10 @@ PACKAGES=(
     # single-node Slurm, slurmctld + slurmd with munge authentication
     # (tests/slurm/test_slurm_array.sh); no service is configured or started here
     slurm-wlm munge
+    # the fuzz harnesses (tests/fuzz, docs/fuzzing.md): clang, and its compiler-rt with
+    # libFuzzer and the sanitizer runtimes (only recommended by clang, and recommends
+    # are not installed here)
+    clang libclang-rt-dev
 )
 
 missing=()

@@ -5,8 +5,9 @@
 # Warnings are errors in both (REFRACT_WERROR=ON); a packager's plain Release build
 # leaves them warnings (CMakeLists.txt).
 #
-#   ./deploy/test.sh            # both builds
+#   ./deploy/test.sh            # both builds and the fuzz run
 #   ./deploy/test.sh --quick    # the normal build only
+#   ./deploy/test.sh --fuzz     # the fuzz run only
 set -euo pipefail
 cd "$(dirname "$0")/.."
 JOBS=$(nproc)
@@ -43,9 +44,34 @@ release_warnings() {
         }
     done
 }
+# Each libFuzzer harness of tests/fuzz for REFRACT_FUZZ_SECONDS (10) on its seed corpus, two
+# at a time: about 2-3 minutes with the build. Only the harnesses and the libraries they
+# link are built (not the tests: they run in the two builds above).
+run_fuzz() {
+    local dir=build-fuzz
+    local targets=(fuzz_scene fuzz_obj fuzz_ply fuzz_nrrd fuzz_raw fuzz_exr fuzz_multipart
+                   fuzz_sse fuzz_router)
+    echo "==> configure and build $dir (clang, libFuzzer, ASan+UBSan), log in out/$dir.log"
+    if ! { CC=clang CXX=clang++ cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+               -DREFRACT_FUZZ=ON -DREFRACT_WERROR=ON &&
+           cmake --build "$dir" -j"$JOBS" --target "${targets[@]}"; } > "out/$dir.log" 2>&1; then
+        tail -60 "out/$dir.log"
+        echo "test.sh: the build in $dir failed (full log: out/$dir.log)" >&2
+        exit 1
+    fi
+    echo "==> ctest -L fuzz in $dir"
+    ctest --test-dir "$dir" -L fuzz --output-on-failure -j2
+}
+
+if [ "${1:-}" = "--fuzz" ]; then
+    run_fuzz
+    exit 0
+fi
+
 release_warnings
 
 run_suite build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DREFRACT_WERROR=ON
 if [ "${1:-}" != "--quick" ]; then
     run_suite build-asan -DCMAKE_BUILD_TYPE=Debug -DREFRACT_SANITIZE=ON -DREFRACT_WERROR=ON
+    run_fuzz
 fi

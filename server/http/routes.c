@@ -136,8 +136,11 @@ size_t http_route_methods(const char *url, char *out, size_t size)
         if (!match(routes[i].pattern, url, params, &n))
             continue;
         int w = snprintf(out + used, size - used, "%s%s", used ? ", " : "", routes[i].method);
-        if (w < 0 || (size_t)w >= size - used)
+        if (w < 0 || (size_t)w >= size - used) {
+            /* Whole names only: snprintf left a cut one ("GET, DE") behind the list. */
+            out[used] = '\0';
             break;
+        }
         used += (size_t)w;
     }
     return used;

@@ -17,7 +17,8 @@ const struct http_route *http_route_find(const char *method, const char *url,
 /* The route's position in the table (http_routes), or METRICS_NO_ROUTE for NULL: the
  * label index of GET /metrics. */
 size_t http_route_index(const struct http_route *route);
-/* Comma-separated methods that serve url (for 405 messages and the Allow header). */
+/* Comma-separated methods that serve url (for 405 messages and the Allow header): as many
+ * whole names as fit in size bytes with the NUL; returns strlen(out). */
 size_t http_route_methods(const char *url, char *out, size_t size);
 
 #endif

@@ -475,6 +475,14 @@ static enum refract_code face_list(struct record_ctx *r, const struct ply_prop *
     if (count < 3)
         return err_set(r->e, REFRACT_E_INVALID_MESH,
                        "face %llu has %g vertices; a face needs at least 3", r->index, count);
+    /* Every index takes at least one byte, so a count past the body's size is a lie; it is
+     * refused before it becomes the loop's bound (an ascii count is not limited to the
+     * list's count type, and 3e40 would overflow the conversion to long long). */
+    if (count > (double)r->f->body_len)
+        return err_set(r->e, REFRACT_E_INVALID_MESH,
+                       "face %llu has %g vertices, more than the %zu bytes after the header "
+                       "can hold; the face's vertex count is wrong",
+                       r->index, count, r->f->body_len);
     uint32_t first = 0, prev = 0;
     unsigned long long nv = r->f->vertex->count;
     for (long long k = 0; k < (long long)count; k++) {

@@ -132,6 +132,11 @@ static void each_malformed_ascii_ply_gets_its_precise_message(void)
          "0..2)"},
         {HDR_ASCII VTX3 FACE1 "end_header\n" TRI_VERTS "2 0 1\n", 0, REFRACT_E_INVALID_MESH,
          "face 0 has 2 vertices; a face needs at least 3"},
+        /* an ascii count beyond its type and the file (found by tests/fuzz/fuzz_ply.c: the
+         * conversion to the loop's bound overflowed) */
+        {HDR_ASCII VTX3 FACE1 "end_header\n" TRI_VERTS "3e40 0 1 2\n", 0, REFRACT_E_INVALID_MESH,
+         "face 0 has 3e+40 vertices, more than the 29 bytes after the header can hold; the "
+         "face's vertex count is wrong"},
         {HDR_ASCII VTX3 FACE1 "end_header\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n", 0,
          REFRACT_E_INVALID_MESH,
          "vertex 1: coordinate y is nan, not a finite number; every coordinate must be finite"},
