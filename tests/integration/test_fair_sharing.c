@@ -427,10 +427,12 @@ static void gone_renders_are_dropped_and_quotas_hold(struct test_daemon *d, cons
 {
     char path[128];
     snprintf(path, sizeof path, "/v1/scenes/%s/render", id);
-    /* One tile of about a second holds the GPU (4096 pixels, a fine step). */
-    struct pending blocker = {.fd =
-                                  send_request(d, "127.0.0.2", "POST", path,
-                                               "{\"width\": 64, \"height\": 64, \"step\": 0.02}")};
+    /* One tile of a second or more holds the GPU (4096 pixels, a fine step, 4 rays per
+     * pixel: about 1.5 s on an idle 2-core machine, longer when it is loaded). */
+    struct pending blocker = {
+        .fd = send_request(
+            d, "127.0.0.2", "POST", path,
+            "{\"width\": 64, \"height\": 64, \"step\": 0.02, \"samples_per_pixel\": 4}")};
     pthread_t th;
     pthread_create(&th, NULL, read_pending, &blocker);
     sleep_ms(150);
@@ -470,10 +472,12 @@ static void gone_renders_are_dropped_and_quotas_hold(struct test_daemon *d, cons
     printf("renders whose clients left while they waited: %d of 6 dropped unrun\n", dropped);
     CHECK_INT(dropped, 6);
     /* The deadline holds for the whole render, not only for its first tile: 384 x 288 at a
-     * fine step takes far longer than --request-timeout-ms (3000 here). */
+     * fine step and 4 rays per pixel takes far longer than --request-timeout-ms (3000 here;
+     * about 11 s idle). */
     double t0 = now_ms();
     char *late =
-        exchange(d, "127.0.0.2", "POST", path, "{\"width\": 384, \"height\": 288, \"step\": 0.05}");
+        exchange(d, "127.0.0.2", "POST", path,
+                 "{\"width\": 384, \"height\": 288, \"step\": 0.05, \"samples_per_pixel\": 4}");
     printf("a render longer than its deadline: %d after %.0f ms\n", status_of(late), now_ms() - t0);
     CHECK_INT(status_of(late), 503);
     CHECK(test_error_is(body_of(late), "timeout", "--request-timeout-ms"));
