@@ -6,7 +6,9 @@
  *     frames.reencoded + 1), different from before, and byte-equal to the full frame a
  *     fresh session rendered with that exposure;
  *   - PATCH tonemap, then jpeg_quality: reencoded again, each different from the last;
- *   - PATCH camera, and PATCH camera + exposure together: rendered (reencoded false).
+ *   - PATCH camera, and PATCH camera + exposure together: rendered (reencoded false);
+ *   - a frame drawn in tiles (a daemon with --render-tile-pixels 200: 16 tiles of 3 rows,
+ *     other work free to run between them) is byte-equal to the frame drawn at once.
  */
 #include "view_util.h"
 
@@ -101,6 +103,28 @@ int main(void)
     expect_frame(&d, va, 6, 3, 3, false);
     printf("frames: %zu bytes; +1.5 EV re-encoded %zu = rendered %zu; filmic %zu; q30 %zu\n",
            f1.len, f2.len, fresh.len, f3.len, f4.len);
+    mjpeg_close(&sa);
+    CHECK_INT(test_daemon_stop(&d), 0);
+    test_daemon_cleanup(&d);
+
+    /* The first frame again, from a daemon that draws it in 16 tiles. */
+    struct test_daemon t;
+    const char *const tiled[] = {"--render-tile-pixels", "200", NULL};
+    if (!test_daemon_start(&t, tiled))
+        test_setup_failed("test_view_reencode", t.why);
+    char tid[REFRACT_ID_SIZE], vt[32] = "";
+    CHECK(test_create_scene(&t, view_sphere_scene, tid));
+    snprintf(body, sizeof body, "%s, \"exposure\": 0}", sized);
+    CHECK_INT(view_open(&t, tid, body, vt, NULL), 201);
+    struct mjpeg_stream st;
+    CHECK_INT(mjpeg_open(&t, vt, 0, &st), 200);
+    struct mjpeg_frame ft = next_full(&st, 0);
+    CHECK_MSG(same_bytes(&f1, &ft), "at once %zu bytes, in tiles %zu bytes", f1.len, ft.len);
+    mjpeg_close(&st);
+    free(ft.jpeg);
+    CHECK_INT(test_daemon_stop(&t), 0);
+    test_daemon_cleanup(&t);
+
     free(f1.jpeg);
     free(f2.jpeg);
     free(f3.jpeg);
@@ -108,8 +132,5 @@ int main(void)
     free(f5.jpeg);
     free(f6.jpeg);
     free(fresh.jpeg);
-    mjpeg_close(&sa);
-    CHECK_INT(test_daemon_stop(&d), 0);
-    test_daemon_cleanup(&d);
     return test_summary("test_view_reencode");
 }
