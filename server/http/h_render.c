@@ -85,23 +85,6 @@ static void render_job_free(void *p)
     free(job);
 }
 
-/* True when this tile gathered other irradiance volumes than the first tile (one became
- * ready in between); the first tile remembers them. */
-static bool volumes_changed(struct render_job *job, int row0)
-{
-    const struct render_view_request *v = &job->request.view;
-    bool changed = row0 != 0 && v->light_count != job->volume_count;
-    for (int j = 0; j < v->light_count && j < SCENE_MAX_LIGHTS; j++) {
-        if (row0 == 0)
-            job->volumes[j] = v->lights[j].volume;
-        else if (job->volumes[j] != v->lights[j].volume)
-            changed = true;
-    }
-    if (row0 == 0)
-        job->volume_count = v->light_count;
-    return changed;
-}
-
 /* One tile per turn; asks for another turn until every row is drawn. */
 static void render_run(struct gpu_work *w, struct gpu *gpu)
 {
@@ -134,7 +117,9 @@ static void render_run(struct gpu_work *w, struct gpu *gpu)
     /* A picture lit by two states of the irradiance would be wrong everywhere the tiles
      * meet: start again (a few times at most; a light changing faster than that is
      * rendered with what it has, as the next render would be). */
-    if (volumes_changed(job, row0) && job->restarts < 3) {
+    if (render_request_volumes_changed(&job->request.view, row0, job->volumes,
+                                       &job->volume_count) &&
+        job->restarts < 3) {
         job->restarts++;
         job->next_row = 0;
         job->result.gpu_ms = 0.0;

@@ -111,10 +111,11 @@ static void note_build(struct store *store, const struct store_scene *v,
 }
 
 enum refract_code render_request_version(struct render *r, struct irradiance_cache *c,
-                                      struct store *store, struct store_scene *v,
-                                      struct render_view_request *req, struct render_light *lights,
-                                      struct render_view_result *out, const char **irradiance,
-                                      struct err *e)
+                                         struct store *store, struct store_scene *v,
+                                         struct render_view_request *req,
+                                         struct render_light *lights,
+                                         struct render_view_result *out, const char **irradiance,
+                                         struct err *e)
 {
     struct render_scene_source src = render_request_scene_source(v);
     struct irradiance_source isrc;
@@ -154,4 +155,19 @@ enum refract_code render_request_version_rows(struct render *r, struct irradianc
     if (rc == REFRACT_E_OK)
         note_build(store, v, &out->scene);
     return rc;
+}
+
+bool render_request_volumes_changed(const struct render_view_request *req, int row0,
+                                    const struct irradiance_gpu **volumes, int *count)
+{
+    bool changed = row0 != 0 && req->light_count != *count;
+    for (int j = 0; j < req->light_count && j < SCENE_MAX_LIGHTS; j++) {
+        if (row0 == 0)
+            volumes[j] = req->lights[j].volume;
+        else if (volumes[j] != req->lights[j].volume)
+            changed = true;
+    }
+    if (row0 == 0)
+        *count = req->light_count;
+    return changed;
 }

@@ -1,8 +1,8 @@
 /*
  * render_request.h - a stored scene version as the renderer and the irradiance cache see it,
  * and the one render path that single renders (POST /v1/scenes/{id}/render), view
- * sessions and batch jobs use (named after none of them): gather the best irradiance volume of each light, render, record a build
- * made on the way.
+ * sessions and batch jobs use (named after none of them): gather the best irradiance volume of each
+ * light, render, record a build made on the way.
  *
  * Ownership: the sources borrow the version (and its uploads) for as long as the caller
  * keeps its reference; nothing here allocates except render_request_version's result.
@@ -29,10 +29,11 @@ void render_request_irradiance_source(struct store_scene *v, struct irradiance_s
  * build would. *irradiance (X-Refract-Irradiance) is "ready", "stale", "missing" or
  * "not-needed". out->rgba is new (caller frees). Errors are render_view's. */
 enum refract_code render_request_version(struct render *r, struct irradiance_cache *c,
-                                      struct store *store, struct store_scene *v,
-                                      struct render_view_request *req, struct render_light *lights,
-                                      struct render_view_result *out, const char **irradiance,
-                                      struct err *e);
+                                         struct store *store, struct store_scene *v,
+                                         struct render_view_request *req,
+                                         struct render_light *lights,
+                                         struct render_view_result *out, const char **irradiance,
+                                         struct err *e);
 
 /* GPU thread: one tile of render_request_version, rows [row0, row0 + rows) of the image
  * into out->rgba, which the caller allocated for the whole image (render_view_rows). */
@@ -42,5 +43,11 @@ enum refract_code render_request_version_rows(struct render *r, struct irradianc
                                               struct render_light *lights, int row0, int rows,
                                               struct render_view_result *out,
                                               const char **irradiance, struct err *e);
+
+/* A render drawn in tiles: true when the tile at row0 gathered other irradiance volumes
+ * than the first tile did (one became ready in between), so the picture would show a seam;
+ * the first tile (row0 == 0) remembers its volumes in volumes[SCENE_MAX_LIGHTS], *count. */
+bool render_request_volumes_changed(const struct render_view_request *req, int row0,
+                                    const struct irradiance_gpu **volumes, int *count);
 
 #endif

@@ -125,23 +125,6 @@ void view_job_finish(struct view_registry *r, struct view_job *job, struct view_
     pthread_mutex_unlock(&r->mu);
 }
 
-/* True when this tile gathered other irradiance volumes than the first tile did (one
- * became ready in between); the first tile remembers them. */
-static bool volumes_changed(struct view_job *job, int row0)
-{
-    const struct render_view_request *v = &job->request;
-    bool changed = row0 != 0 && v->light_count != job->volume_count;
-    for (int j = 0; j < v->light_count && j < SCENE_MAX_LIGHTS; j++) {
-        if (row0 == 0)
-            job->volumes[j] = v->lights[j].volume;
-        else if (job->volumes[j] != v->lights[j].volume)
-            changed = true;
-    }
-    if (row0 == 0)
-        job->volume_count = v->light_count;
-    return changed;
-}
-
 /* A frame no larger than a tile is drawn at once; a larger one a tile of rows per turn,
  * asking for another turn until every row is drawn (as h_render.c does for renders). */
 static void job_run(struct gpu_work *w, struct gpu *gpu)
@@ -166,13 +149,14 @@ static void job_run(struct gpu_work *w, struct gpu *gpu)
     }
     int row0 = job->next_row;
     int rows = cam->height - row0 < job->tile_rows ? cam->height - row0 : job->tile_rows;
-    if (render_request_version_rows(d->render, d->irradiance, d->store, job->version,
-                                    &job->request, job->lights, row0, rows, &job->result,
-                                    &job->irradiance, &w->err) != REFRACT_E_OK)
+    if (render_request_version_rows(d->render, d->irradiance, d->store, job->version, &job->request,
+                                    job->lights, row0, rows, &job->result, &job->irradiance,
+                                    &w->err) != REFRACT_E_OK)
         return;
     /* A frame lit by two states of the irradiance would show a seam: start again (a few
      * times at most). */
-    if (volumes_changed(job, row0) && job->restarts < 3) {
+    if (render_request_volumes_changed(&job->request, row0, job->volumes, &job->volume_count) &&
+        job->restarts < 3) {
         job->restarts++;
         job->next_row = 0;
         job->result.gpu_ms = 0.0;
@@ -222,8 +206,9 @@ static void job_start(struct view_registry *r, struct view_job *job)
     pthread_mutex_unlock(&s->mu);
     long long tile_pixels = r->desc.tile_pixels > 0 ? r->desc.tile_pixels : 65536;
     long long tile_rows = tile_pixels / (rq->camera.width > 0 ? rq->camera.width : 1);
-    job->tile_rows = tile_rows < 1 ? 1 : tile_rows > rq->camera.height ? rq->camera.height
-                                                                        : (int)tile_rows;
+    job->tile_rows = tile_rows < 1                   ? 1
+                     : tile_rows > rq->camera.height ? rq->camera.height
+                                                     : (int)tile_rows;
     job->next_row = 0;
     struct irradiance_source isrc;
     render_request_irradiance_source(job->version, &isrc);
