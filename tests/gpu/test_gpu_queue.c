@@ -66,6 +66,11 @@ static void order_run(struct gpu_work *w, struct gpu *g)
  * more than the test's 10 minutes on 2 cores). */
 static bool variant_checked(unsigned v)
 {
+    /* The GLSL is the same in the sanitizer build, whose C this test is there to check, and
+     * the normal build compiles every variant above: there, each switch alone and all of
+     * them together (CI time). */
+    if (test_sanitized())
+        return (v & (v - 1)) == 0 || v == GPU_VARIANT_COUNT - 1;
     unsigned rest = v & ~GPU_VARIANT_SURFACES;
     return !(v & GPU_VARIANT_SURFACES) || (rest & (rest - 1)) == 0 ||
            rest == (GPU_VARIANT_COUNT - 1) - GPU_VARIANT_SURFACES;
