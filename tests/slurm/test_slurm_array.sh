@@ -211,9 +211,12 @@ done
 head -c 100 "$T/ref/frame_00011.png" >"$T/out/.frame_00011.png.deadhost.99999.tmp"
 say "killed task 1 after ${#before[@]} of its 6 frames ($SECONDS s); requeueing it"
 
-# Requeue; Slurm holds a requeued job for a while (BeginTime), so make it eligible now.
+# Requeue; Slurm holds a requeued job for cred_expire (120 s) so that the new launch's
+# credential is younger than the revocation slurmd recorded when it killed the old one.
+# Revocations are kept to the second: a launch in the same second as the kill is refused
+# ("Job credential revoked", seen in CI), so make it eligible 3 s from now, not now.
 scontrol requeue "${JOB}_1"
-scontrol update JobId="${JOB}_1" StartTime=now
+scontrol update JobId="${JOB}_1" StartTime=now+3
 for _ in $(seq 600); do
     [ -z "$(squeue -h -j "$JOB" 2>/dev/null)" ] && break
     sleep 0.1
