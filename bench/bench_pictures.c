@@ -1,0 +1,476 @@
+/*
+ * bench_pictures.c - refract-pictures: the fast renderer's pictures against
+ * refractd's own reference path tracer (issue 14 item 5; docs/accuracy.md "Pictures against
+ * the reference"). Not a test: it asserts nothing.
+ *
+ *     build/refract-pictures proto/examples/peer_scene_a.json [more scenes]
+ *         [--ref-samples 256] [--settings 32:1,64:1,64:4,128:4] [--size 320x240]
+ *         [--threads N] [--cache build/reference-cache] [--out section.md]
+ *         [--images docs/images]
+ *
+ * Per scene: the reference (the CPU double-precision path tracer of docs/pathtracer.md,
+ * --ref-samples paths per pixel, cached in --cache by the document's bytes, the size and
+ * the sample count, since it takes minutes), then the fast renderer for each setting
+ * `R:S` (lightsim.resolution R, render.samples_per_pixel S): every light simulated on the
+ * GPU to the end, then one render. Time = light simulation wall time + the render's GPU
+ * time (what a new light pose costs; a frame of a known pose costs the render alone).
+ * Error = the relative RMSE of issue 14, sqrt(sum (x - r)^2 / sum r^2) over the image's
+ * three channels. The reference's own noise enters that figure as sqrt(sum var / sum r^2)
+ * (var: the variance of each pixel's mean), printed beside it: an error close to the
+ * noise says nothing more than "as good as the reference can tell".
+ *
+ * Output: a Markdown table on stdout (or --out), the error-against-time plot
+ * images/image_accuracy.png, and per scene the reference and the best setting's picture
+ * (images/image_accuracy_<scene>_{reference,fast}.png) with the same exposure.
+ */
+#include <errno.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "core/pathtrace_image.h"
+#include "example_scene.h"
+#include "gpu/queue.h"
+#include "io/io_image.h"
+#include "lightsim/gpu/lightsim_gpu.h"
+#include "lightsim/lightsim.h"
+#include "plot.h"
+#include "render/render.h"
+#include "scene/scene.h"
+#include "scene/scene_pathtrace.h"
+
+#define MAX_SETTINGS 16
+#define MAX_SCENES 6
+
+struct setting {
+    int resolution, spp;
+};
+
+struct options {
+    int ref_samples, threads, width, height;
+    const char *cache, *out, *images;
+    struct setting settings[MAX_SETTINGS];
+    int setting_count;
+};
+
+/* ---- the reference --------------------------------------------------------------------- */
+
+struct ref_work {
+    struct pathtrace_image *img;
+    const struct pathtrace_scene *scene;
+    const struct pathtrace_camera *cam;
+    int index, threads, samples;
+};
+
+static void *ref_run(void *arg)
+{
+    struct ref_work *w = arg;
+    for (int p = 0; p < w->samples; p++)
+        for (int r = w->index; r < w->cam->height; r += w->threads)
+            pathtrace_image_pass(w->img, w->scene, w->cam, 1, r, r + 1);
+    return NULL;
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static uint64_t fnv1a(const char *p, size_t n)
+{
+    uint64_t h = 1469598103934665603ull;
+    for (size_t i = 0; i < n; i++)
+        h = (h ^ (uint8_t)p[i]) * 1099511628211ull;
+    return h;
+}
+
+/* mean and var: 3 doubles per pixel each. Reads the cache file when it exists, else renders
+ * and writes it. Returns the render's seconds (from the cache: as recorded). */
+static bool reference(const struct options *o, const char *text, size_t len, struct scene *s,
+                      int w, int h, double *mean, double *var, double *seconds)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%016llx-%dx%d-%d.ref", o->cache,
+             (unsigned long long)fnv1a(text, len), w, h, o->ref_samples);
+    size_t n = (size_t)w * h * 3;
+    FILE *f = fopen(path, "rb");
+    if (f) {
+        bool ok = fread(seconds, sizeof *seconds, 1, f) == 1 &&
+                  fread(mean, sizeof *mean, n, f) == n && fread(var, sizeof *var, n, f) == n;
+        fclose(f);
+        if (ok) {
+            fprintf(stderr, "refract-pictures: reference from %s\n", path);
+            return true;
+        }
+    }
+    static struct scene_pathtrace pt;
+    struct err e = {0};
+    if (scene_pathtrace_init(s, NULL, NULL, &pt, &e) != REFRACT_E_OK) {
+        fprintf(stderr, "refract-pictures: %s\n", e.msg);
+        return false;
+    }
+    const struct scene_camera *c = &s->camera;
+    struct pathtrace_camera cam = {c->eye, c->look_at, c->up, c->fov_y_deg, w, h};
+    struct pathtrace_image img;
+    if (pathtrace_image_init(&img, w, h) != 0)
+        return false;
+    pthread_t tid[64];
+    struct ref_work wk[64];
+    double t0 = now_s();
+    for (int i = 0; i < o->threads; i++) {
+        wk[i] = (struct ref_work){&img, &pt.scene, &cam, i, o->threads, o->ref_samples};
+        pthread_create(&tid[i], NULL, ref_run, &wk[i]);
+    }
+    for (int i = 0; i < o->threads; i++)
+        pthread_join(tid[i], NULL);
+    *seconds = now_s() - t0;
+    for (size_t i = 0; i < (size_t)w * h; i++)
+        pathtrace_image_pixel(&img, (int64_t)i, mean + 3 * i, var + 3 * i);
+    pathtrace_image_fini(&img);
+    mkdir(o->cache, 0755);
+    if ((f = fopen(path, "wb")) != NULL) {
+        fwrite(seconds, sizeof *seconds, 1, f);
+        fwrite(mean, sizeof *mean, n, f);
+        fwrite(var, sizeof *var, n, f);
+        fclose(f);
+    }
+    fprintf(stderr, "refract-pictures: reference %dx%d, %d samples: %.1f s\n", w, h,
+            o->ref_samples, *seconds);
+    return true;
+}
+
+/* ---- the fast renderer ----------------------------------------------------------------- */
+
+struct fast_run {
+    struct gpu_work work;
+    struct scene *scene;
+    const char *id;
+    int width, height;
+    double sim_ms, render_ms;
+    float *rgba; /* owned */
+};
+
+static void fast_on_gpu(struct gpu_work *w, struct gpu *gpu)
+{
+    struct fast_run *r = w->user;
+    struct scene *s = r->scene;
+    int nl = (int)s->light_count;
+    bool needed = scene_needs_light_simulation(s);
+    struct lightsim_fields f;
+    memset(&f, 0, sizeof f);
+    struct irradiance_gpu vol[SCENE_MAX_LIGHTS];
+    memset(vol, 0, sizeof vol);
+    struct render *rd = NULL;
+    enum refract_code rc = REFRACT_E_OK;
+    if (needed && nl > 0) {
+        if ((rc = lightsim_fields_build(s, NULL, NULL, &f, &w->err)) == REFRACT_E_OK)
+            rc = lightsim_gpu_init(gpu, &w->err);
+        glFinish();
+        double t0 = gpu_time_ms();
+        for (int k = 0; k < nl && rc == REFRACT_E_OK; k++) {
+            struct lightsim_gpu_run *run = NULL;
+            bool done = false;
+            rc = lightsim_gpu_begin(gpu, &f, &s->lights[k], &s->lightsim, &run, &w->err);
+            while (rc == REFRACT_E_OK && !done)
+                rc = lightsim_gpu_advance(run, 64, &done, &w->err);
+            if (rc == REFRACT_E_OK)
+                rc = lightsim_gpu_take_textures(run, &vol[k], &w->err);
+            lightsim_gpu_run_destroy(run);
+        }
+        glFinish();
+        r->sim_ms = gpu_time_ms() - t0;
+    }
+    struct render_desc desc = {0};
+    if (rc == REFRACT_E_OK && (rd = render_create(gpu, &desc, &w->err)) == NULL)
+        rc = w->err.code;
+    if (rc == REFRACT_E_OK) {
+        struct render_light rl[SCENE_MAX_LIGHTS];
+        memset(rl, 0, sizeof rl);
+        for (int k = 0; k < nl; k++) {
+            const struct scene_light *l = &s->lights[k];
+            rl[k] = (struct render_light){.kind = l->kind,
+                                          .position = l->position,
+                                          .direction = l->direction,
+                                          .cos_spot = cos(l->spot_angle_deg * M_PI / 180.0),
+                                          .volume = needed ? &vol[k] : NULL};
+            for (int c = 0; c < 3; c++)
+                rl[k].scale[c] = l->color[c] * l->intensity;
+        }
+        struct render_view_request req = {
+            .camera = s->camera, .settings = s->render, .lights = rl, .light_count = nl};
+        req.camera.width = r->width;
+        req.camera.height = r->height;
+        struct render_scene_source src = {.id = r->id, .generation = 1, .scene = s};
+        struct render_view_result out;
+        if (render_view(rd, &src, &req, &out, &w->err) == REFRACT_E_OK) {
+            r->render_ms = out.gpu_ms;
+            r->rgba = out.rgba;
+        }
+    }
+    render_destroy(rd);
+    for (int k = 0; k < nl; k++)
+        irradiance_gpu_free(&vol[k]);
+    if (needed && nl > 0)
+        lightsim_fields_free(&f);
+}
+
+/* ---- measures and pictures ------------------------------------------------------------- */
+
+/* The relative RMSE of issue 14: sqrt(sum (x - r)^2 / sum r^2) over the three channels. */
+static double relative_rmse(const float *rgba, const double *ref, size_t pixels)
+{
+    double num = 0.0, den = 0.0;
+    for (size_t i = 0; i < pixels; i++)
+        for (int c = 0; c < 3; c++) {
+            double d = (double)rgba[4 * i + c] - ref[3 * i + c];
+            num += d * d;
+            den += ref[3 * i + c] * ref[3 * i + c];
+        }
+    return den > 0.0 ? sqrt(num / den) : NAN;
+}
+
+static double reference_noise(const double *ref, const double *var, size_t pixels)
+{
+    double num = 0.0, den = 0.0;
+    for (size_t i = 0; i < 3 * pixels; i++) {
+        num += var[i];
+        den += ref[i] * ref[i];
+    }
+    return den > 0.0 ? sqrt(num / den) : NAN;
+}
+
+/* An exposure that puts the reference's 95th-percentile luminance at 0.8 (the same for
+ * both pictures of a scene, so they compare). */
+static double picture_exposure(const double *ref, size_t pixels)
+{
+    double *y = malloc(pixels * sizeof *y);
+    for (size_t i = 0; i < pixels; i++)
+        y[i] = 0.2126 * ref[3 * i] + 0.7152 * ref[3 * i + 1] + 0.0722 * ref[3 * i + 2];
+    qsort(y, pixels, sizeof *y, bench_compare_doubles);
+    double p95 = y[(pixels * 95) / 100];
+    free(y);
+    return p95 > 0.0 ? log2(0.8 / p95) : 0.0;
+}
+
+static void write_picture(const char *path, const float *rgba, int w, int h, double ev)
+{
+    uint8_t *px = malloc((size_t)w * h * 4);
+    void *png = NULL;
+    size_t len = 0;
+    struct err e = {0};
+    io_tonemap_srgb8(rgba, w, h, ev, IO_TONEMAP_CLAMP, px);
+    if (io_encode_png(px, w, h, &png, &len, &e) == REFRACT_E_OK) {
+        FILE *f = fopen(path, "wb");
+        if (f) {
+            fwrite(png, 1, len, f);
+            fclose(f);
+        }
+    } else {
+        fprintf(stderr, "refract-pictures: %s: %s\n", path, e.msg);
+    }
+    free(png);
+    free(px);
+}
+
+static const char *base_name(const char *path)
+{
+    const char *b = strrchr(path, '/');
+    return b ? b + 1 : path;
+}
+
+static bool parse_settings(const char *arg, struct options *o)
+{
+    o->setting_count = 0;
+    for (const char *p = arg; *p && o->setting_count < MAX_SETTINGS;) {
+        struct setting st;
+        if (sscanf(p, "%d:%d", &st.resolution, &st.spp) != 2 || st.resolution < 8 || st.spp < 1)
+            return false;
+        o->settings[o->setting_count++] = st;
+        const char *comma = strchr(p, ',');
+        p = comma ? comma + 1 : p + strlen(p);
+    }
+    return o->setting_count > 0;
+}
+
+int main(int argc, char **argv)
+{
+    struct options o = {.ref_samples = 256,
+                        .threads = (int)sysconf(_SC_NPROCESSORS_ONLN),
+                        .cache = "build/reference-cache",
+                        .images = "docs/images"};
+    parse_settings("32:1,64:1,64:4,96:4,128:4", &o);
+    const char *scenes[MAX_SCENES];
+    int scene_count = 0;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(a, "--ref-samples") && v) {
+            o.ref_samples = atoi(v);
+            i++;
+        } else if (!strcmp(a, "--settings") && v) {
+            if (!parse_settings(v, &o)) {
+                fprintf(stderr, "refract-pictures: --settings wants R:S,... "
+                                "(lightsim.resolution >= 8 : samples per pixel >= 1)\n");
+                return 2;
+            }
+            i++;
+        } else if (!strcmp(a, "--size") && v) {
+            sscanf(v, "%dx%d", &o.width, &o.height);
+            i++;
+        } else if (!strcmp(a, "--threads") && v) {
+            o.threads = atoi(v);
+            i++;
+        } else if (!strcmp(a, "--cache") && v) {
+            o.cache = v;
+            i++;
+        } else if (!strcmp(a, "--out") && v) {
+            o.out = v;
+            i++;
+        } else if (!strcmp(a, "--images") && v) {
+            o.images = v;
+            i++;
+        } else if (a[0] != '-' && scene_count < MAX_SCENES) {
+            scenes[scene_count++] = a;
+        } else {
+            fprintf(stderr,
+                    "usage: refract-pictures SCENE.json... [--ref-samples 256] "
+                    "[--settings 32:1,64:4] [--size WxH] [--threads N] [--cache DIR] "
+                    "[--out FILE.md] [--images DIR]\n");
+            return 2;
+        }
+    }
+    if (scene_count == 0 || o.ref_samples < 1) {
+        fprintf(stderr, "refract-pictures: name at least one scene document\n");
+        return 2;
+    }
+    o.threads = o.threads < 1 ? 1 : (o.threads > 64 ? 64 : o.threads);
+    struct err e = {0};
+    struct gpu_desc desc = {.context = {.device_index = -1}};
+    struct gpu *gpu = gpu_create(&desc, &e);
+    if (gpu == NULL) {
+        fprintf(stderr, "refract-pictures: %s\n", e.msg);
+        return 1;
+    }
+    FILE *out = o.out ? fopen(o.out, "w") : stdout;
+    if (out == NULL) {
+        fprintf(stderr, "refract-pictures: cannot write %s: %s\n", o.out, strerror(errno));
+        return 1;
+    }
+    bench_write_header(out, gpu, argc, argv);
+    fprintf(out, "\n| scene | reference (samples, s, own noise) | lightsim.resolution | "
+                 "samples/pixel | light simulation ms | render ms | relative RMSE |\n"
+                 "| --- | --- | --- | --- | --- | --- | --- |\n");
+    struct plot_point pts[MAX_SCENES * MAX_SETTINGS];
+    int npts = 0;
+    struct plot_desc plot = {.title = "Fast renderer against the reference path tracer",
+                             .x_label = "light simulation + render time (ms, llvmpipe)",
+                             .y_label = "relative RMSE"};
+    int status = 0;
+    for (int si = 0; si < scene_count; si++) {
+        FILE *f = fopen(scenes[si], "rb");
+        static char text[1 << 20];
+        size_t len = f ? fread(text, 1, sizeof text - 1, f) : 0;
+        if (f)
+            fclose(f);
+        struct scene *s = bench_load_example("refract-pictures", scenes[si], 0);
+        if (s == NULL || len == 0) {
+            status = 1;
+            continue;
+        }
+        int w = o.width ? o.width : s->camera.width, h = o.height ? o.height : s->camera.height;
+        size_t pixels = (size_t)w * h;
+        double *mean = malloc(pixels * 3 * sizeof *mean), *var = malloc(pixels * 3 * sizeof *var);
+        double ref_s = 0.0;
+        if (!reference(&o, text, len, s, w, h, mean, var, &ref_s)) {
+            status = 1;
+            free(mean);
+            free(var);
+            scene_destroy(s);
+            continue;
+        }
+        double noise = reference_noise(mean, var, pixels), ev = picture_exposure(mean, pixels);
+        char name[128];
+        snprintf(name, sizeof name, "%s", base_name(scenes[si]));
+        char *dot = strrchr(name, '.');
+        if (dot)
+            *dot = '\0';
+        plot.series_names[plot.series_count < PLOT_MAX_SERIES ? plot.series_count : 0] = scenes[si];
+        int series = plot.series_count < PLOT_MAX_SERIES ? plot.series_count++ : 0;
+        char path[1024];
+        float *ref_rgba = malloc(pixels * 4 * sizeof *ref_rgba);
+        for (size_t i = 0; i < pixels; i++) {
+            for (int c = 0; c < 3; c++)
+                ref_rgba[4 * i + c] = (float)mean[3 * i + c];
+            ref_rgba[4 * i + 3] = 1.0f;
+        }
+        snprintf(path, sizeof path, "%s/image_accuracy_%s_reference.png", o.images, name);
+        write_picture(path, ref_rgba, w, h, ev);
+        free(ref_rgba);
+        double best = INFINITY;
+        /* k = -1: a warm-up with the first setting, not reported (shader compiles on first
+         * use would otherwise count against it). */
+        for (int k = -1; k < o.setting_count; k++) {
+            bool warm_up = k < 0;
+            if (warm_up)
+                k = 0;
+            s->lightsim.resolution = o.settings[k].resolution;
+            s->render.samples_per_pixel = o.settings[k].spp;
+            struct fast_run r = {.scene = s, .id = name, .width = w, .height = h};
+            r.work = (struct gpu_work){.priority = GPU_PRIORITY_BATCH, .run = fast_on_gpu, .user = &r};
+            if (gpu_run_sync(gpu, &r.work) != REFRACT_E_OK || r.rgba == NULL) {
+                fprintf(stderr, "refract-pictures: %s at %d:%d: %s\n", name,
+                        o.settings[k].resolution, o.settings[k].spp, r.work.err.msg);
+                status = 1;
+                continue;
+            }
+            if (warm_up) {
+                free(r.rgba);
+                k = -1;
+                continue;
+            }
+            double err = relative_rmse(r.rgba, mean, pixels);
+            fprintf(out, "| %s | %d, %.0f s, %.4f | %d | %d | %.0f | %.1f | %.4f |\n", name,
+                    o.ref_samples, ref_s, noise, o.settings[k].resolution, o.settings[k].spp,
+                    r.sim_ms, r.render_ms, err);
+            fflush(out);
+            fprintf(stderr, "%s %d:%d: %.0f ms + %.1f ms, relative RMSE %.4f\n", name,
+                    o.settings[k].resolution, o.settings[k].spp, r.sim_ms, r.render_ms, err);
+            if (npts < MAX_SCENES * MAX_SETTINGS)
+                pts[npts++] = (struct plot_point){r.sim_ms + r.render_ms, err, series, false};
+            if (err < best) {
+                best = err;
+                snprintf(path, sizeof path, "%s/image_accuracy_%s_fast.png", o.images, name);
+                write_picture(path, r.rgba, w, h, ev);
+            }
+            free(r.rgba);
+        }
+        free(mean);
+        free(var);
+        scene_destroy(s);
+    }
+    for (int i = 0; i < npts; i++) {
+        pts[i].front = true;
+        for (int j = 0; j < npts && pts[i].front; j++)
+            if (j != i && pts[j].series == pts[i].series && pts[j].x <= pts[i].x &&
+                pts[j].y <= pts[i].y && (pts[j].x < pts[i].x || pts[j].y < pts[i].y))
+                pts[i].front = false;
+    }
+    plot.points = pts;
+    plot.count = npts;
+    char png[1024];
+    snprintf(png, sizeof png, "%s/image_accuracy.png", o.images);
+    if (npts > 0 && plot_write_png(&plot, png, &e) != REFRACT_E_OK) {
+        fprintf(stderr, "refract-pictures: %s\n", e.msg);
+        status = 1;
+    }
+    if (out != stdout)
+        fclose(out);
+    gpu_destroy(gpu, NULL);
+    return status;
+}
