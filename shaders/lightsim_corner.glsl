@@ -130,6 +130,15 @@ float ls_predict(vec3 x, vec3 w, uint inside, int last, int s, out bool hits)
     return interface_cross(d, h.shading, n_i, n_t).R;
 }
 
+// 4, the corners of a patch, read so that the compiler cannot prove it: loops over the
+// corners then stay loops. Their bodies inline the surface intersections of every kind
+// (a mesh's BVH walk included); unrolled four times (and again per call site) they made
+// a shader that llvmpipe took minutes to compile. ls.limits.w (the surface count) >= 0.
+int ls_corner_count()
+{
+    return 4 + min(ls.limits.w, 0);
+}
+
 struct ls_spawn_t {
     bool spawned;  // a Fresnel event began: lightsim_step.comp makes the reflected twin
     int surface;
@@ -157,32 +166,16 @@ void ls_cross(inout ls_gpu_patch p, int k, int s, geom_hit h, vec3 x, inout vec3
         float sum = ev.R, R;
         int mask = bit;
         bool hits;
-        if (k != 0) {
-            R = ls_predict(p.x[0].xyz, p.w[0].xyz, uint(p.inside[0]), p.last[0], s, hits);
+        // One call site for the four corners (a loop the compiler cannot unroll):
+        // ls_predict inlines every surface kind's intersection, a mesh's BVH walk
+        // included, and four inlined copies made llvmpipe's compile take minutes.
+        for (int j = 0; j < ls_corner_count(); j++) {
+            if (j == k)
+                continue;
+            R = ls_predict(p.x[j].xyz, p.w[j].xyz, uint(p.inside[j]), p.last[j], s, hits);
             if (hits) {
                 sum += R;
-                mask |= 1;
-            }
-        }
-        if (k != 1) {
-            R = ls_predict(p.x[1].xyz, p.w[1].xyz, uint(p.inside[1]), p.last[1], s, hits);
-            if (hits) {
-                sum += R;
-                mask |= 2;
-            }
-        }
-        if (k != 2) {
-            R = ls_predict(p.x[2].xyz, p.w[2].xyz, uint(p.inside[2]), p.last[2], s, hits);
-            if (hits) {
-                sum += R;
-                mask |= 4;
-            }
-        }
-        if (k != 3) {
-            R = ls_predict(p.x[3].xyz, p.w[3].xyz, uint(p.inside[3]), p.last[3], s, hits);
-            if (hits) {
-                sum += R;
-                mask |= 8;
+                mask |= 1 << j;
             }
         }
         sp.spawned = true;
@@ -232,13 +225,26 @@ void ls_corner_move(inout ls_gpu_patch p, int k, float dt, bool may_spawn, inout
     for (int leg = 0; leg < LS_MAX_LEGS && left > 0.0; leg++) {
         int m = interface_medium(inside);
         geom_hit h;
+        // The leg's straight line: in a surface's constant medium the ray itself (length
+        // left / n), in the field the chord of propagate()'s curved step. One
+        // ls_next_surface call site for both (see ls_corner_count).
         vec3 d = w;
-        int s;
+        float reach;
+        vec4 x1 = vec4(x, 0.0), w1 = vec4(w, 0.0);
         if (m >= 0) {
-            float n = surfaces[m].medium.x, L = left / n;
             d = normalize(w);
-            s = ls_next_surface(x, d, p.last[k], L, h);
-            float t = s >= 0 ? h.t : L;
+            reach = left / surfaces[m].medium.x;
+        } else {
+            propagate(x1, w1, left);
+            vec3 chord = x1.xyz - x;
+            reach = length(chord);
+            if (reach > 0.0)
+                d = chord / reach;
+        }
+        int s = reach > 0.0 ? ls_next_surface(x, d, p.last[k], reach, h) : -1;
+        if (m >= 0) {
+            float n = surfaces[m].medium.x;
+            float t = s >= 0 ? h.t : reach;
             x += d * t;
             tau += surfaces[m].attenuation.rgb * t;
             if (s < 0) {
@@ -247,22 +253,13 @@ void ls_corner_move(inout ls_gpu_patch p, int k, float dt, bool may_spawn, inout
             }
             left = max(0.0, left - t * n);
         } else {
-            vec4 x1 = vec4(x, 0.0), w1 = vec4(w, 0.0);
-            propagate(x1, w1, left);
-            vec3 chord = x1.xyz - x;
-            float len = length(chord);
-            s = -1;
-            if (len > 0.0) {
-                d = chord / len;
-                s = ls_next_surface(x, d, p.last[k], len, h);
-            }
             if (s < 0) {
                 x = x1.xyz;
                 w = w1.xyz;
                 break;
             }
             x += d * h.t;
-            left -= left * (h.t / len);
+            left -= left * (h.t / reach);
         }
         ls_cross(p, k, s, h, x, d, inside, may_spawn, sp, acc_refl);
         w = d * ls_medium_ior(interface_medium(inside), x);

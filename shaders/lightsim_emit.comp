@@ -111,17 +111,18 @@ void main()
             vec4 share = sum > 0.0 ? area / sum : vec4(0.25);
             // inside sets (docs/lightsim.md "Surfaces"): parent corner k keeps its own
             ivec4 s = p.inside;
-            int i0 = s.x, i1 = s.y, i2 = s.z, i3 = s.w, ic = s.x;
+            int ins[5] = int[5](s.x, s.y, s.z, s.w, s.x);
 #if LS_SURFACES
-            // Corners in different media: each new corner takes the set where it lies.
+            // Corners in different media: each new corner takes the set where it lies (a
+            // loop the compiler cannot unroll: one inlined copy of every surface kind's
+            // inside test, see ls_corner_count).
             if (!all(equal(s, s.xxxx))) {
-                i0 = int(ls_surfaces_inside(m0));
-                i1 = int(ls_surfaces_inside(m1));
-                i2 = int(ls_surfaces_inside(m2));
-                i3 = int(ls_surfaces_inside(m3));
-                ic = int(ls_surfaces_inside(mc));
+                vec3 mid[5] = vec3[5](m0, m1, m2, m3, mc);
+                for (int j = 0; j < ls_corner_count() + 1; j++)
+                    ins[j] = int(ls_surfaces_inside(mid[j]));
             }
 #endif
+            int i0 = ins[0], i1 = ins[1], i2 = ins[2], i3 = ins[3], ic = ins[4];
             ivec4 l = p.last;
             put(o + 0u, child(p, x00, m0, mc, m3, w00, v0, vc, v3, ivec4(s.x, i0, ic, i3),
                               ivec4(l.x, -1, -1, -1), share.x), live, capacity);

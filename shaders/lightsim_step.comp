@@ -215,11 +215,11 @@ uint step_patch(inout ls_gpu_patch p, bool first, inout ls_spawn_t sp, inout vec
         }
         // 1. propagate the four corners (among exact surfaces: lightsim_corner.glsl).
 #if LS_SURFACES
-        vec3 tau0 = vec3(0.0), tau1 = vec3(0.0), tau2 = vec3(0.0), tau3 = vec3(0.0);
-        ls_corner_move(p, 0, dt, first, sp, tau0, acc_refl);
-        ls_corner_move(p, 1, dt, first, sp, tau1, acc_refl);
-        ls_corner_move(p, 2, dt, first, sp, tau2, acc_refl);
-        ls_corner_move(p, 3, dt, first, sp, tau3, acc_refl);
+        // A loop the compiler cannot unroll (ls_corner_count): one inlined copy of the
+        // corner move and the surface intersections under it.
+        vec3 tau[4] = vec3[4](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+        for (int k = 0; k < ls_corner_count(); k++)
+            ls_corner_move(p, k, dt, first, sp, tau[k], acc_refl);
 #else
         propagate(p.x[0], p.w[0], dt);
         propagate(p.x[1], p.w[1], dt);
@@ -234,7 +234,7 @@ uint step_patch(inout ls_gpu_patch p, bool first, inout ls_spawn_t sp, inout vec
         vec3 T = exp(-0.5 * (sigma0 + ext1.rgb) * ds);
 #if LS_SURFACES
         // Beer-Lambert along each corner's legs, averaged
-        T *= 0.25 * (exp(-tau0) + exp(-tau1) + exp(-tau2) + exp(-tau3));
+        T *= 0.25 * (exp(-tau[0]) + exp(-tau[1]) + exp(-tau[2]) + exp(-tau[3]));
 #endif
         vec3 P = p.power.rgb;
         acc_abs += P * (1.0 - T);
