@@ -67,8 +67,8 @@ static const struct option_def options[] = {
     {"connection-timeout", OPT_INT, 1, 86400, "S",
      "close a connection silent for S seconds while it is answered (default 300)"},
     {"render-tile-pixels", OPT_SIZE, 1, 1ll << 28, "N",
-     "pixels a render draws per GPU turn; larger renders are drawn in tiles of rows with "
-     "other work between (default 64K)"},
+     "pixels a render, view frame or job frame draws per GPU turn; larger ones are drawn in "
+     "tiles of rows with other work between (default 64K)"},
     {"max-json-bytes", OPT_SIZE, 1024, 1ll << 32, "BYTES", "JSON body limit (default 8M)"},
     {"max-upload-bytes", OPT_SIZE, 1024, 1ll << 40, "BYTES", "upload body limit (default 1G)"},
     {"max-storage-bytes", OPT_SIZE, 0, 1ll << 50, "BYTES",

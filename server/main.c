@@ -169,6 +169,7 @@ static int run_batch(const struct config *cfg, struct gpu *gpu, struct render *r
                                   .limits = {.max_frames = cfg->max_job_frames,
                                              .max_image_dim = cfg->http.limits.max_image_dim,
                                              .max_image_pixels = cfg->http.max_image_pixels},
+                                  .tile_pixels = cfg->http.render_tile_pixels,
                                   .spec_path = cfg->batch,
                                   .frames = cfg->batch_frames[0] ? cfg->batch_frames : NULL,
                                   .task = cfg->batch_task[0] ? cfg->batch_task : NULL,
@@ -281,7 +282,8 @@ static int run(const struct config *cfg)
                                     .events = events,
                                     .limits = {.max_frames = cfg->max_job_frames,
                                                .max_image_dim = cfg->http.limits.max_image_dim,
-                                               .max_image_pixels = cfg->http.max_image_pixels}};
+                                               .max_image_pixels = cfg->http.max_image_pixels},
+                                    .tile_pixels = cfg->http.render_tile_pixels};
     struct job_runner *jobs = job_runner_create(&jdesc, &e);
     if (jobs == NULL) {
         log_error("main", "batch jobs: %s", e.msg);

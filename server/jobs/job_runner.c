@@ -25,6 +25,7 @@
 #include "../render/render.h"
 #include "../scene/json_read.h"
 #include "../request/render_request.h"
+#include "../request/render_tiles.h"
 #include "jobs.h"
 
 /* How long a frame whose lights are not simulated yet waits before it is tried again. */
@@ -56,6 +57,7 @@ struct job_runner {
     struct render_light lights[SCENE_MAX_LIGHTS];
     struct render_view_result result;
     const char *irradiance;
+    struct render_tiles tiles; /* the frame's tile loop (GPU thread) */
 };
 
 static bool finished_state(const char *state)
@@ -209,12 +211,18 @@ static void set_state(struct job_runner *r, const char *id, const char *state, c
 
 /* ---- one frame ------------------------------------------------------------------------- */
 
+/* One tile per turn; another turn until every row is drawn. Between two turns the GPU
+ * thread runs what is queued above batch work, so a render asked for meanwhile waits for
+ * one tile of the frame at most. */
 static void frame_run(struct gpu_work *w, struct gpu *gpu)
 {
     (void)gpu;
     struct job_runner *r = w->user;
-    render_request_version(r->d.render, r->d.irradiance, r->d.store, r->version, &r->request,
-                           r->lights, &r->result, &r->irradiance, &w->err);
+    bool more = false;
+    if (render_tiles_step(&r->tiles, r->d.render, r->d.irradiance, r->d.store, r->version,
+                          &r->request, r->lights, &r->result, &r->irradiance, &more,
+                          &w->err) == REFRACT_E_OK)
+        w->again = more;
 }
 
 static void frame_done(struct gpu_work *w)
@@ -280,6 +288,7 @@ static enum frame_outcome run_frame(struct job_runner *r, const char *id, const 
     r->request.camera = f->camera;
     r->request.settings = v->scene->render;
     r->irradiance = NULL;
+    render_tiles_init(&r->tiles, r->d.tile_pixels, f->camera.width, f->camera.height);
     memset(&r->work, 0, sizeof r->work);
     r->work.priority = GPU_PRIORITY_BATCH;
     r->work.label = "job frame";

@@ -1,0 +1,144 @@
+/*
+ * test_job_tiles.c - batch-job frames are drawn a tile of --render-tile-pixels per GPU turn,
+ * like renders and view frames (issue 13, "Fair sharing"; docs/api.md "Fair sharing"),
+ * against real daemons:
+ *   - a small render asked for while a job's large frame is being drawn is answered while
+ *     that frame is still in progress, after about one tile of it, not after the whole
+ *     frame (the tile time is measured here, from a render of the frame's size, so a loaded
+ *     machine moves the bound with it);
+ *   - the job's frame drawn in tiles is byte-equal (linear EXR) to the same job's frame
+ *     from a daemon that draws it at once.
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "jobs_util.h"
+
+/* 384 x 288 in tiles of 4096 pixels: 29 tiles of 10 rows (the last of 8). */
+#define TILE_PIXELS "4096"
+#define WIDTH 384
+#define HEIGHT 288
+#define TILES 29
+
+static const char scene_json[] =
+    "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 32, "
+    "\"ior\": {\"shape\": \"sphere\", \"radius\": 0.8, \"inside\": 1.5}}], "
+    "\"render\": {\"samples_per_pixel\": 4}}";
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec / 1e6;
+}
+
+/* POST .../render with body json: the status; *gpu_ms gets X-Render-Time-Ms. */
+static long render(struct test_daemon *d, const char *id, const char *json, double *gpu_ms)
+{
+    char path[128];
+    snprintf(path, sizeof path, "/v1/scenes/%s/render", id);
+    struct refract_response r;
+    if (refract_request(d->client, "POST", path, json, strlen(json), "application/json", &r) != 0)
+        return -1;
+    long status = r.status;
+    *gpu_ms = r.render_ms;
+    refract_response_free(&r);
+    return status;
+}
+
+static void job_spec(const char *scene, char *out, size_t size)
+{
+    snprintf(out, size,
+             "{\"scene\": \"%s\", \"width\": %d, \"height\": %d, \"format\": \"exr\", "
+             "\"frames\": [{}]}",
+             scene, WIDTH, HEIGHT);
+}
+
+/* Runs the one-frame job to its end on d: frame 0's bytes (new) or NULL. */
+static void *job_frame(struct test_daemon *d, const char *job, size_t *len)
+{
+    cJSON *st = job_wait(d, job, 60.0);
+    CHECK(st != NULL && !strcmp(job_str(st, "state"), "done"));
+    cJSON_Delete(st);
+    return job_frame_bytes(d, job, 0, len, NULL, 0);
+}
+
+int main(void)
+{
+    struct test_daemon d;
+    const char *const tiled[] = {"--render-tile-pixels", TILE_PIXELS, NULL};
+    if (!test_daemon_start(&d, tiled))
+        test_setup_failed("test_job_tiles", d.why);
+    char scene[REFRACT_ID_SIZE];
+    CHECK(test_create_scene(&d, scene_json, scene));
+    double small_gpu = 0.0, big_gpu = 0.0;
+    static const char small_json[] = "{\"width\": 32, \"height\": 24}";
+    CHECK_INT(render(&d, scene, small_json, &small_gpu), 200); /* warm-up: kernel compiles */
+    char big_json[96];
+    snprintf(big_json, sizeof big_json, "{\"width\": %d, \"height\": %d}", WIDTH, HEIGHT);
+    CHECK_INT(render(&d, scene, big_json, &big_gpu), 200);
+    double tile_ms = big_gpu / TILES;
+
+    /* The job's frame starts drawing; a small render asked for meanwhile. */
+    char spec[256], job[64];
+    job_spec(scene, spec, sizeof spec);
+    CHECK(job_submit_json(&d, spec, job));
+    double t_job = now_ms();
+    for (int i = 0; i < 2000; i++) {
+        cJSON *st = job_status_get(&d, job);
+        bool running = st && !strcmp(job_str(st, "state"), "running");
+        cJSON_Delete(st);
+        if (running)
+            break;
+        job_sleep_ms(5);
+    }
+    job_sleep_ms((int)(3.0 * tile_ms) + 20); /* a few of its tiles are drawn */
+    double t0 = now_ms();
+    CHECK_INT(render(&d, scene, small_json, &small_gpu), 200);
+    double small_ms = now_ms() - t0;
+    cJSON *st = job_status_get(&d, job);
+    int done_then = st ? job_int(st, "frames_done") : -1;
+    cJSON_Delete(st);
+    size_t tiled_len = 0;
+    void *tiled_frame = job_frame(&d, job, &tiled_len);
+    double job_ms = now_ms() - t_job;
+    printf("small render during a job's %dx%d frame (%d tiles of about %.1f ms): answered after "
+           "%.1f ms (%.1f ms its own), the frame still in progress (frames_done %d); the job took "
+           "%.0f ms\n",
+           WIDTH, HEIGHT, TILES, tile_ms, small_ms, small_gpu, done_then, job_ms);
+    /* Answered before the frame was finished... */
+    CHECK_INT(done_then, 0);
+    /* ...after about one tile of it (and its own render), far less than the whole frame. */
+    CHECK_MSG(small_ms - small_gpu < 3.0 * tile_ms + 50.0,
+              "the small render waited %.1f ms; a tile takes %.1f ms", small_ms - small_gpu,
+              tile_ms);
+    CHECK_MSG(small_ms < big_gpu / 3.0, "the small render took %.1f ms; the whole frame %.1f ms",
+              small_ms, big_gpu);
+    CHECK(tiled_frame != NULL && tiled_len > 0);
+    CHECK_INT(test_daemon_stop(&d), 0);
+    test_daemon_cleanup(&d);
+
+    /* The same job from a daemon that draws the frame at once: the same bytes. */
+    struct test_daemon a;
+    const char *const at_once[] = {"--render-tile-pixels", "16777216", NULL};
+    if (!test_daemon_start(&a, at_once))
+        test_setup_failed("test_job_tiles", a.why);
+    CHECK(test_create_scene(&a, scene_json, scene));
+    job_spec(scene, spec, sizeof spec);
+    CHECK(job_submit_json(&a, spec, job));
+    size_t once_len = 0;
+    void *once_frame = job_frame(&a, job, &once_len);
+    CHECK(once_frame != NULL);
+    bool same = tiled_frame && once_frame && tiled_len == once_len &&
+                memcmp(tiled_frame, once_frame, once_len) == 0;
+    printf("the frame drawn in %d tiles and drawn at once: %s (%zu and %zu bytes of EXR)\n", TILES,
+           same ? "byte-equal" : "DIFFERENT", tiled_len, once_len);
+    CHECK(same);
+    free(tiled_frame);
+    free(once_frame);
+    CHECK_INT(test_daemon_stop(&a), 0);
+    test_daemon_cleanup(&a);
+    return test_summary("test_job_tiles");
+}
