@@ -301,6 +301,7 @@ int main(void)
     char *health = NULL;
     CHECK_INT(test_request(&d, "GET", "/v1/health", NULL, &health), 200);
     CHECK(health != NULL && strstr(health, "\"scenes\":1,") != NULL);
+    CHECK_CONTAINS(health, "\"header_deadline_s\":2,"); /* "fair_sharing" */
     free(health);
 
     CHECK_INT(test_daemon_stop(&d), 0);
