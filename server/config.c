@@ -67,6 +67,9 @@ static const struct option_def options[] = {
     {"header-deadline", OPT_INT, 0, 86400, "S",
      "close a connection whose request's headers and body (not an upload's body) are not in "
      "S seconds after it began, however they trickle in (default 30; 0 = no deadline)"},
+    {"upload-min-rate", OPT_SIZE, 0, 1ll << 40, "BYTES",
+     "an upload's body must arrive at BYTES per second on average once --header-deadline is "
+     "spent, or it is closed and its file removed (default 1K; 0 = no minimum)"},
     {"connection-timeout", OPT_INT, 1, 86400, "S",
      "close a connection silent for S seconds while it is answered (default 300)"},
     {"render-tile-pixels", OPT_SIZE, 1, 1ll << 28, "N",
@@ -156,6 +159,7 @@ void config_defaults(struct config *c)
     c->http.max_queued_per_client = 64;
     c->http.header_timeout_s = 10;
     c->http.header_deadline_s = 30;
+    c->http.upload_min_rate = 1024;
     c->http.connection_timeout_s = 300;
     c->http.render_tile_pixels = 65536;
     c->http.limits = scene_limits_default();
@@ -254,6 +258,8 @@ static void store_int(struct config *c, const char *name, long long v)
         c->http.header_timeout_s = (int)v;
     else if (!strcmp(name, "header-deadline"))
         c->http.header_deadline_s = (int)v;
+    else if (!strcmp(name, "upload-min-rate"))
+        c->http.upload_min_rate = v;
     else if (!strcmp(name, "connection-timeout"))
         c->http.connection_timeout_s = (int)v;
     else if (!strcmp(name, "render-tile-pixels"))

@@ -17,9 +17,9 @@ struct http_deadlines {
     pthread_t thread;
     bool stop;
     int seconds;
+    long long min_rate; /* upload bytes per second; 0 = none */
     int tick_ms; /* how often the reaper looks: a tenth of the deadline, 50 ms..1 s */
     struct http_deadline_entry *head;
-    long long closed;
 };
 
 /* Under the lock: closes the due connections. Returns how many; *first_ip names one. */
@@ -36,7 +36,6 @@ static int reap_locked(struct http_deadlines *d, int64_t now, const char **first
         if (n++ == 0)
             *first_ip = en->ip;
     }
-    d->closed += n;
     return n;
 }
 
@@ -52,9 +51,10 @@ static void *reaper_main(void *arg)
              * connections must not flood the log. */
             log_info("http",
                      "closed %d connection%s (from %s%s) whose request was not in after "
-                     "--header-deadline %d s",
+                     "--header-deadline %d s (an upload: whose body arrived slower than "
+                     "--upload-min-rate %lld bytes/s)",
                      n, n == 1 ? "" : "s", ip ? ip : "unknown", n == 1 ? "" : " and others",
-                     d->seconds);
+                     d->seconds, d->min_rate);
         struct timespec ts;
         clock_gettime(CLOCK_MONOTONIC, &ts);
         ts.tv_nsec += (long)d->tick_ms * 1000000L;
@@ -66,7 +66,7 @@ static void *reaper_main(void *arg)
     return NULL;
 }
 
-struct http_deadlines *http_deadlines_create(int seconds, struct err *e)
+struct http_deadlines *http_deadlines_create(int seconds, long long min_rate, struct err *e)
 {
     if (seconds <= 0)
         return NULL;
@@ -76,6 +76,7 @@ struct http_deadlines *http_deadlines_create(int seconds, struct err *e)
         return NULL;
     }
     d->seconds = seconds;
+    d->min_rate = min_rate > 0 ? min_rate : 0;
     int tick = seconds * 100;
     d->tick_ms = tick < 50 ? 50 : tick > 1000 ? 1000 : tick;
     pthread_mutex_init(&d->lock, NULL);
@@ -116,7 +117,9 @@ void http_deadlines_add(struct http_deadlines *d, struct http_deadline_entry *en
     pthread_mutex_lock(&d->lock);
     en->fd = fd;
     en->ip = ip;
-    en->due_ms = gpu_now_ms() + (int64_t)d->seconds * 1000;
+    en->base_ms = gpu_now_ms();
+    en->due_ms = en->base_ms + (int64_t)d->seconds * 1000;
+    en->upload = false;
     en->prev = NULL;
     en->next = d->head;
     if (d->head)
@@ -131,8 +134,45 @@ void http_deadlines_arm(struct http_deadlines *d, struct http_deadline_entry *en
     if (d == NULL)
         return;
     pthread_mutex_lock(&d->lock);
-    if (en->listed)
-        en->due_ms = gpu_now_ms() + (int64_t)d->seconds * 1000;
+    if (en->listed) {
+        en->base_ms = gpu_now_ms();
+        en->due_ms = en->base_ms + (int64_t)d->seconds * 1000;
+        en->upload = false;
+        en->bytes = 0;
+    }
+    pthread_mutex_unlock(&d->lock);
+}
+
+/* Under the lock: an upload's due time, base + deadline + bytes / rate. */
+static void upload_due_locked(const struct http_deadlines *d, struct http_deadline_entry *en)
+{
+    en->due_ms = en->base_ms + (int64_t)d->seconds * 1000 + en->bytes * 1000 / d->min_rate;
+}
+
+void http_deadlines_upload(struct http_deadlines *d, struct http_deadline_entry *en)
+{
+    if (d == NULL)
+        return;
+    pthread_mutex_lock(&d->lock);
+    en->upload = d->min_rate > 0;
+    en->bytes = 0;
+    if (!en->upload)
+        en->due_ms = 0;
+    else if (en->due_ms != 0) /* still armed: not reaped meanwhile */
+        upload_due_locked(d, en);
+    pthread_mutex_unlock(&d->lock);
+}
+
+void http_deadlines_received(struct http_deadlines *d, struct http_deadline_entry *en,
+                             size_t bytes)
+{
+    if (d == NULL)
+        return;
+    pthread_mutex_lock(&d->lock);
+    if (en->upload && en->due_ms != 0) {
+        en->bytes += (long long)bytes;
+        upload_due_locked(d, en);
+    }
     pthread_mutex_unlock(&d->lock);
 }
 
@@ -142,6 +182,7 @@ void http_deadlines_disarm(struct http_deadlines *d, struct http_deadline_entry 
         return;
     pthread_mutex_lock(&d->lock);
     en->due_ms = 0;
+    en->upload = false;
     pthread_mutex_unlock(&d->lock);
 }
 
@@ -161,15 +202,6 @@ void http_deadlines_remove(struct http_deadlines *d, struct http_deadline_entry 
         en->listed = false;
     }
     en->due_ms = 0;
+    en->upload = false;
     pthread_mutex_unlock(&d->lock);
-}
-
-long long http_deadlines_closed(struct http_deadlines *d)
-{
-    if (d == NULL)
-        return 0;
-    pthread_mutex_lock(&d->lock);
-    long long n = d->closed;
-    pthread_mutex_unlock(&d->lock);
-    return n;
 }

@@ -63,6 +63,7 @@ enum MHD_Result http_handle_health(struct http_request *req)
     cJSON_AddNumberToObject(fair, "max_queued_per_client", c->max_queued_per_client);
     cJSON_AddNumberToObject(fair, "header_timeout_s", c->header_timeout_s);
     cJSON_AddNumberToObject(fair, "header_deadline_s", c->header_deadline_s);
+    cJSON_AddNumberToObject(fair, "upload_min_rate", (double)c->upload_min_rate);
     cJSON_AddNumberToObject(fair, "connection_timeout_s", c->connection_timeout_s);
     cJSON_AddNumberToObject(fair, "render_tile_pixels", (double)c->render_tile_pixels);
     cJSON_AddNumberToObject(fair, "max_image_pixels", (double)c->max_image_pixels);

@@ -22,7 +22,8 @@
  * answered --connection-timeout, and an idle keep-alive connection the short one again:
  * half-sent requests cannot hold connections for long. A client that is never silent for
  * long but sends its request a byte at a time is closed when the request is not in after
- * --header-deadline seconds (deadline.h; an upload's body is not counted). A request
+ * --header-deadline seconds, an upload whose body falls below --upload-min-rate bytes per
+ * second once that time is spent (deadline.h). A request
  * waiting for the GPU is suspended and notices nothing, so its work item polls the socket
  * before each turn and is dropped once the client has gone (client_gone).
  */
@@ -115,6 +116,12 @@ static struct http_conn_state *conn_state(struct MHD_Connection *conn)
     const union MHD_ConnectionInfo *info =
         MHD_get_connection_info(conn, MHD_CONNECTION_INFO_SOCKET_CONTEXT);
     return info ? info->socket_context : NULL;
+}
+
+/* The server's --header-deadline list, for a request whose connection has an entry. */
+static struct http_deadlines *deadlines_of(const struct http_request *req)
+{
+    return req->deadline ? ((const struct http_server *)req->server)->deadlines : NULL;
 }
 
 struct http_stream_set *http_server_streams(const struct http_server *srv)
@@ -214,6 +221,7 @@ static struct http_request *request_begin(struct http_server *srv, struct MHD_Co
     struct http_conn_state *cs = conn_state(conn);
     static const struct http_client_key unknown = {.ip = "unknown"};
     req->client = cs ? &cs->key : &unknown;
+    req->deadline = cs ? &cs->deadline : NULL;
     bool path_known = false;
     req->route = http_route_find(method, url, req->params, &req->param_count, &path_known);
     if (req->route)
@@ -306,6 +314,7 @@ static bool body_append(struct http_request *req, const char *data, size_t size)
     if (req->route->body == HTTP_BODY_UPLOAD) {
         upload_append(req, data, size);
         req->body_len += size;
+        http_deadlines_received(deadlines_of(req), req->deadline, size);
         return true;
     }
     if (req->body_len + size + 1 > req->body_cap) {
@@ -441,14 +450,6 @@ static enum MHD_Result request_start(struct http_server *srv, struct MHD_Connect
     return MHD_YES;
 }
 
-/* --header-deadline (deadline.h) stops counting once the request is in. */
-static void request_arrived(struct http_request *req)
-{
-    struct http_conn_state *cs = conn_state(req->conn);
-    if (cs != NULL)
-        http_deadlines_disarm(((struct http_server *)req->server)->deadlines, &cs->deadline);
-}
-
 static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, const char *url,
                                       const char *method, const char *version,
                                       const char *upload_data, size_t *upload_data_size,
@@ -460,12 +461,12 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
     if (req == NULL) {
         enum MHD_Result answer = request_start(srv, conn, url, method, con_cls);
         req = *con_cls;
-        /* An upload's body streams to a file and may take long: the deadline covers its
-         * headers, which are in. (The body of a request answered early, drained, and any
-         * other body stay under it.) */
+        /* An upload's body streams to a file and may be large: from its headers on it is
+         * held to --upload-min-rate instead of --header-deadline (deadline.h). The body of
+         * a request answered early (drained), and any other body, stay under the deadline. */
         if (req != NULL && req->route != NULL && req->route->body == HTTP_BODY_UPLOAD &&
             req->phase != HTTP_PHASE_ANSWERED)
-            request_arrived(req);
+            http_deadlines_upload(deadlines_of(req), req->deadline);
         return answer;
     }
     if (req->phase == HTTP_PHASE_ANSWERED) {
@@ -483,7 +484,7 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
         return req->on_resume(req);
     /* Headers and body are in: from now on the connection is being answered. */
     set_timeout(req->conn, req->cfg->connection_timeout_s);
-    request_arrived(req);
+    http_deadlines_disarm(deadlines_of(req), req->deadline); /* the request is in */
     if (req->body_too_large)
         return answer_too_large(req, 0);
     if (req->route->body == HTTP_BODY_UPLOAD) {
@@ -720,7 +721,8 @@ struct http_server *http_server_start(const struct http_config *cfg, const struc
         tls[1] = (struct MHD_OptionItem){MHD_OPTION_HTTPS_MEM_KEY, 0,
                                          (void *)srv->cfg.tls_key_pem};
     }
-    srv->deadlines = http_deadlines_create(srv->cfg.header_deadline_s, e);
+    srv->deadlines =
+        http_deadlines_create(srv->cfg.header_deadline_s, srv->cfg.upload_min_rate, e);
     if (srv->deadlines == NULL && srv->cfg.header_deadline_s > 0) {
         http_sse_destroy(srv->sse);
         http_stream_set_destroy(srv->streams);

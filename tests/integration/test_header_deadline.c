@@ -2,15 +2,17 @@
  * test_header_deadline.c - a client that trickles its request never stays silent long
  * enough for --header-timeout, so --header-deadline bounds the whole arrival (issue 13,
  * "Fair sharing"; docs/api.md "Fair sharing"), tried as an attacker would against a real
- * daemon (--header-deadline 2, --header-timeout 10):
+ * daemon (--header-deadline 2, --upload-min-rate 4K, --header-timeout 10):
  *   - a client sending its headers one byte every 0.3 s is closed at about 2 s (not
- *     before), as is one sending a JSON body that way after whole headers, and one
- *     trickling an upload's headers (no temporary file is left);
+ *     before), as is one sending a JSON body that way after whole headers, one trickling
+ *     an upload's headers, and one trickling an upload's body (far below 4K per second):
+ *     that upload's temporary file, there while it trickled, is gone with it;
  *   - meanwhile a kept-alive client asking for /v1/health every 0.3 s is served all along,
  *     past the deadline (each answer starts its next request's time again);
  *   - an upload whose headers arrive at once but whose body takes longer than the deadline
- *     (three parts 1.2 s apart) is stored (an upload's body is not counted), as is a render
- *     that keeps its client waiting longer than the deadline.
+ *     (three parts 1.2 s apart, about 28 kB/s) is stored (an upload's body is held to the
+ *     rate, not to the deadline), as is a render that keeps its client waiting longer than
+ *     the deadline; GET /v1/health reports both settings.
  */
 #define _GNU_SOURCE /* strcasestr */
 #include <arpa/inet.h>
@@ -238,7 +240,8 @@ static void check_closed_at_deadline(const char *what, const struct dripper *c)
 int main(void)
 {
     struct test_daemon d;
-    const char *const args[] = {"--header-deadline", "2", "--header-timeout", "10", NULL};
+    const char *const args[] = {"--header-deadline", "2", "--upload-min-rate", "4K",
+                                "--header-timeout", "10", NULL};
     if (!test_daemon_start(&d, args))
         test_setup_failed("test_header_deadline", d.why);
     char id[REFRACT_ID_SIZE];
@@ -257,24 +260,31 @@ int main(void)
                                    "application/json\r\nContent-Length: 200\r\n\r\n",
                            .drip = "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1]"};
     struct dripper upload = {.d = &d, .head = upload_head, .drip = pad};
+    char upload_whole_head[600];
+    snprintf(upload_whole_head, sizeof upload_whole_head, "%s\r\n", upload_head);
+    struct dripper upload_body = {.d = &d, .head = upload_whole_head, .drip = pad};
     struct keeper keep = {.d = &d, .ms = 4500};
     struct slow_render render = {.d = &d, .scene = id};
-    pthread_t th[5];
+    pthread_t th[6];
     pthread_create(&th[0], NULL, drip_main, &headers);
     pthread_create(&th[1], NULL, drip_main, &body);
     pthread_create(&th[2], NULL, drip_main, &upload);
     pthread_create(&th[3], NULL, keep_main, &keep);
     pthread_create(&th[4], NULL, render_main, &render);
+    pthread_create(&th[5], NULL, drip_main, &upload_body);
 
     /* An upload whose body takes longer than the deadline is not cut off. */
     int fd = connect_to(&d);
     double t_up = now_ms();
     static char part[33336];
-    char head[600];
-    snprintf(head, sizeof head, "%s\r\n", upload_head);
-    CHECK(fd >= 0 && send_all(fd, head, strlen(head)));
+    CHECK(fd >= 0 && send_all(fd, upload_whole_head, strlen(upload_whole_head)));
+    sleep_ms(900);
+    int receiving = tmp_files(&d); /* the trickled upload's (this one has sent no body yet) */
+    CHECK_MSG(receiving >= 1, "%d temporary files while an upload trickles", receiving);
+    sleep_ms(300);
     for (int i = 0; i < 3; i++) {
-        sleep_ms(1200);
+        if (i > 0)
+            sleep_ms(1200);
         size_t n = i < 2 ? sizeof part : 100000 - 2 * sizeof part;
         CHECK(send_all(fd, part, n));
     }
@@ -285,11 +295,12 @@ int main(void)
     printf("an upload whose body took %.0f ms: %d\n", now_ms() - t_up, status_of(answer));
     CHECK_INT(status_of(answer), 201);
 
-    for (int i = 0; i < 5; i++)
+    for (int i = 0; i < 6; i++)
         pthread_join(th[i], NULL);
     check_closed_at_deadline("headers trickled a byte every 0.3 s", &headers);
     check_closed_at_deadline("a JSON body trickled after whole headers", &body);
     check_closed_at_deadline("an upload's headers trickled", &upload);
+    check_closed_at_deadline("an upload's body trickled (--upload-min-rate 4K)", &upload_body);
     printf("kept-alive client meanwhile: %d of %d health requests answered over %d ms\n",
            keep.answered, keep.asked, keep.ms);
     CHECK(keep.asked >= 10);
@@ -302,6 +313,7 @@ int main(void)
     CHECK_INT(test_request(&d, "GET", "/v1/health", NULL, &health), 200);
     CHECK(health != NULL && strstr(health, "\"scenes\":1,") != NULL);
     CHECK_CONTAINS(health, "\"header_deadline_s\":2,"); /* "fair_sharing" */
+    CHECK_CONTAINS(health, "\"upload_min_rate\":4096,");
     free(health);
 
     CHECK_INT(test_daemon_stop(&d), 0);
