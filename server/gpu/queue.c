@@ -294,8 +294,10 @@ struct sync_work {
 static void sync_run(struct gpu_work *w, struct gpu *g)
 {
     struct sync_work *s = w->user;
+    s->user_work->again = false;
     s->user_work->run(s->user_work, g);
     w->err = s->user_work->err;
+    w->again = s->user_work->again; /* another turn (a frame's next tile) */
 }
 
 static void sync_done(struct gpu_work *w)

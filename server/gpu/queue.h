@@ -97,7 +97,9 @@ void gpu_destroy(struct gpu *g, struct gpu_work *final);
 enum refract_code gpu_submit(struct gpu *g, struct gpu_work *w, struct err *e);
 
 /* Queues w and waits until its done has been called; returns w->err.code. w->done may
- * be NULL. For tests, benchmarks and start-up; never call it from the GPU thread. */
+ * be NULL; w->again is honoured (w takes turns until it asks for none: `refractd --batch`
+ * draws its frames in tiles this way). For tests, benchmarks, start-up and the one-shot
+ * batch mode; never call it from the GPU thread. */
 enum refract_code gpu_run_sync(struct gpu *g, struct gpu_work *w);
 
 /* Borrowed; valid for the gpu's lifetime. */

@@ -7,12 +7,14 @@
  *     frame (the tile time is measured here, from a render of the frame's size, so a loaded
  *     machine moves the bound with it);
  *   - the job's frame drawn in tiles is byte-equal (linear EXR) to the same job's frame
- *     from a daemon that draws it at once.
+ *     from a daemon that draws it at once, and to the frame `refractd --batch` draws in
+ *     tiles (the one-shot mode of Slurm array tasks, whose frames must equal a daemon's).
  */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "jobs_util.h"
 
@@ -48,12 +50,57 @@ static long render(struct test_daemon *d, const char *id, const char *json, doub
     return status;
 }
 
-static void job_spec(const char *scene, char *out, size_t size)
+/* The job: one frame of the scene, sent inline so that `refractd --batch` can run it too. */
+static void job_spec(char *out, size_t size)
 {
     snprintf(out, size,
-             "{\"scene\": \"%s\", \"width\": %d, \"height\": %d, \"format\": \"exr\", "
+             "{\"scene\": %s, \"width\": %d, \"height\": %d, \"format\": \"exr\", "
              "\"frames\": [{}]}",
-             scene, WIDTH, HEIGHT);
+             scene_json, WIDTH, HEIGHT);
+}
+
+static void *read_file(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    if (f == NULL)
+        return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    void *buf = n > 0 ? malloc((size_t)n) : NULL;
+    *len = buf && fread(buf, 1, (size_t)n, f) == (size_t)n ? (size_t)n : 0;
+    fclose(f);
+    return buf;
+}
+
+/* The frame `refractd --batch` draws in tiles of TILE_PIXELS (new bytes) or NULL. */
+static void *batch_frame(const char *spec, size_t *len)
+{
+    char dir[256], spec_path[300], out[300], frame[340];
+    test_temp_template(dir, sizeof dir, "refract-job-tiles");
+    if (mkdtemp(dir) == NULL)
+        return NULL;
+    snprintf(spec_path, sizeof spec_path, "%s/job.json", dir);
+    snprintf(out, sizeof out, "%s/out", dir);
+    snprintf(frame, sizeof frame, "%s/frame_00000.exr", out);
+    FILE *f = fopen(spec_path, "w");
+    if (f == NULL)
+        return NULL;
+    fputs(spec, f);
+    fclose(f);
+    char *log = NULL;
+    const char *args[] = {"--batch", spec_path, "--frames", "0-0", "--out", out,
+                          "--render-tile-pixels", TILE_PIXELS, NULL};
+    int rc = test_run_refractd(args, &log);
+    if (rc != 0)
+        fprintf(stderr, "refractd --batch: exit %d\n%s\n", rc, log ? log : "");
+    free(log);
+    void *bytes = rc == 0 ? read_file(frame, len) : NULL;
+    char cmd[400];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    if (system(cmd) != 0)
+        fprintf(stderr, "could not remove %s\n", dir);
+    return bytes;
 }
 
 /* Runs the one-frame job to its end on d: frame 0's bytes (new) or NULL. */
@@ -82,8 +129,8 @@ int main(void)
     double tile_ms = big_gpu / TILES;
 
     /* The job's frame starts drawing; a small render asked for meanwhile. */
-    char spec[256], job[64];
-    job_spec(scene, spec, sizeof spec);
+    char spec[1024], job[64];
+    job_spec(spec, sizeof spec);
     CHECK(job_submit_json(&d, spec, job));
     double t_job = now_ms();
     for (int i = 0; i < 2000; i++) {
@@ -125,8 +172,6 @@ int main(void)
     const char *const at_once[] = {"--render-tile-pixels", "16777216", NULL};
     if (!test_daemon_start(&a, at_once))
         test_setup_failed("test_job_tiles", a.why);
-    CHECK(test_create_scene(&a, scene_json, scene));
-    job_spec(scene, spec, sizeof spec);
     CHECK(job_submit_json(&a, spec, job));
     size_t once_len = 0;
     void *once_frame = job_frame(&a, job, &once_len);
@@ -136,9 +181,18 @@ int main(void)
     printf("the frame drawn in %d tiles and drawn at once: %s (%zu and %zu bytes of EXR)\n", TILES,
            same ? "byte-equal" : "DIFFERENT", tiled_len, once_len);
     CHECK(same);
-    free(tiled_frame);
-    free(once_frame);
     CHECK_INT(test_daemon_stop(&a), 0);
     test_daemon_cleanup(&a);
+
+    /* The one-shot batch mode draws it in tiles too, and the same. */
+    size_t batch_len = 0;
+    void *batch = batch_frame(spec, &batch_len);
+    same = batch && once_frame && batch_len == once_len && memcmp(batch, once_frame, once_len) == 0;
+    printf("the frame refractd --batch drew in %d tiles and the frame drawn at once: %s\n", TILES,
+           same ? "byte-equal" : "DIFFERENT");
+    CHECK(same);
+    free(batch);
+    free(tiled_frame);
+    free(once_frame);
     return test_summary("test_job_tiles");
 }
