@@ -26,8 +26,7 @@
 
 static const char scene_json[] =
     "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 32, "
-    "\"ior\": {\"shape\": \"sphere\", \"radius\": 0.8, \"inside\": 1.5}}], "
-    "\"render\": {\"samples_per_pixel\": 4}}";
+    "\"ior\": {\"shape\": \"sphere\", \"radius\": 0.8, \"inside\": 1.5}}]}";
 
 static double now_ms(void)
 {
