@@ -247,6 +247,7 @@ static enum refract_code render_frame(const struct job_batch_desc *d, struct sto
             continue;
         }
         if (rc != REFRACT_E_OK) {
+            free(b.result.rgba); /* a tile failed: the rows before it are of no use */
             rc = err_set(e, rc, "frame %d: %s", n, b.work.err.msg);
             break;
         }
