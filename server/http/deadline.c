@@ -18,7 +18,7 @@ struct http_deadlines {
     bool stop;
     int seconds;
     long long min_rate; /* upload bytes per second; 0 = none */
-    int tick_ms; /* how often the reaper looks: a tenth of the deadline, 50 ms..1 s */
+    int tick_ms;        /* how often the reaper looks: a tenth of the deadline, 50 ms..1 s */
     struct http_deadline_entry *head;
 };
 
@@ -163,8 +163,7 @@ void http_deadlines_upload(struct http_deadlines *d, struct http_deadline_entry 
     pthread_mutex_unlock(&d->lock);
 }
 
-void http_deadlines_received(struct http_deadlines *d, struct http_deadline_entry *en,
-                             size_t bytes)
+void http_deadlines_received(struct http_deadlines *d, struct http_deadline_entry *en, size_t bytes)
 {
     if (d == NULL)
         return;

@@ -33,11 +33,11 @@
 /* One connection (embedded in the server's connection state). Zeroed before _add. */
 struct http_deadline_entry {
     int fd;
-    int64_t due_ms;    /* gpu_now_ms() clock; 0 = disarmed */
-    int64_t base_ms;   /* when the request's time began (opened, or the previous answer) */
-    long long bytes;   /* upload body bytes received (upload mode) */
-    bool upload;       /* due = base + deadline + bytes / min rate */
-    const char *ip; /* the client, for the log (borrowed for the entry's life) */
+    int64_t due_ms;  /* gpu_now_ms() clock; 0 = disarmed */
+    int64_t base_ms; /* when the request's time began (opened, or the previous answer) */
+    long long bytes; /* upload body bytes received (upload mode) */
+    bool upload;     /* due = base + deadline + bytes / min rate */
+    const char *ip;  /* the client, for the log (borrowed for the entry's life) */
     struct http_deadline_entry *prev, *next;
     bool listed;
 };
@@ -68,6 +68,5 @@ void http_deadlines_received(struct http_deadlines *d, struct http_deadline_entr
 void http_deadlines_disarm(struct http_deadlines *d, struct http_deadline_entry *en);
 /* The connection closes (before its socket does): unlists the entry. */
 void http_deadlines_remove(struct http_deadlines *d, struct http_deadline_entry *en);
-
 
 #endif

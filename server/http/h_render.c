@@ -40,9 +40,9 @@ struct render_job {
     struct http_render_request request;
     struct render_view_result result;
     struct render_light lights[SCENE_MAX_LIGHTS];
-    const char *irradiance;     /* X-Refract-Irradiance: ready|stale|missing|not-needed */
-    struct render_tiles tiles;  /* GPU thread: the tile loop (render_tiles.h) */
-    long long pixels_held;      /* counted in tiled_pixels while drawing */
+    const char *irradiance;    /* X-Refract-Irradiance: ready|stale|missing|not-needed */
+    struct render_tiles tiles; /* GPU thread: the tile loop (render_tiles.h) */
+    long long pixels_held;     /* counted in tiled_pixels while drawing */
 };
 
 /* Pixels of the tiled renders in progress (begun, not finished), every client's. */

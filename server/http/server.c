@@ -423,8 +423,8 @@ static enum MHD_Result request_start(struct http_server *srv, struct MHD_Connect
     *con_cls = req;
     if (atomic_load(&srv->closing))
         return http_respond_error(req, REFRACT_E_SHUTTING_DOWN,
-                                  "refractd is shutting down; retry %s %s once it is back",
-                                  method, url);
+                                  "refractd is shutting down; retry %s %s once it is back", method,
+                                  url);
     enum MHD_Result answer;
     if (answer_over_limit(req, &answer))
         return answer;
@@ -433,12 +433,11 @@ static enum MHD_Result request_start(struct http_server *srv, struct MHD_Connect
     if (req->route == NULL)
         return answer_no_route(req, url, method);
     if (req->route->body == HTTP_BODY_JSON) {
-        const char *type = MHD_lookup_connection_value(conn, MHD_HEADER_KIND,
-                                                       MHD_HTTP_HEADER_CONTENT_TYPE);
+        const char *type =
+            MHD_lookup_connection_value(conn, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_TYPE);
         if (!http_access_json_type(type)) {
             char message[ERR_MSG_MAX];
-            http_access_type_message(method, req->route->pattern, type, message,
-                                     sizeof message);
+            http_access_type_message(method, req->route->pattern, type, message, sizeof message);
             return http_respond_error(req, REFRACT_E_UNSUPPORTED_MEDIA_TYPE, "%s", message);
         }
     }
@@ -721,8 +720,7 @@ struct http_server *http_server_start(const struct http_config *cfg, const struc
         tls[1] = (struct MHD_OptionItem){MHD_OPTION_HTTPS_MEM_KEY, 0,
                                          (void *)srv->cfg.tls_key_pem};
     }
-    srv->deadlines =
-        http_deadlines_create(srv->cfg.header_deadline_s, srv->cfg.upload_min_rate, e);
+    srv->deadlines = http_deadlines_create(srv->cfg.header_deadline_s, srv->cfg.upload_min_rate, e);
     if (srv->deadlines == NULL && srv->cfg.header_deadline_s > 0) {
         http_sse_destroy(srv->sse);
         http_stream_set_destroy(srv->streams);

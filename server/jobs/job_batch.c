@@ -7,10 +7,11 @@
  * given its share of the job's frames. The specification is the one POST /v1/jobs takes,
  * expanded by the same job_spec_expand, and every frame goes through the runner's own path
  * (job_frame.c, drawn in tiles by render_tiles.h like the daemon's), so a task's frame is
- * byte-identical to the same frame of a daemon's job. What makes each frame exist exactly once is the shared output
- * directory (job_batch_dir.c): a frame file appears only by rename, complete; a task skips
- * the frames it finds there, so a requeued task renders only what its killed run had not
- * finished. Progress lives in that directory too (progress.json).
+ * byte-identical to the same frame of a daemon's job. What makes each frame exist exactly
+ * once is the shared output directory (job_batch_dir.c): a frame file appears only by
+ * rename, complete; a task skips the frames it finds there, so a requeued task renders
+ * only what its killed run had not finished. Progress lives in that directory too
+ * (progress.json).
  *
  * The caller's thread runs the loop and waits for each frame (gpu_run_sync); lights are
  * waited for by polling the irradiance cache every JOB_BATCH_RETRY_MS, as the runner does.

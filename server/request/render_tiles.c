@@ -39,8 +39,8 @@ enum refract_code render_tiles_step(struct render_tiles *t, struct render *r,
     int row0 = t->next_row;
     int rows = t->height - row0 < t->tile_rows ? t->height - row0 : t->tile_rows;
     double t0 = gpu_time_ms();
-    enum refract_code rc = render_request_version_rows(r, c, store, v, req, lights, row0, rows,
-                                                       out, irradiance, e);
+    enum refract_code rc =
+        render_request_version_rows(r, c, store, v, req, lights, row0, rows, out, irradiance, e);
     if (rc != REFRACT_E_OK)
         return rc;
     t->render_ms += gpu_time_ms() - t0;

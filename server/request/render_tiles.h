@@ -28,10 +28,10 @@
 #define RENDER_TILES_MAX_RESTARTS 3
 
 struct render_tiles {
-    int width, height; /* the image's */
-    int tile_rows;     /* rows per turn: 1..height */
-    int next_row;      /* the first row of the next tile */
-    int restarts;      /* times the image started again */
+    int width, height;                                      /* the image's */
+    int tile_rows;                                          /* rows per turn: 1..height */
+    int next_row;                                           /* the first row of the next tile */
+    int restarts;                                           /* times the image started again */
     const struct irradiance_gpu *volumes[SCENE_MAX_LIGHTS]; /* what the first tile used */
     int volume_count;
     double render_ms; /* the tiles' render time so far (GET /metrics, once all are drawn) */

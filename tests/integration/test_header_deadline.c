@@ -240,8 +240,8 @@ static void check_closed_at_deadline(const char *what, const struct dripper *c)
 int main(void)
 {
     struct test_daemon d;
-    const char *const args[] = {"--header-deadline", "2", "--upload-min-rate", "4K",
-                                "--header-timeout", "10", NULL};
+    const char *const args[] = {
+        "--header-deadline", "2", "--upload-min-rate", "4K", "--header-timeout", "10", NULL};
     if (!test_daemon_start(&d, args))
         test_setup_failed("test_header_deadline", d.why);
     char id[REFRACT_ID_SIZE];

@@ -88,8 +88,9 @@ static void *batch_frame(const char *spec, size_t *len)
     fputs(spec, f);
     fclose(f);
     char *log = NULL;
-    const char *args[] = {"--batch", spec_path, "--frames", "0-0", "--out", out,
-                          "--render-tile-pixels", TILE_PIXELS, NULL};
+    const char *args[] = {
+        "--batch",   spec_path, "--frames", "0-0", "--out", out, "--render-tile-pixels",
+        TILE_PIXELS, NULL};
     int rc = test_run_refractd(args, &log);
     if (rc != 0)
         fprintf(stderr, "refractd --batch: exit %d\n%s\n", rc, log ? log : "");
