@@ -24,7 +24,7 @@
  *
  * Batch mode (--batch, docs/slurm.md) starts the same way up to the irradiance cache and
  * the --scene-dir scenes, renders its frames on the main thread (job_batch_run; SIGINT and
- * SIGTERM stop it after the frame in flight) and shuts down from step 2, with no HTTP,
+ * SIGTERM stop it before the next tile) and shuts down from step 2, with no HTTP,
  * views or job runner. Without --data-dir it uses a private temporary data directory,
  * removed at exit.
  */
@@ -326,7 +326,7 @@ static int run(const struct config *cfg)
     http_server_quiesce(http);
     http_reference_cancel_all();   /* reference renders answer at once (CPU, not the queue) */
     view_registry_stop(views);     /* sessions end, frames in flight finish on the GPU */
-    job_runner_stop(jobs);         /* the frame in flight finishes; jobs resume next start */
+    job_runner_stop(jobs);         /* drops the frame in flight at a tile; jobs resume next start */
     http_server_end_streams(http); /* no stream may keep its connection suspended */
     gpu_stop(gpu, &final);         /* resumed requests still read gpu_info: free it after HTTP */
     if (!http_server_wait_idle(http, 3000))

@@ -58,6 +58,9 @@ struct gpu_work {
      * its connection while the item was queued). Called on the GPU thread before every
      * turn; such an item is not run, and done gets REFRACT_E_TIMEOUT. */
     bool (*abandoned)(struct gpu_work *w);
+    /* The log's reason when abandoned said true (NULL: "its client closed the
+     * connection"). */
+    const char *abandoned_why;
     /* Set by run (it starts each turn false) to ask for another turn: the item goes to
      * the back of its priority's line instead of done being called. An error ends it. */
     bool again;

@@ -193,6 +193,14 @@ static bool stopping(const struct job_batch_desc *d)
     return d->stop && d->stop(d->stop_user);
 }
 
+/* Before each tile: a task told to stop drops the frame it is drawing (a large frame's
+ * tiles could outlast the scheduler's grace time); its requeued run draws it again. */
+static bool batch_abandoned(struct gpu_work *w)
+{
+    const struct batch_work *b = w->user;
+    return stopping(b->d);
+}
+
 static void sleep_ms(int ms)
 {
     struct timespec ts = {.tv_sec = ms / 1000, .tv_nsec = (long)(ms % 1000) * 1000000L};
@@ -238,6 +246,8 @@ static enum refract_code render_frame(const struct job_batch_desc *d, struct sto
         b.work = (struct gpu_work){.priority = GPU_PRIORITY_BATCH,
                                    .label = "batch frame",
                                    .run = batch_frame_run,
+                                   .abandoned = batch_abandoned,
+                                   .abandoned_why = "the task was told to stop",
                                    .user = &b};
         rc = gpu_run_sync(d->gpu, &b.work);
         bool unlit = rc == REFRACT_E_OK && b.irradiance &&

@@ -57,7 +57,9 @@ struct job_runner {
     struct render_light lights[SCENE_MAX_LIGHTS];
     struct render_view_result result;
     const char *irradiance;
-    struct render_tiles tiles; /* the frame's tile loop (GPU thread) */
+    struct render_tiles tiles;    /* the frame's tile loop (GPU thread) */
+    char frame_job[STORE_ID_MAX]; /* whose frame it is */
+    int frame_n;                  /* and which */
 };
 
 static bool finished_state(const char *state)
@@ -225,6 +227,20 @@ static void frame_run(struct gpu_work *w, struct gpu *gpu)
         w->again = more;
 }
 
+/* Before each tile: nobody wants the frame any more when its job was cancelled or deleted,
+ * or refractd is stopping (job_runner_stop waits for the frame in flight: one tile, not a
+ * whole large frame). The frame is dropped; a stopped job resumes at that frame at its next start. */
+static bool frame_abandoned(struct gpu_work *w)
+{
+    struct job_runner *r = w->user;
+    pthread_mutex_lock(&r->lock);
+    const struct job *j = find_locked(r, r->frame_job, NULL);
+    bool gone =
+        r->stop || j == NULL || finished_state(j->st.state) || j->st.frames_done != r->frame_n;
+    pthread_mutex_unlock(&r->lock);
+    return gone;
+}
+
 static void frame_done(struct gpu_work *w)
 {
     struct job_runner *r = w->user;
@@ -294,6 +310,10 @@ static enum frame_outcome run_frame(struct job_runner *r, const char *id, const 
     r->work.label = "job frame";
     r->work.run = frame_run;
     r->work.done = frame_done;
+    r->work.abandoned = frame_abandoned;
+    r->work.abandoned_why = "its job was cancelled, or refractd is stopping";
+    snprintf(r->frame_job, sizeof r->frame_job, "%s", id);
+    r->frame_n = n;
     r->work.user = r;
     r->work_done = false;
     struct err e = {0};

@@ -129,7 +129,8 @@ struct job_runner;
 /* Loads the jobs of the data directory (unfinished ones resume) and starts the runner
  * thread. NULL with e filled on failure. */
 struct job_runner *job_runner_create(const struct job_runner_desc *desc, struct err *e);
-/* Shutdown, before gpu_stop: waits for the frame in flight (if any) and stops the thread.
+/* Shutdown, before gpu_stop: waits for the tile in flight (if any; its frame is dropped)
+ * and stops the thread.
  * Unfinished jobs stay queued/running in the database and resume at the next start. A
  * second call is a no-op, as is NULL. */
 void job_runner_stop(struct job_runner *r);
@@ -199,8 +200,8 @@ struct job_batch_desc {
     const char *frames;    /* "A-B" (inclusive, 0-based) or NULL */
     const char *task;      /* "I/N": task I (0-based) of N takes its share; or NULL */
     const char *out_dir;   /* where frame_NNNNN.<ext> and progress.json go */
-    /* Polled between frames and while waiting for lights: true stops the task after the
-     * frame in flight (SIGTERM from a scheduler). NULL = never. */
+    /* Polled between frames, before each tile and while waiting for lights: true stops the
+     * task, dropping the frame in flight (SIGTERM from a scheduler). NULL = never. */
     bool (*stop)(void *user);
     void *stop_user;
 };

@@ -6,6 +6,9 @@
  *     that frame is still in progress, after about one tile of it, not after the whole
  *     frame (the tile time is measured here, from a render of the frame's size, so a loaded
  *     machine moves the bound with it);
+ *   - a job cancelled while its large frame is drawn stops drawing it within a few tiles,
+ *     and a daemon stopped meanwhile (SIGTERM) exits after about one tile of it, not after
+ *     the whole frame (the log says the frame was dropped);
  *   - the job's frame drawn in tiles is byte-equal (linear EXR) to the same job's frame
  *     from a daemon that draws it at once, and to the frame `refractd --batch` draws in
  *     tiles (the one-shot mode of Slurm array tasks, whose frames must equal a daemon's).
@@ -103,6 +106,77 @@ static void *batch_frame(const char *spec, size_t *len)
     return bytes;
 }
 
+/* A large frame: 1024 x 768 in tiles of 4 rows, 192 tiles. */
+#define LARGE_TILES 192
+static const char large_spec[] =
+    "{\"scene\": {\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+    "\"resolution\": 32, \"ior\": {\"shape\": \"sphere\", \"radius\": 0.8, \"inside\": 1.5}}]}, "
+    "\"width\": 1024, \"height\": 768, \"frames\": [{}]}";
+
+/* Polls until job is running (5 s at most). */
+static void wait_running(struct test_daemon *d, const char *job)
+{
+    for (int i = 0; i < 1000; i++) {
+        cJSON *st = job_status_get(d, job);
+        bool running = st && !strcmp(job_str(st, "state"), "running");
+        cJSON_Delete(st);
+        if (running)
+            return;
+        job_sleep_ms(5);
+    }
+}
+
+/* Lines of the daemon's log that contain needle. */
+static int log_count(const struct test_daemon *d, const char *needle)
+{
+    FILE *f = fopen(d->log_path, "r");
+    if (f == NULL)
+        return -1;
+    char line[4096];
+    int n = 0;
+    while (fgets(line, sizeof line, f))
+        n += strstr(line, needle) != NULL;
+    fclose(f);
+    return n;
+}
+
+static const char dropped[] = "job frame dropped: its job was cancelled, or refractd is stopping";
+
+/* A job cancelled mid-frame stops drawing within a few tiles; then a daemon stopped
+ * mid-frame exits after about a tile. Stops d. */
+static void cancel_and_stop_mid_frame(struct test_daemon *d, double tile_ms)
+{
+    double frame_ms = LARGE_TILES * tile_ms; /* about: the tiles are 4096 pixels, not 3840 */
+    char job[64], path[128];
+    CHECK(job_submit_json(d, large_spec, job));
+    wait_running(d, job);
+    job_sleep_ms((int)(5.0 * tile_ms) + 50);
+    snprintf(path, sizeof path, "/v1/jobs/%s", job);
+    double t0 = now_ms();
+    CHECK_INT(test_request(d, "DELETE", path, NULL, NULL), 200);
+    while (log_count(d, dropped) < 1 && now_ms() - t0 < frame_ms)
+        job_sleep_ms(5);
+    double cancel_ms = now_ms() - t0;
+    printf("a job cancelled during its %d-tile frame (about %.0f ms): the frame dropped after "
+           "%.0f ms\n",
+           LARGE_TILES, frame_ms, cancel_ms);
+    CHECK_INT(log_count(d, dropped), 1);
+    CHECK_MSG(cancel_ms < 5.0 * tile_ms + 200.0, "dropped after %.0f ms; a tile takes %.1f ms",
+              cancel_ms, tile_ms);
+
+    CHECK(job_submit_json(d, large_spec, job));
+    wait_running(d, job);
+    job_sleep_ms((int)(5.0 * tile_ms) + 50);
+    t0 = now_ms();
+    CHECK_INT(test_daemon_stop(d), 0);
+    double stop_ms = now_ms() - t0;
+    printf("a daemon stopped during a job's %d-tile frame (about %.0f ms): exited after %.0f ms\n",
+           LARGE_TILES, frame_ms, stop_ms);
+    CHECK_INT(log_count(d, dropped), 2);
+    CHECK_MSG(stop_ms < frame_ms / 2.0, "stopping took %.0f ms; the frame takes about %.0f ms",
+              stop_ms, frame_ms);
+}
+
 /* Runs the one-frame job to its end on d: frame 0's bytes (new) or NULL. */
 static void *job_frame(struct test_daemon *d, const char *job, size_t *len)
 {
@@ -133,14 +207,7 @@ int main(void)
     job_spec(spec, sizeof spec);
     CHECK(job_submit_json(&d, spec, job));
     double t_job = now_ms();
-    for (int i = 0; i < 2000; i++) {
-        cJSON *st = job_status_get(&d, job);
-        bool running = st && !strcmp(job_str(st, "state"), "running");
-        cJSON_Delete(st);
-        if (running)
-            break;
-        job_sleep_ms(5);
-    }
+    wait_running(&d, job);
     job_sleep_ms((int)(3.0 * tile_ms) + 20); /* a few of its tiles are drawn */
     double t0 = now_ms();
     CHECK_INT(render(&d, scene, small_json, &small_gpu), 200);
@@ -164,7 +231,7 @@ int main(void)
     CHECK_MSG(small_ms < big_gpu / 3.0, "the small render took %.1f ms; the whole frame %.1f ms",
               small_ms, big_gpu);
     CHECK(tiled_frame != NULL && tiled_len > 0);
-    CHECK_INT(test_daemon_stop(&d), 0);
+    cancel_and_stop_mid_frame(&d, tile_ms);
     test_daemon_cleanup(&d);
 
     /* The same job from a daemon that draws the frame at once: the same bytes. */
