@@ -64,11 +64,17 @@ static const struct option_def options[] = {
     {"header-timeout", OPT_INT, 1, 3600, "S",
      "close a connection silent for S seconds before its request's headers and body are in, "
      "or between keep-alive requests (default 10)"},
+    {"header-deadline", OPT_INT, 0, 86400, "S",
+     "close a connection whose request's headers and body (not an upload's body) are not in "
+     "S seconds after it began, however they trickle in (default 30; 0 = no deadline)"},
+    {"upload-min-rate", OPT_SIZE, 0, 1ll << 40, "BYTES",
+     "an upload's body must arrive at BYTES per second on average once --header-deadline is "
+     "spent, or it is closed and its file removed (default 1K; 0 = no minimum)"},
     {"connection-timeout", OPT_INT, 1, 86400, "S",
      "close a connection silent for S seconds while it is answered (default 300)"},
     {"render-tile-pixels", OPT_SIZE, 1, 1ll << 28, "N",
-     "pixels a render draws per GPU turn; larger renders are drawn in tiles of rows with "
-     "other work between (default 64K)"},
+     "pixels a render, view frame or job frame draws per GPU turn; larger ones are drawn in "
+     "tiles of rows with other work between (default 64K)"},
     {"max-json-bytes", OPT_SIZE, 1024, 1ll << 32, "BYTES", "JSON body limit (default 8M)"},
     {"max-upload-bytes", OPT_SIZE, 1024, 1ll << 40, "BYTES", "upload body limit (default 1G)"},
     {"max-storage-bytes", OPT_SIZE, 0, 1ll << 50, "BYTES",
@@ -152,6 +158,8 @@ void config_defaults(struct config *c)
     c->http.max_connections_per_ip = 256;
     c->http.max_queued_per_client = 64;
     c->http.header_timeout_s = 10;
+    c->http.header_deadline_s = 30;
+    c->http.upload_min_rate = 1024;
     c->http.connection_timeout_s = 300;
     c->http.render_tile_pixels = 65536;
     c->http.limits = scene_limits_default();
@@ -248,6 +256,10 @@ static void store_int(struct config *c, const char *name, long long v)
         c->http.max_queued_per_client = (int)v;
     else if (!strcmp(name, "header-timeout"))
         c->http.header_timeout_s = (int)v;
+    else if (!strcmp(name, "header-deadline"))
+        c->http.header_deadline_s = (int)v;
+    else if (!strcmp(name, "upload-min-rate"))
+        c->http.upload_min_rate = v;
     else if (!strcmp(name, "connection-timeout"))
         c->http.connection_timeout_s = (int)v;
     else if (!strcmp(name, "render-tile-pixels"))

@@ -24,7 +24,7 @@
  *
  * Batch mode (--batch, docs/slurm.md) starts the same way up to the irradiance cache and
  * the --scene-dir scenes, renders its frames on the main thread (job_batch_run; SIGINT and
- * SIGTERM stop it after the frame in flight) and shuts down from step 2, with no HTTP,
+ * SIGTERM stop it before the next tile) and shuts down from step 2, with no HTTP,
  * views or job runner. Without --data-dir it uses a private temporary data directory,
  * removed at exit.
  */
@@ -169,6 +169,7 @@ static int run_batch(const struct config *cfg, struct gpu *gpu, struct render *r
                                   .limits = {.max_frames = cfg->max_job_frames,
                                              .max_image_dim = cfg->http.limits.max_image_dim,
                                              .max_image_pixels = cfg->http.max_image_pixels},
+                                  .tile_pixels = cfg->http.render_tile_pixels,
                                   .spec_path = cfg->batch,
                                   .frames = cfg->batch_frames[0] ? cfg->batch_frames : NULL,
                                   .task = cfg->batch_task[0] ? cfg->batch_task : NULL,
@@ -281,7 +282,8 @@ static int run(const struct config *cfg)
                                     .events = events,
                                     .limits = {.max_frames = cfg->max_job_frames,
                                                .max_image_dim = cfg->http.limits.max_image_dim,
-                                               .max_image_pixels = cfg->http.max_image_pixels}};
+                                               .max_image_pixels = cfg->http.max_image_pixels},
+                                    .tile_pixels = cfg->http.render_tile_pixels};
     struct job_runner *jobs = job_runner_create(&jdesc, &e);
     if (jobs == NULL) {
         log_error("main", "batch jobs: %s", e.msg);
@@ -324,7 +326,7 @@ static int run(const struct config *cfg)
     http_server_quiesce(http);
     http_reference_cancel_all();   /* reference renders answer at once (CPU, not the queue) */
     view_registry_stop(views);     /* sessions end, frames in flight finish on the GPU */
-    job_runner_stop(jobs);         /* the frame in flight finishes; jobs resume next start */
+    job_runner_stop(jobs);         /* drops the frame in flight at a tile; jobs resume next start */
     http_server_end_streams(http); /* no stream may keep its connection suspended */
     gpu_stop(gpu, &final);         /* resumed requests still read gpu_info: free it after HTTP */
     if (!http_server_wait_idle(http, 3000))

@@ -115,9 +115,9 @@ static void execute(struct gpu *g, struct gpu_work *w)
                 "(queue length %zu), retry later or raise --request-timeout-ms",
                 label, (long long)(gpu_now_ms() - w->queued_ms), gpu_queue_length(g));
     } else if (w->abandoned != NULL && w->abandoned(w)) {
-        log_info("gpu", "%s dropped: its client closed the connection", label);
-        err_set(&w->err, REFRACT_E_TIMEOUT,
-                "%s dropped: its client closed the connection before it was done", label);
+        const char *why = w->abandoned_why ? w->abandoned_why : "its client closed the connection";
+        log_info("gpu", "%s dropped: %s", label, why);
+        err_set(&w->err, REFRACT_E_TIMEOUT, "%s dropped before it was done: %s", label, why);
     } else {
         double t0 = gpu_time_ms();
         w->run(w, g);
@@ -294,8 +294,16 @@ struct sync_work {
 static void sync_run(struct gpu_work *w, struct gpu *g)
 {
     struct sync_work *s = w->user;
+    s->user_work->again = false;
     s->user_work->run(s->user_work, g);
     w->err = s->user_work->err;
+    w->again = s->user_work->again; /* another turn (a frame's next tile) */
+}
+
+static bool sync_abandoned(struct gpu_work *w)
+{
+    struct sync_work *s = w->user;
+    return s->user_work->abandoned != NULL && s->user_work->abandoned(s->user_work);
 }
 
 static void sync_done(struct gpu_work *w)
@@ -317,7 +325,9 @@ enum refract_code gpu_run_sync(struct gpu *g, struct gpu_work *w)
                   .deadline_ms = w->deadline_ms,
                   .label = w->label,
                   .run = sync_run,
-                  .done = sync_done},
+                  .done = sync_done,
+                  .abandoned = w->abandoned ? sync_abandoned : NULL,
+                  .abandoned_why = w->abandoned_why},
         .user_work = w,
     };
     s.proxy.user = &s;

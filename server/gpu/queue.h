@@ -58,6 +58,9 @@ struct gpu_work {
      * its connection while the item was queued). Called on the GPU thread before every
      * turn; such an item is not run, and done gets REFRACT_E_TIMEOUT. */
     bool (*abandoned)(struct gpu_work *w);
+    /* The log's reason when abandoned said true (NULL: "its client closed the
+     * connection"). */
+    const char *abandoned_why;
     /* Set by run (it starts each turn false) to ask for another turn: the item goes to
      * the back of its priority's line instead of done being called. An error ends it. */
     bool again;
@@ -97,7 +100,9 @@ void gpu_destroy(struct gpu *g, struct gpu_work *final);
 enum refract_code gpu_submit(struct gpu *g, struct gpu_work *w, struct err *e);
 
 /* Queues w and waits until its done has been called; returns w->err.code. w->done may
- * be NULL. For tests, benchmarks and start-up; never call it from the GPU thread. */
+ * be NULL; w->again is honoured (w takes turns until it asks for none: `refractd --batch`
+ * draws its frames in tiles this way). For tests, benchmarks, start-up and the one-shot
+ * batch mode; never call it from the GPU thread. */
 enum refract_code gpu_run_sync(struct gpu *g, struct gpu_work *w);
 
 /* Borrowed; valid for the gpu's lifetime. */

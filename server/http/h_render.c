@@ -12,10 +12,11 @@
  * computed. It never waits for a recompute; X-Refract-Irradiance says what it used.
  *
  * A render larger than --render-tile-pixels is drawn in tiles of whole rows, one per turn
- * of its GPU work item (gpu_work.again), so that work queued behind it runs between its
- * tiles: a small render waits for one tile, not for the whole large one. The tiles equal
- * a render made at once (render_view_rows). Before each turn the queue drops the render
- * when its client has gone, or when its deadline (--request-timeout-ms) has passed.
+ * of its GPU work item (render_tiles.h, shared with view frames and job frames), so that
+ * work queued behind it runs between its tiles: a small render waits for one tile, not for
+ * the whole large one. The tiles equal a render made at once. Before each turn the queue
+ * drops the render when its client has gone, or when its deadline (--request-timeout-ms)
+ * has passed.
  * Renders drawn in tiles are in progress together, each holding its whole image, so
  * together they may hold at most --max-image-pixels pixels: one that does not fit waits
  * (its turns pass without drawing) until renders in progress finish. One always fits.
@@ -27,9 +28,9 @@
 #include <string.h>
 
 #include "../cache/irradiance_cache.h"
-#include "../core/metrics.h"
 #include "../core/ray_status.h"
 #include "../io/io_image.h"
+#include "../request/render_tiles.h"
 #include "http_internal.h"
 
 /* ---- render ---------------------------------------------------------------------------- */
@@ -39,15 +40,9 @@ struct render_job {
     struct http_render_request request;
     struct render_view_result result;
     struct render_light lights[SCENE_MAX_LIGHTS];
-    const char *irradiance; /* X-Refract-Irradiance: ready|stale|missing|not-needed */
-    /* Tiles (GPU thread): the next row to draw, rows per tile, and the irradiance the
-     * first tile used, which every later tile must use too. */
-    int next_row, tile_rows;
-    const struct irradiance_gpu *volumes[SCENE_MAX_LIGHTS];
-    int volume_count;
-    int restarts;
-    long long pixels_held; /* counted in tiled_pixels while drawing */
-    double render_ms;      /* the tiles' render time, for /metrics once all are drawn */
+    const char *irradiance;    /* X-Refract-Irradiance: ready|stale|missing|not-needed */
+    struct render_tiles tiles; /* GPU thread: the tile loop (render_tiles.h) */
+    long long pixels_held;     /* counted in tiled_pixels while drawing */
 };
 
 /* Pixels of the tiled renders in progress (begun, not finished), every client's. */
@@ -66,7 +61,7 @@ static bool take_pixels(struct render_job *job, long long limit)
 {
     const struct scene_camera *cam = &job->request.view.camera;
     long long pixels = (long long)cam->width * cam->height;
-    if (job->tile_rows >= cam->height)
+    if (render_tiles_at_once(&job->tiles))
         return true; /* one turn: drawn at once, like any small render */
     long long held = atomic_load(&tiled_pixels);
     if (held > 0 && held + pixels > limit)
@@ -91,48 +86,20 @@ static void render_run(struct gpu_work *w, struct gpu *gpu)
     (void)gpu;
     struct http_request *req = w->user;
     struct render_job *job = req->job;
-    const struct scene_camera *cam = &job->request.view.camera;
-    int height = cam->height;
-    int row0 = job->next_row;
-    /* Made on the first turn, not when queued: a render waiting in line holds no image. */
+    /* The image is made on the first turn, not when queued: a render waiting in line holds
+     * none. */
     if (job->result.rgba == NULL && !take_pixels(job, req->cfg->max_image_pixels)) {
         w->again = true; /* no room: let the renders in progress go on */
         return;
     }
-    if (job->result.rgba == NULL) {
-        job->result.rgba = malloc((size_t)cam->width * (size_t)height * 4 * sizeof(float));
-        if (job->result.rgba == NULL) {
-            err_set(&w->err, REFRACT_E_OUT_OF_MEMORY,
-                    "out of memory for a %dx%d image; render smaller", cam->width, height);
-            return;
-        }
-    }
-    int rows = height - row0 < job->tile_rows ? height - row0 : job->tile_rows;
-    double t0 = gpu_time_ms();
-    if (render_request_version_rows(req->app->render, req->app->irradiance, req->app->store,
-                                    job->version, &job->request.view, job->lights, row0, rows,
-                                    &job->result, &job->irradiance, &w->err) != REFRACT_E_OK)
+    bool more = false;
+    if (render_tiles_step(&job->tiles, req->app->render, req->app->irradiance, req->app->store,
+                          job->version, &job->request.view, job->lights, &job->result,
+                          &job->irradiance, &more, &w->err) != REFRACT_E_OK)
         return;
-    job->render_ms += gpu_time_ms() - t0;
-    /* A picture lit by two states of the irradiance would be wrong everywhere the tiles
-     * meet: start again (a few times at most; a light changing faster than that is
-     * rendered with what it has, as the next render would be). */
-    if (render_request_volumes_changed(&job->request.view, row0, job->volumes,
-                                       &job->volume_count) &&
-        job->restarts < 3) {
-        job->restarts++;
-        job->next_row = 0;
-        job->result.gpu_ms = 0.0;
-        job->render_ms = 0.0;
-        w->again = true;
-        return;
-    }
-    job->next_row = row0 + rows;
-    w->again = job->next_row < height;
-    if (!w->again) {
+    w->again = more;
+    if (!more)
         release_pixels(job);
-        metrics_render(job->render_ms * 1e-3); /* GET /metrics: one render, all its tiles */
-    }
 }
 
 static enum refract_code encode(const struct render_job *job, void **bytes, size_t *len,
@@ -209,8 +176,7 @@ enum MHD_Result http_handle_render(struct http_request *req)
                                   &e) != REFRACT_E_OK)
         return http_respond_err(req, &e);
     const struct scene_camera *cam = &job->request.view.camera;
-    long long tile_rows = req->cfg->render_tile_pixels / cam->width;
-    job->tile_rows = tile_rows < 1 ? 1 : tile_rows > cam->height ? cam->height : (int)tile_rows;
+    render_tiles_init(&job->tiles, req->cfg->render_tile_pixels, cam->width, cam->height);
     struct irradiance_source isrc;
     render_request_irradiance_source(v, &isrc);
     irradiance_cache_request(req->app->irradiance, &isrc, false);

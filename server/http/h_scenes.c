@@ -55,6 +55,19 @@ enum MHD_Result http_handle_health(struct http_request *req)
     cJSON_AddNumberToObject(lim, "max_json_bytes", (double)c->max_json_bytes);
     cJSON_AddNumberToObject(lim, "max_upload_bytes", (double)c->max_upload_bytes);
     cJSON_AddNumberToObject(lim, "request_timeout_ms", c->request_timeout_ms);
+    /* docs/api.md "Fair sharing", as in force (--max-connections may have been lowered to
+     * fit the descriptor limit at start). */
+    cJSON *fair = cJSON_AddObjectToObject(root, "fair_sharing");
+    cJSON_AddNumberToObject(fair, "max_connections", c->max_connections);
+    cJSON_AddNumberToObject(fair, "max_connections_per_ip", c->max_connections_per_ip);
+    cJSON_AddNumberToObject(fair, "max_queued_per_client", c->max_queued_per_client);
+    cJSON_AddNumberToObject(fair, "header_timeout_s", c->header_timeout_s);
+    cJSON_AddNumberToObject(fair, "header_deadline_s", c->header_deadline_s);
+    cJSON_AddNumberToObject(fair, "upload_min_rate", (double)c->upload_min_rate);
+    cJSON_AddNumberToObject(fair, "connection_timeout_s", c->connection_timeout_s);
+    cJSON_AddNumberToObject(fair, "render_tile_pixels", (double)c->render_tile_pixels);
+    cJSON_AddNumberToObject(fair, "max_image_pixels", (double)c->max_image_pixels);
+    cJSON_AddNumberToObject(fair, "request_timeout_ms", c->request_timeout_ms);
     const struct irradiance_cache_desc *ic = irradiance_cache_settings(req->app->irradiance);
     struct irradiance_cache_counters k;
     irradiance_cache_counters(req->app->irradiance, &k);

@@ -44,6 +44,11 @@ struct http_config {
                                      on the GPU; 0 = no limit (429) */
     int header_timeout_s;         /* idle seconds allowed before a request's headers and
                                      body are in (and between keep-alive requests); 0 = 10 */
+    int header_deadline_s;        /* seconds a request's headers and body (not an upload's
+                                     body) may take to arrive in all, however they trickle;
+                                     0 = no deadline (server/http/deadline.h) */
+    long long upload_min_rate;    /* bytes per second an upload's body must average once
+                                     header_deadline_s is spent; 0 = none */
     int connection_timeout_s;     /* idle seconds allowed while answering; 0 = 300 */
     long long render_tile_pixels; /* pixels a render draws per GPU turn: larger renders are
                                      drawn in tiles of rows, other work between; 0 = 65536 */

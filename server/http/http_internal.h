@@ -15,6 +15,7 @@
 #include "../request/render_request.h"
 #include "../core/sha256.h"
 #include "clients.h"
+#include "deadline.h"
 #include "http.h"
 
 #define HTTP_MAX_PARAMS 3
@@ -85,6 +86,8 @@ struct http_request {
     const struct http_client_key *client;
     bool gpu_counted;
     int client_fd;
+    /* The connection's --header-deadline entry (deadline.h; NULL: not tracked). */
+    struct http_deadline_entry *deadline;
     struct http_sse *sse;      /* the server's event streams (h_events.c) */
 };
 

@@ -20,9 +20,12 @@
  * connections only past a margin above --max-connections. A connection that has not sent
  * its headers and body gets --header-timeout seconds of silence, one that is being
  * answered --connection-timeout, and an idle keep-alive connection the short one again:
- * half-sent requests cannot hold connections for long. A request waiting for the GPU is
- * suspended and notices nothing, so its work item polls the socket before each turn and
- * is dropped once the client has gone (client_gone).
+ * half-sent requests cannot hold connections for long. A client that is never silent for
+ * long but sends its request a byte at a time is closed when the request is not in after
+ * --header-deadline seconds, an upload whose body falls below --upload-min-rate bytes per
+ * second once that time is spent (deadline.h). A request
+ * waiting for the GPU is suspended and notices nothing, so its work item polls the socket
+ * before each turn and is dropped once the client has gone (client_gone).
  */
 #define _GNU_SOURCE /* POLLRDHUP */
 #include <arpa/inet.h>
@@ -41,6 +44,7 @@
 #include "../core/log.h"
 #include "../core/metrics.h"
 #include "access.h"
+#include "deadline.h"
 #include "http_internal.h"
 #include "routes.h"
 #include "stream.h"
@@ -55,6 +59,7 @@ struct http_server {
     atomic_bool closing;        /* http_server_quiesce: new requests get 503 shutting_down */
     struct http_stream_set *streams;
     struct http_clients *clients; /* connections and GPU requests per client */
+    struct http_deadlines *deadlines; /* --header-deadline (deadline.h); NULL = none */
 };
 
 /* What the server knows of one connection (libmicrohttpd's socket context): its client
@@ -63,6 +68,7 @@ struct http_conn_state {
     struct http_client_key key;
     int client_connections, total; /* counts when it opened, itself included */
     bool over_total, over_client;
+    struct http_deadline_entry deadline; /* --header-deadline: armed until a request is in */
 };
 
 static void set_timeout(struct MHD_Connection *conn, int seconds)
@@ -79,6 +85,8 @@ static void on_connection(void *cls, struct MHD_Connection *conn, void **socket_
     struct http_conn_state *cs = *socket_context;
     if (toe == MHD_CONNECTION_NOTIFY_CLOSED) {
         if (cs != NULL) {
+            /* Before libmicrohttpd closes the socket: the reaper must not touch it after. */
+            http_deadlines_remove(srv->deadlines, &cs->deadline);
             http_clients_disconnect(srv->clients, &cs->key);
             free(cs);
         }
@@ -97,6 +105,10 @@ static void on_connection(void *cls, struct MHD_Connection *conn, void **socket_
                       cs->client_connections > srv->cfg.max_connections_per_ip;
     *socket_context = cs;
     set_timeout(conn, cs->over_total || cs->over_client ? 1 : srv->cfg.header_timeout_s);
+    const union MHD_ConnectionInfo *fd_info =
+        MHD_get_connection_info(conn, MHD_CONNECTION_INFO_CONNECTION_FD);
+    if (fd_info != NULL)
+        http_deadlines_add(srv->deadlines, &cs->deadline, fd_info->connect_fd, cs->key.ip);
 }
 
 static struct http_conn_state *conn_state(struct MHD_Connection *conn)
@@ -104,6 +116,12 @@ static struct http_conn_state *conn_state(struct MHD_Connection *conn)
     const union MHD_ConnectionInfo *info =
         MHD_get_connection_info(conn, MHD_CONNECTION_INFO_SOCKET_CONTEXT);
     return info ? info->socket_context : NULL;
+}
+
+/* The server's --header-deadline list, for a request whose connection has an entry. */
+static struct http_deadlines *deadlines_of(const struct http_request *req)
+{
+    return req->deadline ? ((const struct http_server *)req->server)->deadlines : NULL;
 }
 
 struct http_stream_set *http_server_streams(const struct http_server *srv)
@@ -152,10 +170,14 @@ static void on_completed(void *cls, struct MHD_Connection *conn, void **con_cls,
     struct http_request *req = *con_cls;
     if (req == NULL)
         return;
-    if (toe != MHD_REQUEST_TERMINATED_COMPLETED_OK)
+    if (toe != MHD_REQUEST_TERMINATED_COMPLETED_OK) {
         log_debug("http", "request ended early (code %d)", (int)toe);
-    else
+    } else {
         set_timeout(conn, srv->cfg.header_timeout_s); /* keep-alive: waits for headers */
+        struct http_conn_state *cs = conn_state(conn);
+        if (cs != NULL) /* and the next request has --header-deadline to arrive */
+            http_deadlines_arm(srv->deadlines, &cs->deadline);
+    }
     metrics_http_request(http_route_index(req->route), req->status,
                          (gpu_time_ms() - req->started_ms) * 1e-3);
     request_free(req);
@@ -199,6 +221,7 @@ static struct http_request *request_begin(struct http_server *srv, struct MHD_Co
     struct http_conn_state *cs = conn_state(conn);
     static const struct http_client_key unknown = {.ip = "unknown"};
     req->client = cs ? &cs->key : &unknown;
+    req->deadline = cs ? &cs->deadline : NULL;
     bool path_known = false;
     req->route = http_route_find(method, url, req->params, &req->param_count, &path_known);
     if (req->route)
@@ -291,6 +314,7 @@ static bool body_append(struct http_request *req, const char *data, size_t size)
     if (req->route->body == HTTP_BODY_UPLOAD) {
         upload_append(req, data, size);
         req->body_len += size;
+        http_deadlines_received(deadlines_of(req), req->deadline, size);
         return true;
     }
     if (req->body_len + size + 1 > req->body_cap) {
@@ -389,6 +413,42 @@ static bool answer_access(struct http_request *req, const char *method, enum MHD
     return true;
 }
 
+/* The first call (the headers are in): state, route, the checks that need no body. */
+static enum MHD_Result request_start(struct http_server *srv, struct MHD_Connection *conn,
+                                     const char *url, const char *method, void **con_cls)
+{
+    struct http_request *req = request_begin(srv, conn, url, method);
+    if (req == NULL)
+        return MHD_NO;
+    *con_cls = req;
+    if (atomic_load(&srv->closing))
+        return http_respond_error(req, REFRACT_E_SHUTTING_DOWN,
+                                  "refractd is shutting down; retry %s %s once it is back", method,
+                                  url);
+    enum MHD_Result answer;
+    if (answer_over_limit(req, &answer))
+        return answer;
+    if (answer_access(req, method, &answer))
+        return answer;
+    if (req->route == NULL)
+        return answer_no_route(req, url, method);
+    if (req->route->body == HTTP_BODY_JSON) {
+        const char *type =
+            MHD_lookup_connection_value(conn, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_TYPE);
+        if (!http_access_json_type(type)) {
+            char message[ERR_MSG_MAX];
+            http_access_type_message(method, req->route->pattern, type, message, sizeof message);
+            return http_respond_error(req, REFRACT_E_UNSUPPORTED_MEDIA_TYPE, "%s", message);
+        }
+    }
+    const char *cl =
+        MHD_lookup_connection_value(conn, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_LENGTH);
+    unsigned long long announced = cl ? strtoull(cl, NULL, 10) : 0;
+    if (req->route->body != HTTP_BODY_NONE && announced > req->body_limit)
+        return answer_too_large(req, announced);
+    return MHD_YES;
+}
+
 static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, const char *url,
                                       const char *method, const char *version,
                                       const char *upload_data, size_t *upload_data_size,
@@ -398,37 +458,15 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
     struct http_server *srv = cls;
     struct http_request *req = *con_cls;
     if (req == NULL) {
-        req = request_begin(srv, conn, url, method);
-        if (req == NULL)
-            return MHD_NO;
-        *con_cls = req;
-        if (atomic_load(&srv->closing))
-            return http_respond_error(req, REFRACT_E_SHUTTING_DOWN,
-                                      "refractd is shutting down; retry %s %s once it is back",
-                                      method, url);
-        enum MHD_Result answer;
-        if (answer_over_limit(req, &answer))
-            return answer;
-        if (answer_access(req, method, &answer))
-            return answer;
-        if (req->route == NULL)
-            return answer_no_route(req, url, method);
-        if (req->route->body == HTTP_BODY_JSON) {
-            const char *type = MHD_lookup_connection_value(conn, MHD_HEADER_KIND,
-                                                           MHD_HTTP_HEADER_CONTENT_TYPE);
-            if (!http_access_json_type(type)) {
-                char message[ERR_MSG_MAX];
-                http_access_type_message(method, req->route->pattern, type, message,
-                                         sizeof message);
-                return http_respond_error(req, REFRACT_E_UNSUPPORTED_MEDIA_TYPE, "%s", message);
-            }
-        }
-        const char *cl =
-            MHD_lookup_connection_value(conn, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_LENGTH);
-        unsigned long long announced = cl ? strtoull(cl, NULL, 10) : 0;
-        if (req->route->body != HTTP_BODY_NONE && announced > req->body_limit)
-            return answer_too_large(req, announced);
-        return MHD_YES;
+        enum MHD_Result answer = request_start(srv, conn, url, method, con_cls);
+        req = *con_cls;
+        /* An upload's body streams to a file and may be large: from its headers on it is
+         * held to --upload-min-rate instead of --header-deadline (deadline.h). The body of
+         * a request answered early (drained), and any other body, stay under the deadline. */
+        if (req != NULL && req->route != NULL && req->route->body == HTTP_BODY_UPLOAD &&
+            req->phase != HTTP_PHASE_ANSWERED)
+            http_deadlines_upload(deadlines_of(req), req->deadline);
+        return answer;
     }
     if (req->phase == HTTP_PHASE_ANSWERED) {
         *upload_data_size = 0; /* answered early (404, 413): drain */
@@ -445,6 +483,7 @@ static enum MHD_Result access_handler(void *cls, struct MHD_Connection *conn, co
         return req->on_resume(req);
     /* Headers and body are in: from now on the connection is being answered. */
     set_timeout(req->conn, req->cfg->connection_timeout_s);
+    http_deadlines_disarm(deadlines_of(req), req->deadline); /* the request is in */
     if (req->body_too_large)
         return answer_too_large(req, 0);
     if (req->route->body == HTTP_BODY_UPLOAD) {
@@ -681,6 +720,14 @@ struct http_server *http_server_start(const struct http_config *cfg, const struc
         tls[1] = (struct MHD_OptionItem){MHD_OPTION_HTTPS_MEM_KEY, 0,
                                          (void *)srv->cfg.tls_key_pem};
     }
+    srv->deadlines = http_deadlines_create(srv->cfg.header_deadline_s, srv->cfg.upload_min_rate, e);
+    if (srv->deadlines == NULL && srv->cfg.header_deadline_s > 0) {
+        http_sse_destroy(srv->sse);
+        http_stream_set_destroy(srv->streams);
+        http_clients_destroy(srv->clients);
+        free(srv);
+        return NULL;
+    }
     srv->daemon = MHD_start_daemon(
         flags, 0, NULL, NULL, access_handler, srv, MHD_OPTION_EXTERNAL_LOGGER, mhd_log, srv,
         MHD_OPTION_SOCK_ADDR, &addr, MHD_OPTION_THREAD_POOL_SIZE, (unsigned)srv->cfg.threads,
@@ -701,6 +748,7 @@ struct http_server *http_server_start(const struct http_config *cfg, const struc
                     "cannot listen on %s:%d (is the port taken by another process? pick another "
                     "with --port, or --port 0 for any free port)",
                     srv->cfg.bind_address, cfg->port);
+        http_deadlines_destroy(srv->deadlines);
         http_sse_destroy(srv->sse);
         http_stream_set_destroy(srv->streams);
         http_clients_destroy(srv->clients);
@@ -750,6 +798,7 @@ void http_server_stop(struct http_server *s)
     if (s == NULL)
         return;
     MHD_stop_daemon(s->daemon);
+    http_deadlines_destroy(s->deadlines); /* after the daemon: every entry unlisted */
     http_sse_destroy(s->sse); /* after the daemon: no handler opens a stream any more */
     http_stream_set_destroy(s->streams);
     http_clients_destroy(s->clients); /* after the daemon: every connection closed */

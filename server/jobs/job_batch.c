@@ -6,11 +6,12 @@
  * copies of refractd, each with its own GPU context and a private data directory, each
  * given its share of the job's frames. The specification is the one POST /v1/jobs takes,
  * expanded by the same job_spec_expand, and every frame goes through the runner's own path
- * (job_frame.c, render_request_version), so a task's frame is byte-identical to the same
- * frame of a daemon's job. What makes each frame exist exactly once is the shared output
- * directory (job_batch_dir.c): a frame file appears only by rename, complete; a task skips
- * the frames it finds there, so a requeued task renders only what its killed run had not
- * finished. Progress lives in that directory too (progress.json).
+ * (job_frame.c, drawn in tiles by render_tiles.h like the daemon's), so a task's frame is
+ * byte-identical to the same frame of a daemon's job. What makes each frame exist exactly
+ * once is the shared output directory (job_batch_dir.c): a frame file appears only by
+ * rename, complete; a task skips the frames it finds there, so a requeued task renders
+ * only what its killed run had not finished. Progress lives in that directory too
+ * (progress.json).
  *
  * The caller's thread runs the loop and waits for each frame (gpu_run_sync); lights are
  * waited for by polling the irradiance cache every JOB_BATCH_RETRY_MS, as the runner does.
@@ -28,6 +29,7 @@
 #include "../gpu/queue.h"
 #include "../render/render.h"
 #include "../request/render_request.h"
+#include "../request/render_tiles.h"
 #include "../scene/json_read.h"
 #include "jobs.h"
 
@@ -172,19 +174,31 @@ struct batch_work {
     struct render_light lights[SCENE_MAX_LIGHTS];
     struct render_view_result result;
     const char *irradiance;
+    struct render_tiles tiles;
 };
 
 static void batch_frame_run(struct gpu_work *w, struct gpu *gpu)
 {
     (void)gpu;
     struct batch_work *b = w->user;
-    render_request_version(b->d->render, b->d->irradiance, b->d->store, b->version, &b->request,
-                           b->lights, &b->result, &b->irradiance, &w->err);
+    bool more = false;
+    if (render_tiles_step(&b->tiles, b->d->render, b->d->irradiance, b->d->store, b->version,
+                          &b->request, b->lights, &b->result, &b->irradiance, &more,
+                          &w->err) == REFRACT_E_OK)
+        w->again = more;
 }
 
 static bool stopping(const struct job_batch_desc *d)
 {
     return d->stop && d->stop(d->stop_user);
+}
+
+/* Before each tile: a task told to stop drops the frame it is drawing (a large frame's
+ * tiles could outlast the scheduler's grace time); its requeued run draws it again. */
+static bool batch_abandoned(struct gpu_work *w)
+{
+    const struct batch_work *b = w->user;
+    return stopping(b->d);
 }
 
 static void sleep_ms(int ms)
@@ -228,9 +242,12 @@ static enum refract_code render_frame(const struct job_batch_desc *d, struct sto
         b.request.camera = f->camera;
         b.request.settings = v->scene->render;
         b.irradiance = NULL;
+        render_tiles_init(&b.tiles, d->tile_pixels, f->camera.width, f->camera.height);
         b.work = (struct gpu_work){.priority = GPU_PRIORITY_BATCH,
                                    .label = "batch frame",
                                    .run = batch_frame_run,
+                                   .abandoned = batch_abandoned,
+                                   .abandoned_why = "the task was told to stop",
                                    .user = &b};
         rc = gpu_run_sync(d->gpu, &b.work);
         bool unlit = rc == REFRACT_E_OK && b.irradiance &&
@@ -241,6 +258,7 @@ static enum refract_code render_frame(const struct job_batch_desc *d, struct sto
             continue;
         }
         if (rc != REFRACT_E_OK) {
+            free(b.result.rgba); /* a tile failed: the rows before it are of no use */
             rc = err_set(e, rc, "frame %d: %s", n, b.work.err.msg);
             break;
         }

@@ -25,6 +25,7 @@
 #include "../render/render.h"
 #include "../scene/json_read.h"
 #include "../request/render_request.h"
+#include "../request/render_tiles.h"
 #include "jobs.h"
 
 /* How long a frame whose lights are not simulated yet waits before it is tried again. */
@@ -56,6 +57,9 @@ struct job_runner {
     struct render_light lights[SCENE_MAX_LIGHTS];
     struct render_view_result result;
     const char *irradiance;
+    struct render_tiles tiles;    /* the frame's tile loop (GPU thread) */
+    char frame_job[STORE_ID_MAX]; /* whose frame it is */
+    int frame_n;                  /* and which */
 };
 
 static bool finished_state(const char *state)
@@ -209,12 +213,32 @@ static void set_state(struct job_runner *r, const char *id, const char *state, c
 
 /* ---- one frame ------------------------------------------------------------------------- */
 
+/* One tile per turn; another turn until every row is drawn. Between two turns the GPU
+ * thread runs what is queued above batch work, so a render asked for meanwhile waits for
+ * one tile of the frame at most. */
 static void frame_run(struct gpu_work *w, struct gpu *gpu)
 {
     (void)gpu;
     struct job_runner *r = w->user;
-    render_request_version(r->d.render, r->d.irradiance, r->d.store, r->version, &r->request,
-                           r->lights, &r->result, &r->irradiance, &w->err);
+    bool more = false;
+    if (render_tiles_step(&r->tiles, r->d.render, r->d.irradiance, r->d.store, r->version,
+                          &r->request, r->lights, &r->result, &r->irradiance, &more,
+                          &w->err) == REFRACT_E_OK)
+        w->again = more;
+}
+
+/* Before each tile: nobody wants the frame any more when its job was cancelled or deleted,
+ * or refractd is stopping (job_runner_stop waits for the frame in flight: one tile, not a
+ * whole large frame). The frame is dropped; a stopped job resumes at that frame at its next start. */
+static bool frame_abandoned(struct gpu_work *w)
+{
+    struct job_runner *r = w->user;
+    pthread_mutex_lock(&r->lock);
+    const struct job *j = find_locked(r, r->frame_job, NULL);
+    bool gone =
+        r->stop || j == NULL || finished_state(j->st.state) || j->st.frames_done != r->frame_n;
+    pthread_mutex_unlock(&r->lock);
+    return gone;
 }
 
 static void frame_done(struct gpu_work *w)
@@ -280,11 +304,16 @@ static enum frame_outcome run_frame(struct job_runner *r, const char *id, const 
     r->request.camera = f->camera;
     r->request.settings = v->scene->render;
     r->irradiance = NULL;
+    render_tiles_init(&r->tiles, r->d.tile_pixels, f->camera.width, f->camera.height);
     memset(&r->work, 0, sizeof r->work);
     r->work.priority = GPU_PRIORITY_BATCH;
     r->work.label = "job frame";
     r->work.run = frame_run;
     r->work.done = frame_done;
+    r->work.abandoned = frame_abandoned;
+    r->work.abandoned_why = "its job was cancelled, or refractd is stopping";
+    snprintf(r->frame_job, sizeof r->frame_job, "%s", id);
+    r->frame_n = n;
     r->work.user = r;
     r->work_done = false;
     struct err e = {0};

@@ -1,7 +1,9 @@
 /*
  * jobs.h - batch jobs (docs/api.md "Batch jobs"): a list of frames of one scene, given
  * explicitly or made by a generator (a camera turntable), rendered one frame per GPU work
- * item at GPU_PRIORITY_BATCH (below interactive renders and light simulation) and kept in
+ * item at GPU_PRIORITY_BATCH (below interactive renders and light simulation), a tile of
+ * --render-tile-pixels per turn (render_tiles.h: an interactive render queued meanwhile
+ * waits for one tile, not for the whole frame; the frame equals one drawn at once), and kept in
  * the data directory, so a job survives a restart or a kill -9.
  *
  * DESIGN. One runner thread (job_runner.c) owns the order of work: it takes the oldest
@@ -106,6 +108,8 @@ struct job_runner_desc {
     struct irradiance_cache *irradiance; /* borrowed */
     struct event_hub *events;            /* borrowed; NULL = no job.progress events */
     struct job_limits limits;
+    long long tile_pixels; /* --render-tile-pixels: a frame is drawn a tile per GPU turn
+                              (render_tiles.h); <= 0 = the default */
 };
 
 /* What GET /v1/jobs/{id} reports. */
@@ -125,7 +129,8 @@ struct job_runner;
 /* Loads the jobs of the data directory (unfinished ones resume) and starts the runner
  * thread. NULL with e filled on failure. */
 struct job_runner *job_runner_create(const struct job_runner_desc *desc, struct err *e);
-/* Shutdown, before gpu_stop: waits for the frame in flight (if any) and stops the thread.
+/* Shutdown, before gpu_stop: waits for the tile in flight (if any; its frame is dropped)
+ * and stops the thread.
  * Unfinished jobs stay queued/running in the database and resume at the next start. A
  * second call is a no-op, as is NULL. */
 void job_runner_stop(struct job_runner *r);
@@ -190,12 +195,13 @@ struct job_batch_desc {
     struct render *render;               /* borrowed; GPU thread only */
     struct irradiance_cache *irradiance; /* borrowed */
     struct job_limits limits;
+    long long tile_pixels; /* --render-tile-pixels, as the daemon draws frames; <= 0 = default */
     const char *spec_path; /* the job specification, a JSON file as POST /v1/jobs takes */
     const char *frames;    /* "A-B" (inclusive, 0-based) or NULL */
     const char *task;      /* "I/N": task I (0-based) of N takes its share; or NULL */
     const char *out_dir;   /* where frame_NNNNN.<ext> and progress.json go */
-    /* Polled between frames and while waiting for lights: true stops the task after the
-     * frame in flight (SIGTERM from a scheduler). NULL = never. */
+    /* Polled between frames, before each tile and while waiting for lights: true stops the
+     * task, dropping the frame in flight (SIGTERM from a scheduler). NULL = never. */
     bool (*stop)(void *user);
     void *stop_user;
 };

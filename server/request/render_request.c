@@ -7,7 +7,6 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "../core/metrics.h"
 #include "../store/store_mesh.h"
 #include "../request/render_request.h"
 
@@ -108,29 +107,6 @@ static void note_build(struct store *store, const struct store_scene *v,
         .generation = v->generation, .gpu_bytes = rs->gpu_bytes, .build_ms = rs->build_ms};
     snprintf(st.state, sizeof st.state, "ready");
     store_gpu_status_set(store, v->id, &st);
-}
-
-enum refract_code render_request_version(struct render *r, struct irradiance_cache *c,
-                                         struct store *store, struct store_scene *v,
-                                         struct render_view_request *req,
-                                         struct render_light *lights,
-                                         struct render_view_result *out, const char **irradiance,
-                                         struct err *e)
-{
-    struct render_scene_source src = render_request_scene_source(v);
-    struct irradiance_source isrc;
-    render_request_irradiance_source(v, &isrc);
-    int count = 0;
-    *irradiance = irradiance_cache_gather(c, &isrc, lights, &count);
-    req->lights = lights;
-    req->light_count = count;
-    double t0 = gpu_time_ms();
-    enum refract_code rc = render_view(r, &src, req, out, e);
-    if (rc == REFRACT_E_OK) {
-        metrics_render((gpu_time_ms() - t0) * 1e-3); /* GET /metrics */
-        note_build(store, v, &out->scene);
-    }
-    return rc;
 }
 
 enum refract_code render_request_version_rows(struct render *r, struct irradiance_cache *c,

@@ -1,11 +1,12 @@
 /*
  * render_request.h - a stored scene version as the renderer and the irradiance cache see it,
  * and the one render path that single renders (POST /v1/scenes/{id}/render), view
- * sessions and batch jobs use (named after none of them): gather the best irradiance volume of each
- * light, render, record a build made on the way.
+ * sessions and batch jobs use (named after none of them, drawn a tile at a time by
+ * render_tiles.h): gather the best irradiance volume of each light, render, record a build
+ * made on the way.
  *
  * Ownership: the sources borrow the version (and its uploads) for as long as the caller
- * keeps its reference; nothing here allocates except render_request_version's result.
+ * keeps its reference; nothing here allocates.
  */
 #ifndef REFRACT_RENDER_REQUEST_H
 #define REFRACT_RENDER_REQUEST_H
@@ -23,20 +24,13 @@ struct render_scene_source render_request_scene_source(struct store_scene *v);
  * retains v itself while it builds fields). Any thread. */
 void render_request_irradiance_source(struct store_scene *v, struct irradiance_source *out);
 
-/* GPU thread: renders req (its lights are filled in here: lights has SCENE_MAX_LIGHTS
- * entries and must stay alive for the call) from the best irradiance the cache has, and
- * records a scene build made on the way in the store's GPU status like a background
- * build would. *irradiance (X-Refract-Irradiance) is "ready", "stale", "missing" or
- * "not-needed". out->rgba is new (caller frees). Errors are render_view's. */
-enum refract_code render_request_version(struct render *r, struct irradiance_cache *c,
-                                         struct store *store, struct store_scene *v,
-                                         struct render_view_request *req,
-                                         struct render_light *lights,
-                                         struct render_view_result *out, const char **irradiance,
-                                         struct err *e);
-
-/* GPU thread: one tile of render_request_version, rows [row0, row0 + rows) of the image
- * into out->rgba, which the caller allocated for the whole image (render_view_rows). */
+/* GPU thread: rows [row0, row0 + rows) of req into out->rgba, which the caller allocated
+ * for the whole image (render_view_rows), from the best irradiance the cache has: req's
+ * lights are filled in here (lights has SCENE_MAX_LIGHTS entries and must stay alive for
+ * the call), and a scene build made on the way is recorded in the store's GPU status like
+ * a background build would be. *irradiance (X-Refract-Irradiance) is "ready", "stale",
+ * "missing" or "not-needed". Errors are render_view's. Callers draw whole images through
+ * render_tiles.h. */
 enum refract_code render_request_version_rows(struct render *r, struct irradiance_cache *c,
                                               struct store *store, struct store_scene *v,
                                               struct render_view_request *req,

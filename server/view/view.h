@@ -9,7 +9,7 @@
  *     session is dirty and its max_fps spacing allows a frame, or a session's idle
  *     timeout comes; it starts frames as GPU work items at GPU_PRIORITY_INTERACTIVE, one
  *     in flight per session, and ends idle sessions;
- *   - the GPU thread renders (render_request_version, shared with POST .../render) and
+ *   - the GPU thread renders (render_tiles.h, shared with POST .../render) and
  *     hands the float image to
  *   - the encoder threads (view_encode.c), which tone-map and encode the JPEG, make it the
  *     session's newest frame (an immutable, reference-counted view_frame) and wake the

@@ -18,6 +18,7 @@
 #include <stdatomic.h>
 #include <stdbool.h>
 
+#include "../request/render_tiles.h"
 #include "view.h"
 
 struct view_encoder;
@@ -72,11 +73,9 @@ struct view_job {
     bool reencode;                 /* from the session's hdr (result.rgba borrows it): no GPU
                                       work */
     uint64_t change_gen;           /* what the frame shows */
-    /* A large frame is drawn in tiles of tile_rows rows, one per GPU turn (gpu_work.again),
-     * so that other work runs between them (docs/api.md "Fair sharing"). */
-    int tile_rows, next_row, restarts;
-    const struct irradiance_gpu *volumes[SCENE_MAX_LIGHTS]; /* what the first tile used */
-    int volume_count;
+    /* A large frame is drawn in tiles, one per GPU turn (render_tiles.h), so that other
+     * work runs between them (docs/api.md "Fair sharing"). */
+    struct render_tiles tiles;
     struct view_settings settings; /* snapshot at the frame's start */
     struct view_job *next;         /* encoder queue */
 };

@@ -125,46 +125,19 @@ void view_job_finish(struct view_registry *r, struct view_job *job, struct view_
     pthread_mutex_unlock(&r->mu);
 }
 
-/* A frame no larger than a tile is drawn at once; a larger one a tile of rows per turn,
- * asking for another turn until every row is drawn (as h_render.c does for renders). */
+/* One tile per turn (a frame no larger than a tile: the whole frame), asking for another
+ * turn until every row is drawn (render_tiles.h, as renders and job frames do). */
 static void job_run(struct gpu_work *w, struct gpu *gpu)
 {
     (void)gpu;
     struct view_job *job = w->user;
     const struct view_registry_desc *d = view_registry_settings(job->session->reg);
-    const struct scene_camera *cam = &job->request.camera;
-    if (job->tile_rows >= cam->height) {
-        render_request_version(d->render, d->irradiance, d->store, job->version, &job->request,
-                               job->lights, &job->result, &job->irradiance, &w->err);
+    bool more = false;
+    if (render_tiles_step(&job->tiles, d->render, d->irradiance, d->store, job->version,
+                          &job->request, job->lights, &job->result, &job->irradiance, &more,
+                          &w->err) != REFRACT_E_OK)
         return;
-    }
-    if (job->result.rgba == NULL) {
-        job->result.rgba = malloc((size_t)cam->width * (size_t)cam->height * 4 * sizeof(float));
-        if (job->result.rgba == NULL) {
-            err_set(&w->err, REFRACT_E_OUT_OF_MEMORY,
-                    "out of memory for a %dx%d frame; make the view smaller", cam->width,
-                    cam->height);
-            return;
-        }
-    }
-    int row0 = job->next_row;
-    int rows = cam->height - row0 < job->tile_rows ? cam->height - row0 : job->tile_rows;
-    if (render_request_version_rows(d->render, d->irradiance, d->store, job->version, &job->request,
-                                    job->lights, row0, rows, &job->result, &job->irradiance,
-                                    &w->err) != REFRACT_E_OK)
-        return;
-    /* A frame lit by two states of the irradiance would show a seam: start again (a few
-     * times at most). */
-    if (render_request_volumes_changed(&job->request, row0, job->volumes, &job->volume_count) &&
-        job->restarts < 3) {
-        job->restarts++;
-        job->next_row = 0;
-        job->result.gpu_ms = 0.0;
-        w->again = true;
-        return;
-    }
-    job->next_row = row0 + rows;
-    w->again = job->next_row < cam->height;
+    w->again = more;
 }
 
 /* GPU thread, must not block: the encoder takes it from here (failures too). */
@@ -204,12 +177,7 @@ static void job_start(struct view_registry *r, struct view_job *job)
     pthread_mutex_lock(&s->mu);
     s->last_render = rq->settings;
     pthread_mutex_unlock(&s->mu);
-    long long tile_pixels = r->desc.tile_pixels > 0 ? r->desc.tile_pixels : 65536;
-    long long tile_rows = tile_pixels / (rq->camera.width > 0 ? rq->camera.width : 1);
-    job->tile_rows = tile_rows < 1                   ? 1
-                     : tile_rows > rq->camera.height ? rq->camera.height
-                                                     : (int)tile_rows;
-    job->next_row = 0;
+    render_tiles_init(&job->tiles, r->desc.tile_pixels, rq->camera.width, rq->camera.height);
     struct irradiance_source isrc;
     render_request_irradiance_source(job->version, &isrc);
     irradiance_cache_request(r->desc.irradiance, &isrc, false);

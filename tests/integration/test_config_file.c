@@ -80,6 +80,7 @@ static void the_shipped_config_starts_the_daemon(void)
     char *body = NULL;
     CHECK_INT(test_request(&d, "GET", "/v1/health", NULL, &body), 200);
     CHECK_CONTAINS(body, "\"max_image_dim\":4096");
+    CHECK_CONTAINS(body, "\"header_deadline_s\":30");
     free(body);
     CHECK_INT(test_daemon_stop(&d), 0);
     test_daemon_cleanup(&d);
@@ -93,7 +94,8 @@ static void config_values_take_effect_and_flags_override_them(void)
     CHECK(fd >= 0);
     const char text[] = "# test\nmax-image-dim 100\nmax-rays 7\n  max-steps 3000  \n"
                         "max-json-bytes 64K\nirradiance-gpu-budget 64M\n"
-                        "light-position-tolerance 0.01\nlightsim-chunk-steps 3\n";
+                        "light-position-tolerance 0.01\nlightsim-chunk-steps 3\n"
+                        "header-deadline 7\nmax-queued-per-client 5\n";
     CHECK(write(fd, text, sizeof text - 1) == (ssize_t)(sizeof text - 1));
     close(fd);
     struct test_daemon d;
@@ -110,6 +112,8 @@ static void config_values_take_effect_and_flags_override_them(void)
         CHECK_CONTAINS(body, "\"position_tolerance\":0.01");
         CHECK_CONTAINS(body, "\"direction_tolerance\":0.001");
         CHECK_CONTAINS(body, "\"chunk_steps\":3");
+        CHECK_CONTAINS(body, "\"header_deadline_s\":7"); /* "fair_sharing" */
+        CHECK_CONTAINS(body, "\"max_queued_per_client\":5");
         free(body);
         char id[REFRACT_ID_SIZE];
         CHECK(test_create_scene(&d,
