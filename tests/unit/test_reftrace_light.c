@@ -293,7 +293,9 @@ static void receiver_shows_the_volume_and_the_ambient_term(void)
 {
     struct volume vol;
     vec3 l = vec3_normalize((vec3){0, -1, 0.5});
-    volume_init(&vol, 8, (vec3){-2, -1.5, -2}, 0.5, (vec3){3, 2, 1}, l);
+    /* 16 voxels of 0.5 from -4: the volume is read LIGHT_RECEIVER_INSET (4) voxels inside
+     * the x, z faces, on [-2, 2] */
+    volume_init(&vol, 16, (vec3){-4, -1.5, -4}, 0.5, (vec3){3, 2, 1}, l);
     struct reftrace_lighting lt = {
         .lights = &vol.light,
         .count = 1,
@@ -311,6 +313,25 @@ static void receiver_shows_the_volume_and_the_ambient_term(void)
     printf("receiver: L = %.9f, closed form %.9f\n", r.radiance.x, expect);
     CHECK_NEAR(r.radiance.x, expect, 1e-6);
     CHECK_NEAR(r.radiance.z, 0.2 / M_PI * 1.0 * -lf.y + 0.2 * up.z, 1e-6);
+    /* Beyond the volume's inset region, still on the square: the light's closed form
+     * (reftrace_light_direct: E = scale = 1 along its direction). */
+    lt.receiver.half_size = 3.0; /* hit at (2.2, -1, 0.6) */
+    d = vec3_normalize((vec3){1.1, -1, 0.3});
+    reftrace_ray(NULL, 0, &s, (vec3){0, 1, 0}, d, &r);
+    printf("receiver beyond the volume: L = %.9f\n", r.radiance.x);
+    CHECK_NEAR(r.radiance.x, 0.8 / M_PI * 1.0 * -lf.y + 0.8 * up.x, 1e-6);
+    /* An infinite plane centred anywhere: hit far away, the closed form. */
+    lt.receiver.half_size = INFINITY;
+    lt.receiver.center[0] = 40.0;
+    d = vec3_normalize((vec3){30.0, -1, 0});
+    reftrace_ray(NULL, 0, &s, (vec3){0, 1, 0}, d, &r);
+    CHECK_NEAR(r.radiance.x, 0.8 / M_PI * 1.0 * -lf.y + 0.8 * up.x, 1e-6);
+    lt.receiver.half_size = 1.5;
+    /* A square centred at (40, 0): (0, -1, 0) is off it. */
+    d = (vec3){0, -1, 0};
+    reftrace_ray(NULL, 0, &s, (vec3){0, 1, 0}, d, &r);
+    CHECK_NEAR(r.radiance.x, env_procedural(d).x, 1e-12);
+    lt.receiver.center[0] = 0.0;
     /* Beyond the square: the environment. */
     d = vec3_normalize((vec3){1.0, -1, 0});
     reftrace_ray(NULL, 0, &s, (vec3){0, 1, 0}, d, &r);
