@@ -339,6 +339,43 @@ static void receiver_shows_the_volume_and_the_ambient_term(void)
     volume_fini(&vol);
 }
 
+/* The receiver seen in a glass's reflection (issue 14 item 4): a view ray meets an opaque-
+ * black glass ball (sigma_a 1e3: nothing comes through) at cos_i = 0.6, and the reflected
+ * ray goes down to the floor, lit by an unshadowed directional light straight down:
+ * L = R(0.6) * albedo / pi * E (no environment, no BRDF). */
+static void receiver_seen_in_a_reflection(void)
+{
+    struct reftrace_light sun = {.kind = LIGHT_KIND_DIRECTIONAL,
+                                 .mode = LIGHT_MODE_DIRECT,
+                                 .direction = {0, -1, 0},
+                                 .scale = {1, 1, 1}};
+    struct reftrace_lighting lt = {
+        .lights = &sun,
+        .count = 1,
+        .receiver = {.enabled = true, .height = -1, .half_size = INFINITY, .albedo = {0.8, 0.8, 0.8}}};
+    struct reftrace_surface ball = {.ior = 1.5, .attenuation = {1e3, 1e3, 1e3}};
+    ball.geom.kind = GEOM_SPHERE;
+    ball.geom.xf = xform_identity();
+    ball.geom.center = (vec3){0, 0, 0};
+    ball.geom.radius = 1.0;
+    struct reftrace_settings s = settings(REFTRACE_RK4, 0.5);
+    s.env_intensity = 0.0;
+    s.lighting = &lt;
+    s.surfaces = &ball;
+    s.surface_count = 1;
+    struct reftrace_result r;
+    /* hits (0, -0.8, 0.6), normal (0, -0.8, 0.6); reflected (0, -0.96, -0.28) meets the
+     * floor at (0, -1, 0.54), outside the ball */
+    reftrace_ray(NULL, 0, &s, (vec3){0, -0.8, 5}, (vec3){0, 0, -1}, &r);
+    double expect = fresnel_unpolarized(0.6, 1.0, 1.5) * 0.8 / M_PI;
+    printf("receiver in a reflection: L = %.9f, closed form %.9f\n", r.radiance.x, expect);
+    CHECK_NEAR(r.radiance.x, expect, 1e-9);
+    /* without the receiver the reflection sees the (black) environment */
+    lt.receiver.enabled = false;
+    reftrace_ray(NULL, 0, &s, (vec3){0, -0.8, 5}, (vec3){0, 0, -1}, &r);
+    CHECK_NEAR(r.radiance.x, 0.0, 1e-12);
+}
+
 int main(void)
 {
     emitting_medium_is_seen_with_basic_radiance();
@@ -346,5 +383,6 @@ int main(void)
     faces_reflect_the_direct_light_with_their_brdf();
     volume_lookup_is_trilinear_clamped_and_zero_outside();
     receiver_shows_the_volume_and_the_ambient_term();
+    receiver_seen_in_a_reflection();
     return test_summary("test_reftrace_light");
 }
