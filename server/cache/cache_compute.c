@@ -223,8 +223,8 @@ static struct irr_fields *fields_for(struct irradiance_cache *c, struct irr_entr
         return NULL;
     }
     double t0 = gpu_time_ms();
-    if (lightsim_fields_build_light(en->scene, &en->light, en->lookup, en->lookup_ctx, &f->f,
-                                    e) != REFRACT_E_OK) {
+    if (lightsim_fields_build_light(en->scene, &en->light, en->lookup, en->lookup_ctx, &f->f, e) !=
+        REFRACT_E_OK) {
         free(f);
         return NULL;
     }

@@ -121,7 +121,8 @@ bool reftrace_light_receiver(const struct reftrace_lighting *lt, vec3 env_up, ve
             const double in = LIGHT_RECEIVER_INSET;
             double ux = (at.x - lj->bmin.x) / lj->voxel, uz = (at.z - lj->bmin.z) / lj->voxel;
             bool in_grid = ux >= in && ux <= lj->dims[0] - in && uz >= in && uz <= lj->dims[2] - in;
-            lit = in_grid ? reftrace_light_at(lj, at, &E, &l) : reftrace_light_direct(lj, at, &E, &l);
+            lit =
+                in_grid ? reftrace_light_at(lj, at, &E, &l) : reftrace_light_direct(lj, at, &E, &l);
         } else {
             lit = reftrace_light_at(lj, at, &E, &l);
         }

@@ -40,8 +40,8 @@ static void floor_case(struct gpu *gpu, const char *what, const char *json, bool
             l1 += fabs((double)t.out.irradiance[v] - ref.irradiance[v]);
             norm += fabs((double)ref.irradiance[v]);
         }
-        printf("%s: grid %d x %d x %d: GPU %.0f ms; irradiance relative L1 GPU - CPU %.2e\n",
-               what, f.grid.dims[0], f.grid.dims[1], f.grid.dims[2], t.ms, l1 / norm);
+        printf("%s: grid %d x %d x %d: GPU %.0f ms; irradiance relative L1 GPU - CPU %.2e\n", what,
+               f.grid.dims[0], f.grid.dims[1], f.grid.dims[2], t.ms, l1 / norm);
         CHECK(l1 / norm < 2e-4);
         struct lit_floor lf;
         lit_floor_bind(&lf, &t.out, &s->receiver);

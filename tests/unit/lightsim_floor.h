@@ -50,17 +50,17 @@ static inline void lit_floor_bind(struct lit_floor *lf, const struct irradiance_
                                   const struct scene_receiver *r)
 {
     const struct light_grid *g = &v->grid;
-    lf->light = (struct reftrace_light){
-        .kind = LIGHT_KIND_POINT,
-        .mode = LIGHT_MODE_VOLUME,
-        .position = FLOOR_LIGHT,
-        .direction = {0, -1, 0},
-        .scale = {FLOOR_INTENSITY, FLOOR_INTENSITY, FLOOR_INTENSITY},
-        .irradiance = v->irradiance,
-        .direction_volume = v->direction,
-        .dims = {g->dims[0], g->dims[1], g->dims[2]},
-        .bmin = g->bmin,
-        .voxel = g->voxel};
+    lf->light =
+        (struct reftrace_light){.kind = LIGHT_KIND_POINT,
+                                .mode = LIGHT_MODE_VOLUME,
+                                .position = FLOOR_LIGHT,
+                                .direction = {0, -1, 0},
+                                .scale = {FLOOR_INTENSITY, FLOOR_INTENSITY, FLOOR_INTENSITY},
+                                .irradiance = v->irradiance,
+                                .direction_volume = v->direction,
+                                .dims = {g->dims[0], g->dims[1], g->dims[2]},
+                                .bmin = g->bmin,
+                                .voxel = g->voxel};
     lf->lt = (struct reftrace_lighting){
         .lights = &lf->light,
         .count = 1,
@@ -95,8 +95,7 @@ static inline void floor_check(const char *what, const struct lit_floor *lf, dou
     printf("%s: the floor at (-2, -1, 2) reads %.6f, closed form %.6f (%+.3f %%)\n", what, L,
            floor_closed_form(-2.0, 2.0), 100.0 * (L / floor_closed_form(-2.0, 2.0) - 1.0));
     CHECK_NEAR(floor_closed_form(-2.0, 2.0), 0.264553, 1e-6); /* SCENES.md's number */
-    CHECK_MSG(fabs(L / 0.264553 - 1.0) <= 0.01, "%s: floor reads %g, not 0.264553 +-1 %%", what,
-              L);
+    CHECK_MSG(fabs(L / 0.264553 - 1.0) <= 0.01, "%s: floor reads %g, not 0.264553 +-1 %%", what, L);
     double worst = 0.0, worst_at = 0.0, sum = 0.0;
     int n = 0;
     double h = voxel / 8.0;

@@ -51,10 +51,10 @@ static void test_check_value_and_no_rings(void)
  * [2 + 1.4 (-1 - 2), 1] = [-2.2, 1], z in [1 + 1.4 (-1 - 1), 1] = [-1.8, 1]. */
 static void test_infinite_floor(void)
 {
-    struct scene *s = fx_scene(
-        "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
-        "\"resolution\": 8, \"ior\": 1.0}], "
-        "\"receiver\": {\"height\": -1, \"half_size\": \"infinite\", \"albedo\": 0.8}}");
+    struct scene *s =
+        fx_scene("{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+                 "\"resolution\": 8, \"ior\": 1.0}], "
+                 "\"receiver\": {\"height\": -1, \"half_size\": \"infinite\", \"albedo\": 0.8}}");
     CHECK(s->receiver.enabled && isinf(s->receiver.half_size));
     struct scene_lightsim set = fx_settings(32, 32);
     s->lightsim = set;
@@ -118,8 +118,8 @@ static void test_infinite_floor(void)
             jump = fabs(rel - prev);
         prev = rel;
     }
-    printf("seam at x = %.4f: step across it %.3f %%, worst deviation on the row %.3f %%\n",
-           seam_x, 100.0 * jump, 100.0 * worst);
+    printf("seam at x = %.4f: step across it %.3f %%, worst deviation on the row %.3f %%\n", seam_x,
+           100.0 * jump, 100.0 * worst);
     CHECK_MSG(jump <= 0.01, "seam step %g", jump);
     CHECK_MSG(worst <= 0.015, "seam row worst %g", worst);
     irradiance_volume_free(&v);
@@ -130,10 +130,10 @@ static void test_infinite_floor(void)
 /* A square centred at (5, -3): hits inside it only; its domain holds its footprint part. */
 static void test_offset_center(void)
 {
-    struct scene *s = fx_scene(
-        "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
-        "\"resolution\": 8, \"ior\": 1.0}], "
-        "\"receiver\": {\"height\": -1, \"half_size\": 2.5, \"center\": [4, -3]}}");
+    struct scene *s =
+        fx_scene("{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+                 "\"resolution\": 8, \"ior\": 1.0}], "
+                 "\"receiver\": {\"height\": -1, \"half_size\": 2.5, \"center\": [4, -3]}}");
     CHECK_NEAR(s->receiver.center[0], 4.0, 0);
     CHECK_NEAR(s->receiver.center[1], -3.0, 0);
     struct scene_lightsim set = fx_settings(24, 16);
@@ -165,8 +165,8 @@ static void test_parse_and_hash(void)
 {
     const char *base = "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, "
                        "1]}, \"resolution\": 8, \"ior\": 1.0}], \"receiver\": {\"height\": -1";
-    const char *variants[] = {"}}", ", \"half_size\": \"infinite\"}}",
-                              ", \"center\": [0.5, 0]}}", ", \"center\": [0, 0.5]}}"};
+    const char *variants[] = {"}}", ", \"half_size\": \"infinite\"}}", ", \"center\": [0.5, 0]}}",
+                              ", \"center\": [0, 0.5]}}"};
     uint64_t h[4];
     for (int i = 0; i < 4; i++) {
         char json[512];

@@ -352,7 +352,8 @@ static void receiver_seen_in_a_reflection(void)
     struct reftrace_lighting lt = {
         .lights = &sun,
         .count = 1,
-        .receiver = {.enabled = true, .height = -1, .half_size = INFINITY, .albedo = {0.8, 0.8, 0.8}}};
+        .receiver = {
+            .enabled = true, .height = -1, .half_size = INFINITY, .albedo = {0.8, 0.8, 0.8}}};
     struct reftrace_surface ball = {.ior = 1.5, .attenuation = {1e3, 1e3, 1e3}};
     ball.geom.kind = GEOM_SPHERE;
     ball.geom.xf = xform_identity();
