@@ -50,7 +50,8 @@ static void run_on_gpu(struct gpu_work *w, struct gpu *gpu)
     s->lightsim.resolution = r->set.resolution;
     s->lightsim.split_voxels = r->set.split;
     struct lightsim_fields f;
-    if (lightsim_fields_build(s, NULL, NULL, &f, &w->err) != REFRACT_E_OK)
+    if (lightsim_fields_build_light(s, s->light_count > 0 ? &s->lights[0] : NULL, NULL, NULL, &f,
+                                    &w->err) != REFRACT_E_OK)
         return;
     struct lightsim_gpu_run *run = NULL;
     struct irradiance_gpu vol;

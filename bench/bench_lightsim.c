@@ -181,7 +181,7 @@ static void bench_case(struct gpu *gpu, const char *dir, const char *name, int r
     struct err e = {0};
     struct lightsim_fields f;
     double t0 = gpu_time_ms();
-    if (lightsim_fields_build(s, ico_lookup, NULL, &f, &e) != REFRACT_E_OK) {
+    if (lightsim_fields_build_light(s, &light, ico_lookup, NULL, &f, &e) != REFRACT_E_OK) {
         fprintf(stderr, "refract-lightsim: %s: %s\n", name, e.msg);
         scene_destroy(s);
         mesh_destroy(ico);

@@ -143,6 +143,11 @@
 #define LIGHT_MODE_OFF 0         /* the light contributes nothing (no volume yet) */
 #define LIGHT_MODE_VOLUME 1      /* E, l from the light's irradiance and direction volumes */
 #define LIGHT_MODE_DIRECT 2      /* unshadowed direct light (scenes without light simulation) */
+/* The receiver reads a light's volume where it lies at least this many voxels inside the
+ * light grid's x and z faces (the 2 pad voxels and LIGHTSIM_RECEIVER_MARGIN more), and the
+ * light's closed form (light_direct) elsewhere (docs/lightsim.md "Domain"). */
+#define LIGHTSIM_RECEIVER_MARGIN 2
+#define LIGHT_RECEIVER_INSET (2.0 + LIGHTSIM_RECEIVER_MARGIN)
 #define LIGHT_KIND_DIRECTIONAL 0 /* = SCENE_LIGHT_DIRECTIONAL */
 #define LIGHT_KIND_POINT 1       /* = SCENE_LIGHT_POINT */
 #define LIGHT_KIND_SPOT 2        /* = SCENE_LIGHT_SPOT */

@@ -72,6 +72,32 @@ vec4 light_sample_direction(int j, vec3 u)
     return textureLod(light_direction_volume3, u, 0.0);
 }
 
+// The light's unshadowed direct E (times its scale) and travel direction l at world x,
+// whatever its mode: directional E = 1 along its direction; point and spot 1 / r^2 (radiant
+// intensity 1 per steradian), the spot inside its cone only. Returns false when it adds
+// nothing. The twin is reftrace_light_direct.
+bool light_direct(int j, vec3 x, out vec3 E, out vec3 l)
+{
+    E = vec3(0.0);
+    l = vec3(0.0, -1.0, 0.0);
+    light_params lp = lights.lights[j];
+    int kind = int(lp.position.w);
+    if (kind == LIGHT_KIND_DIRECTIONAL) {
+        l = lp.direction.xyz;
+        E = lp.scale.rgb;
+        return true;
+    }
+    vec3 r = x - lp.position.xyz;
+    float r2 = dot(r, r);
+    if (r2 <= 1e-12)
+        return false;
+    l = r / sqrt(r2);
+    if (kind == LIGHT_KIND_SPOT && dot(l, lp.direction.xyz) < lp.direction.w)
+        return false;
+    E = lp.scale.rgb / r2;
+    return true;
+}
+
 // Irradiance E (unit light, times the light's scale) and the direction l the light travels
 // at world point x, for light j. Returns false when the light adds nothing there.
 // Volumes: trilinear at v = (x - bmin) / voxel - 0.5, clamped to the grid's edge; outside
@@ -97,23 +123,8 @@ bool light_at(int j, vec3 x, out vec3 E, out vec3 l)
         E = light_sample_irradiance(j, u).rgb * lp.scale.rgb;
         return true;
     }
-    // Unshadowed direct light: directional E = 1 along its direction; point and spot
-    // 1 / r^2 (radiant intensity 1 per steradian), the spot inside its cone only.
-    int kind = int(lp.position.w);
-    if (kind == LIGHT_KIND_DIRECTIONAL) {
-        l = lp.direction.xyz;
-        E = lp.scale.rgb;
-        return true;
-    }
-    vec3 r = x - lp.position.xyz;
-    float r2 = dot(r, r);
-    if (r2 <= 1e-12)
-        return false;
-    l = r / sqrt(r2);
-    if (kind == LIGHT_KIND_SPOT && dot(l, lp.direction.xyz) < lp.direction.w)
-        return false;
-    E = lp.scale.rgb / r2;
-    return true;
+    // Unshadowed direct light (scenes without light simulation).
+    return light_direct(j, x, E, l);
 }
 
 // Reflected light of the lights at a Fresnel event (the delta(x) R L_r term of eq. 5.4):
@@ -153,30 +164,50 @@ vec3 light_inscatter(vec3 x, vec3 d, vec3 sigma_s, float g)
     return sigma_s * sum;
 }
 
-// The receiver plane y = height, |x|, |z| <= half_size (thesis fig. 7.4), seen by a ray
-// that has left the scene at x going d. Returns true with its radiance when hit:
-// (albedo / pi) sum_j E_j(hit + (0, voxel_j / 2, 0)) max(0, -l_j.y) + albedo env(0, 1, 0),
-// the last a simple ambient term (the environment's zenith radiance).
+// The receiver plane y = height, |x - cx|, |z - cz| <= half_size (half_size <= 0: the
+// whole plane; thesis fig. 7.4), seen by a ray that has left the scene at x going d.
+// Returns true with its radiance when hit:
+// (albedo / pi) sum_j E_j(hit) max(0, -l_j.y) + albedo env(0, 1, 0), the last a simple
+// ambient term (the environment's zenith radiance). E is read on the plane itself, between
+// the voxel layers half a voxel above and below it: the light grid reaches two voxels
+// below the plane and the wavefront passes through it (docs/lightsim.md "Domain"), so the
+// deposit kernel there is whole. A light's volume covers the objects' footprint on the
+// plane as that light sees it: at least LIGHT_RECEIVER_INSET voxels inside its grid's x
+// and z faces (the pad and a margin) the volume is read, elsewhere the light's closed
+// form (light_direct), as no object can shade the plane there.
 bool light_receiver(vec3 x, vec3 d, out vec3 L)
 {
     L = vec3(0.0);
     if (lights.count.y == 0 || d.y >= 0.0)
         return false;
     float height = lights.receiver.x, half_size = lights.receiver.y;
+    vec2 center = lights.receiver.zw;
     float t = (height - x.y) / d.y;
     if (t < 0.0)
         return false;
     vec3 hit = x + t * d;
-    if (abs(hit.x) > half_size || abs(hit.z) > half_size)
+    if (half_size > 0.0 &&
+        (abs(hit.x - center.x) > half_size || abs(hit.z - center.y) > half_size))
         return false;
     vec3 albedo = lights.receiver_albedo.rgb;
     vec3 sum = vec3(0.0);
+    vec3 at = vec3(hit.x, height, hit.z);
     for (int j = 0; j < MAX_LIGHTS; j++) {
         if (j >= lights.count.x)
             break;
         vec3 E, l;
-        vec3 at = vec3(hit.x, height + 0.5 * lights.lights[j].grid_min.w, hit.z);
-        if (light_at(j, at, E, l))
+        bool lit;
+        light_params lp = lights.lights[j];
+        if (int(lp.scale.w) == LIGHT_MODE_VOLUME) {
+            vec2 u = (at.xz - lp.grid_min.xz) / lp.grid_min.w;
+            vec2 dims = lp.grid_size.xz / lp.grid_min.w;
+            bool in_grid = all(greaterThanEqual(u, vec2(LIGHT_RECEIVER_INSET))) &&
+                           all(lessThanEqual(u, dims - LIGHT_RECEIVER_INSET));
+            lit = in_grid ? light_at(j, at, E, l) : light_direct(j, at, E, l);
+        } else {
+            lit = light_at(j, at, E, l);
+        }
+        if (lit)
             sum += E * max(0.0, -l.y);
     }
     L = albedo / LIGHT_PI * sum + albedo * environment_radiance(vec3(0.0, 1.0, 0.0));

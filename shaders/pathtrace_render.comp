@@ -151,8 +151,8 @@ int nearest(vec3 o, vec3 d, float tmax, int last, bool lights, bool camera, out 
     if (P.receiver.x > 0.5 && d.y != 0.0) {
         float tt = (P.receiver.y - o.y) / d.y;
         vec3 p = o + d * tt;
-        bool inside = P.receiver.z < 0.0 ||
-                      (abs(p.x) <= P.receiver.z && abs(p.z) <= P.receiver.z);
+        bool inside = P.receiver.z < 0.0 || (abs(p.x - P.receiver.w) <= P.receiver.z &&
+                                             abs(p.z - P.albedo.w) <= P.receiver.z);
         if (tt > eps && tt < t && inside) {
             kind = HIT_RECEIVER;
             t = tt;

@@ -38,8 +38,9 @@ struct pt_params {
     vec4 up;         /* xyz: unit */
     ivec4 image;     /* x: width, y: height, z: samples this dispatch, w: first sample index */
     ivec4 counts;    /* x: surfaces, y: lights, z: seed, w: the eye's inside set */
-    vec4 receiver;   /* x: enabled (1/0), y: height, z: half size (-1: infinite) */
-    vec4 albedo;     /* rgb: the receiver's */
+    vec4 receiver;   /* x: enabled (1/0), y: height, z: half size (-1: infinite); w: world
+                        x of the square's centre */
+    vec4 albedo;     /* rgb: the receiver's; w: world z of its square's centre */
     vec4 env;        /* rgb: uniform environment radiance */
     pt_light lights[PT_MAX_LIGHTS];
     pt_medium media[MAX_SURFACES + 1];

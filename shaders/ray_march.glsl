@@ -81,11 +81,30 @@ float march_basic_radiance(float n)
     return r * r;
 }
 
-// Adds a reflection seen in world direction d_world with weight R (MARCH_RADIANCE only).
-void march_add_reflection(inout march_state s, float R, vec3 d_world)
+#if MARCH_RADIANCE
+// What a ray leaving the scene at world point x along world direction d sees: the receiver
+// plane where it hits it (MARCH_LIGHTS), else the environment. Reflected rays look it up
+// directly (tevs2007 sect. 6.3: they are not cast back through the volume), so the floor
+// shows in a glass's reflection as the sky does (issue 14 item 4; the twin is
+// reftrace.c's seen_from).
+vec3 march_seen(vec3 x, vec3 d)
+{
+    vec3 seen = environment_radiance(d);
+#if MARCH_LIGHTS
+    vec3 plane;
+    if (light_receiver(x, d, plane))
+        seen = plane;
+#endif
+    return seen;
+}
+#endif
+
+// Adds a reflection seen from world point x_world in world direction d_world with weight R
+// (MARCH_RADIANCE only).
+void march_add_reflection(inout march_state s, float R, vec3 x_world, vec3 d_world)
 {
 #if MARCH_RADIANCE
-    s.L += s.t_f * exp(-s.alpha) * R * environment_radiance(d_world);
+    s.L += s.t_f * exp(-s.alpha) * R * march_seen(x_world, d_world);
 #endif
 }
 
@@ -254,7 +273,7 @@ void march_zone_event(inout march_state s, inout march_zone z, int obj, vec3 p, 
     float R = fresnel_unpolarized(abs(dot(q, N)), n_i, n_t);
     if (R >= 1.0)
         return; // total internal reflection emerges from the ray equation itself
-    march_add_reflection(s, R, march_dir_to_world(obj, reflect(q, N)));
+    march_add_reflection(s, R, march_point_to_world(obj, p), march_dir_to_world(obj, reflect(q, N)));
     march_add_light_reflection(s, obj, p, q, N, R, n_i);
     s.t_f *= 1.0 - R;
 }
@@ -272,7 +291,8 @@ void march_opaque_hit(inout march_state s, int obj, vec3 p, vec4 opaque, float n
     vec3 N = length(g) > 1e-12 ? -normalize(g) : -q; // outward from the embedding
     float R = fresnel_unpolarized(abs(dot(q, N)), n_here, params.objects[obj].atlas_offset.w);
     s.L += s.t_f * exp(-s.alpha) *
-           (R * environment_radiance(march_dir_to_world(obj, reflect(q, N))) + (1.0 - R) * opaque.rgb);
+           (R * march_seen(march_point_to_world(obj, p), march_dir_to_world(obj, reflect(q, N))) +
+            (1.0 - R) * opaque.rgb);
     march_add_light_reflection(s, obj, p, q, N, R, n_here);
 #endif
     s.status = RAY_STATUS_ABSORBED;
@@ -292,7 +312,7 @@ bool march_face(inout march_state s, int obj, vec3 p, inout vec3 q, vec3 N, floa
         q = r;
         return false;
     }
-    march_add_reflection(s, R, march_dir_to_world(obj, r));
+    march_add_reflection(s, R, march_point_to_world(obj, p), march_dir_to_world(obj, r));
     march_add_light_reflection(s, obj, p, q, N, R, n_from);
     s.t_f *= 1.0 - R;
     vec3 t;
@@ -630,7 +650,7 @@ void march_surface_event(inout march_state s, inout uint inside, int k, geom_hit
         s.d = ev.reflected;
         return;
     }
-    march_add_reflection(s, ev.R, ev.reflected);
+    march_add_reflection(s, ev.R, s.x, ev.reflected);
 #if MARCH_RADIANCE && MARCH_LIGHTS
     // The lights' reflected radiance (eq. 5.6/5.8) with the surface's BRDF, in its slot
     // after the objects' (render.c fill_lights).
@@ -745,13 +765,7 @@ march_state march_ray(vec3 origin, vec3 dir, uint inside)
         s.status = s.crossed ? RAY_STATUS_EXITED : RAY_STATUS_MISSED;
 #if MARCH_RADIANCE
         // The receiver plane where the ray hits it (MARCH_LIGHTS), else the background.
-        vec3 seen = environment_radiance(s.d);
-#if MARCH_LIGHTS
-        vec3 plane;
-        if (light_receiver(s.x, s.d, plane))
-            seen = plane;
-#endif
-        s.L += s.t_f * exp(-s.alpha) * seen;
+        s.L += s.t_f * exp(-s.alpha) * march_seen(s.x, s.d);
 #endif
     }
     return s;

@@ -198,7 +198,8 @@ typedef struct light_params light_params;
 /* Uniform block BIND_UBO_LIGHTS of render_view.comp. */
 struct march_lights {
     ivec4 count;                  /* x: lights; y: 1 = receiver enabled */
-    vec4 receiver;                /* x: height (world y); y: half size */
+    vec4 receiver;                /* x: height (world y); y: half size (<= 0: the whole
+                                     plane); zw: world x, z of the square's centre */
     vec4 receiver_albedo;         /* rgb: Lambertian reflectance */
     vec4 brdf[MAX_OBJECTS + MAX_SURFACES];       /* x: BRDF_*; y: GGX alpha (roughness^2);
                                                     z: Phong exponent. Objects, then surfaces

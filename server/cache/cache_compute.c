@@ -193,14 +193,24 @@ void irr_release_gpu_entry(struct irr_entry *en)
 
 /* ---- the worker ------------------------------------------------------------------------ */
 
-/* The fields of a transport hash: kept ones first, else built now (CPU, slow-ish). Returns
- * a new reference or NULL with e filled. Worker thread only. */
+static bool same_grid(const struct light_grid *a, const struct light_grid *b)
+{
+    return a->dims[0] == b->dims[0] && a->dims[1] == b->dims[1] && a->dims[2] == b->dims[2] &&
+           a->voxel == b->voxel && a->bmin.x == b->bmin.x && a->bmin.y == b->bmin.y &&
+           a->bmin.z == b->bmin.z;
+}
+
+/* The fields of a transport hash on the entry's light grid (with a receiver the grid
+ * depends on the light: docs/lightsim.md "Domain"): kept ones first, else built now (CPU,
+ * slow-ish). Returns a new reference or NULL with e filled. Worker thread only. */
 static struct irr_fields *fields_for(struct irradiance_cache *c, struct irr_entry *en,
                                      struct err *e)
 {
+    struct light_grid grid;
+    lightsim_domain_light(en->scene, &en->light, en->lookup, en->lookup_ctx, &grid);
     for (int i = 0; i < IRR_FIELDS_KEPT; i++) {
         struct irr_fields *f = c->fields[i];
-        if (f && f->transport == en->transport) {
+        if (f && f->transport == en->transport && same_grid(&f->f.grid, &grid)) {
             memmove(&c->fields[1], &c->fields[0], (size_t)i * sizeof c->fields[0]);
             c->fields[0] = f;
             atomic_fetch_add(&f->refs, 1);
@@ -213,7 +223,8 @@ static struct irr_fields *fields_for(struct irradiance_cache *c, struct irr_entr
         return NULL;
     }
     double t0 = gpu_time_ms();
-    if (lightsim_fields_build(en->scene, en->lookup, en->lookup_ctx, &f->f, e) != REFRACT_E_OK) {
+    if (lightsim_fields_build_light(en->scene, &en->light, en->lookup, en->lookup_ctx, &f->f, e) !=
+        REFRACT_E_OK) {
         free(f);
         return NULL;
     }

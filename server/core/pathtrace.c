@@ -68,7 +68,7 @@ static bool receiver_hit(const struct pathtrace_receiver *r, vec3 o, vec3 d, dou
     if (!(tt > tmin && tt < tmax))
         return false;
     vec3 p = vec3_madd(o, d, tt);
-    if (fabs(p.x) > r->half_size || fabs(p.z) > r->half_size)
+    if (fabs(p.x - r->center[0]) > r->half_size || fabs(p.z - r->center[1]) > r->half_size)
         return false;
     *t = tt;
     return true;

@@ -65,12 +65,13 @@ struct pathtrace_surface {
     struct pathtrace_medium medium;
 };
 
-/* The Lambertian plane y = height, |x|, |z| <= half_size (INFINITY: the whole plane),
- * seen from both sides. */
+/* The Lambertian plane y = height, |x - center[0]|, |z - center[1]| <= half_size
+ * (INFINITY: the whole plane), seen from both sides. */
 struct pathtrace_receiver {
     bool enabled;
     double height, half_size;
     double albedo[3];
+    double center[2]; /* world x, z of the square's centre */
 };
 
 enum pathtrace_light_kind {

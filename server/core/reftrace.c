@@ -69,12 +69,24 @@ static vec3 environment(const struct march *m, vec3 d_world)
     return vec3_scale(env_procedural(d_world), m->set->env_intensity);
 }
 
-/* L += T_f exp(-alpha) * R * env(d_world): a reflection that looks up the environment
- * directly (tevs2007 sect. 6.3: reflected rays are not cast back through the volume). */
-static void add_reflection(struct march *m, double R, vec3 d_world)
+/* What a ray leaving the scene at world x along world d sees: the receiver where it hits
+ * it (with lighting), else the environment (ray_march.glsl's march_seen). */
+static vec3 seen_from(const struct march *m, vec3 x, vec3 d)
+{
+    vec3 seen = environment(m, d), plane;
+    if (m->set->lighting != NULL &&
+        reftrace_light_receiver(m->set->lighting, environment(m, (vec3){0, 1, 0}), x, d, &plane))
+        seen = plane;
+    return seen;
+}
+
+/* L += T_f exp(-alpha) * R * seen_from(x_world, d_world): a reflection that looks up the
+ * receiver or the environment directly (tevs2007 sect. 6.3: reflected rays are not cast
+ * back through the volume; the receiver since issue 14 item 4). */
+static void add_reflection(struct march *m, double R, vec3 x_world, vec3 d_world)
 {
     vec3 t = vec3_scale(exp_neg(m->alpha), m->t_f * R);
-    m->L = vec3_add(m->L, vec3_mul(t, environment(m, d_world)));
+    m->L = vec3_add(m->L, vec3_mul(t, seen_from(m, x_world, d_world)));
 }
 
 /* The lights' reflected radiance at a Fresnel event (the delta(x) R L_r term of tevs2007
@@ -198,7 +210,7 @@ static bool cross_face(struct march *m, const struct object_frame *fr, vec3 p, v
         *q = r;
         return false;
     }
-    add_reflection(m, R, xform_dir_to_world(&fr->o->xf, r));
+    add_reflection(m, R, xform_point_to_world(&fr->o->xf, p), xform_dir_to_world(&fr->o->xf, r));
     add_light_reflection(m, fr->o, p, *q, nrm, R, n_from);
     m->t_f *= 1.0 - R;
     *q = t;
@@ -253,7 +265,8 @@ static void zone_event(struct march *m, struct zone *z, const struct object_fram
     double R = fresnel_unpolarized(fabs(vec3_dot(q, nrm)), n_i, rising ? z->n_hi : z->n_lo);
     if (R >= 1.0)
         return;
-    add_reflection(m, R, xform_dir_to_world(&fr->o->xf, vec3_reflect(q, nrm)));
+    add_reflection(m, R, xform_point_to_world(&fr->o->xf, p),
+                   xform_dir_to_world(&fr->o->xf, vec3_reflect(q, nrm)));
     add_light_reflection(m, fr->o, p, q, nrm, R, n_i);
     m->t_f *= 1.0 - R;
 }
@@ -277,7 +290,8 @@ static void opaque_hit(struct march *m, const struct object_frame *fr, vec3 p, v
     /* Uniform coverage (the ray started inside): face the ray. Page silent; as GLSL. */
     vec3 nrm = vec3_length(g) > 1e-12 ? vec3_scale(vec3_normalize(g), -1.0) : vec3_scale(q, -1.0);
     double R = fresnel_unpolarized(fabs(vec3_dot(q, nrm)), n_here, fr->o->opaque_ior);
-    vec3 env_r = environment(m, xform_dir_to_world(&fr->o->xf, vec3_reflect(q, nrm)));
+    vec3 env_r = seen_from(m, xform_point_to_world(&fr->o->xf, p),
+                           xform_dir_to_world(&fr->o->xf, vec3_reflect(q, nrm)));
     vec3 seen = vec3_add(vec3_scale(env_r, R), vec3_scale(colour, 1.0 - R));
     m->L = vec3_add(m->L, vec3_mul(vec3_scale(exp_neg(m->alpha), m->t_f), seen));
     add_light_reflection(m, fr->o, p, q, nrm, R, n_here);
@@ -762,7 +776,7 @@ static void surface_event(struct march *m, uint32_t *inside, int k, const struct
         return;
     }
     if (ev.R > 0.0)
-        add_reflection(m, ev.R, ev.reflected);
+        add_reflection(m, ev.R, m->x, ev.reflected);
     if (m->set->lighting != NULL && m->set->lighting->count > 0) {
         /* The lights' reflected radiance (eq. 5.6/5.8) with the surface's BRDF. */
         vec3 Lr = reftrace_light_reflected(m->set->lighting, &m->set->surfaces[k].brdf, m->x, m->d,
@@ -853,12 +867,7 @@ void reftrace_ray(const struct reftrace_object *objects, int count,
             /* 5. The receiver where the ray hits it, else the background term of tevs2007
              * eq. 5.10. */
             vec3 t = vec3_scale(exp_neg(m.alpha), m.t_f);
-            vec3 seen = environment(&m, m.d), plane;
-            if (settings->lighting != NULL &&
-                reftrace_light_receiver(settings->lighting, environment(&m, (vec3){0, 1, 0}), m.x,
-                                        m.d, &plane))
-                seen = plane;
-            m.L = vec3_add(m.L, vec3_mul(t, seen));
+            m.L = vec3_add(m.L, vec3_mul(t, seen_from(&m, m.x, m.d)));
             break;
         }
         const struct reftrace_object *o = &objects[e.index];

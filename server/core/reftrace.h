@@ -81,11 +81,13 @@ struct reftrace_light {
     double voxel; /* cubic voxel edge, world units */
 };
 
-/* The receiver plane y = height, |x|, |z| <= half_size (thesis fig. 7.4). */
+/* The receiver plane y = height, |x - center[0]|, |z - center[1]| <= half_size
+ * (INFINITY: the whole plane; thesis fig. 7.4). */
 struct reftrace_receiver {
     bool enabled;
     double height, half_size;
     double albedo[3];
+    double center[2]; /* world x, z of the square's centre */
 };
 
 struct reftrace_lighting {

@@ -11,6 +11,27 @@
 #include "phase.h"
 #include "smooth.h"
 
+bool reftrace_light_direct(const struct reftrace_light *l, vec3 x, vec3 *E, vec3 *dir)
+{
+    *E = (vec3){0, 0, 0};
+    *dir = (vec3){0, -1, 0};
+    vec3 scale = {l->scale[0], l->scale[1], l->scale[2]};
+    if (l->kind == LIGHT_KIND_DIRECTIONAL) {
+        *dir = l->direction;
+        *E = scale;
+        return true;
+    }
+    vec3 r = vec3_sub(x, l->position);
+    double r2 = vec3_dot(r, r);
+    if (r2 <= 1e-12)
+        return false;
+    *dir = vec3_scale(r, 1.0 / sqrt(r2));
+    if (l->kind == LIGHT_KIND_SPOT && vec3_dot(*dir, l->direction) < l->cos_spot)
+        return false;
+    *E = vec3_scale(scale, 1.0 / r2);
+    return true;
+}
+
 bool reftrace_light_at(const struct reftrace_light *l, vec3 x, vec3 *E, vec3 *dir)
 {
     *E = (vec3){0, 0, 0};
@@ -37,20 +58,7 @@ bool reftrace_light_at(const struct reftrace_light *l, vec3 x, vec3 *E, vec3 *di
         return true;
     }
     /* Unshadowed direct light (scenes without light simulation). */
-    if (l->kind == LIGHT_KIND_DIRECTIONAL) {
-        *dir = l->direction;
-        *E = scale;
-        return true;
-    }
-    vec3 r = vec3_sub(x, l->position);
-    double r2 = vec3_dot(r, r);
-    if (r2 <= 1e-12)
-        return false;
-    *dir = vec3_scale(r, 1.0 / sqrt(r2));
-    if (l->kind == LIGHT_KIND_SPOT && vec3_dot(*dir, l->direction) < l->cos_spot)
-        return false;
-    *E = vec3_scale(scale, 1.0 / r2);
-    return true;
+    return reftrace_light_direct(l, x, E, dir);
 }
 
 vec3 reftrace_light_reflected(const struct reftrace_lighting *lt, const struct brdf_params *b,
@@ -98,13 +106,27 @@ bool reftrace_light_receiver(const struct reftrace_lighting *lt, vec3 env_up, ve
     if (t < 0.0)
         return false;
     vec3 hit = vec3_madd(x, d, t);
-    if (fabs(hit.x) > rc->half_size || fabs(hit.z) > rc->half_size)
+    if (fabs(hit.x - rc->center[0]) > rc->half_size || fabs(hit.z - rc->center[1]) > rc->half_size)
         return false;
     vec3 sum = {0, 0, 0};
+    vec3 at = {hit.x, rc->height, hit.z};
     for (int j = 0; j < lt->count && j < MAX_LIGHTS; j++) {
+        const struct reftrace_light *lj = &lt->lights[j];
         vec3 E, l;
-        vec3 at = {hit.x, rc->height + 0.5 * lt->lights[j].voxel, hit.z};
-        if (reftrace_light_at(&lt->lights[j], at, &E, &l))
+        bool lit;
+        if (lj->mode == LIGHT_MODE_VOLUME) {
+            /* LIGHT_RECEIVER_INSET voxels inside the grid's x and z faces the volume
+             * (shadows, caustics); elsewhere, where no object can shade the plane, the
+             * closed form (docs/lightsim.md "Domain"). */
+            const double in = LIGHT_RECEIVER_INSET;
+            double ux = (at.x - lj->bmin.x) / lj->voxel, uz = (at.z - lj->bmin.z) / lj->voxel;
+            bool in_grid = ux >= in && ux <= lj->dims[0] - in && uz >= in && uz <= lj->dims[2] - in;
+            lit =
+                in_grid ? reftrace_light_at(lj, at, &E, &l) : reftrace_light_direct(lj, at, &E, &l);
+        } else {
+            lit = reftrace_light_at(lj, at, &E, &l);
+        }
+        if (lit)
             sum = vec3_madd(sum, E, fmax(0.0, -l.y));
     }
     vec3 albedo = {rc->albedo[0], rc->albedo[1], rc->albedo[2]};

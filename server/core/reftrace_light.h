@@ -17,6 +17,11 @@
  * [0, dims - 1], E = 0 outside [bmin, bmin + dims voxel]; l = normalised interpolated xyz. */
 bool reftrace_light_at(const struct reftrace_light *l, vec3 x, vec3 *E, vec3 *dir);
 
+/* The light's unshadowed direct E (times its scale) and travel direction l at world x,
+ * whatever its mode: directional E = 1 along its direction, point and spot 1 / r^2 (the
+ * spot inside its cone only); false when it adds nothing. light_direct in lighting.glsl. */
+bool reftrace_light_direct(const struct reftrace_light *l, vec3 x, vec3 *E, vec3 *dir);
+
 /* R sum_j f_r(v, -l_j, N) max(0, N . -l_j) E_j(x), v = -d, N turned to face v. */
 vec3 reftrace_light_reflected(const struct reftrace_lighting *lt, const struct brdf_params *b,
                               vec3 x, vec3 d, vec3 nrm, double R);
@@ -26,7 +31,10 @@ vec3 reftrace_light_inscatter(const struct reftrace_lighting *lt, vec3 x, vec3 d
                               double g);
 
 /* The receiver seen from x along d after the ray left the scene: true with its radiance
- * (albedo / pi) sum_j E_j(hit + (0, voxel_j / 2, 0)) max(0, -l_j.y) + albedo env_up. */
+ * (albedo / pi) sum_j E_j(hit) max(0, -l_j.y) + albedo env_up, E read on the plane
+ * (docs/lightsim.md "Domain": the light grid reaches two voxels below it) from light j's
+ * volume at least LIGHT_RECEIVER_INSET voxels inside its grid's x and z faces, else from
+ * reftrace_light_direct. */
 bool reftrace_light_receiver(const struct reftrace_lighting *lt, vec3 env_up, vec3 x, vec3 d,
                              vec3 *L);
 

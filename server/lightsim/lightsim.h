@@ -10,10 +10,11 @@
  * (lightsim_gpu.h, GLSL compute in shaders/lightsim_*.comp) and the CPU double-precision
  * reference here (lightsim_ref_run), and tests bound the distance between them.
  *
- * The simulation runs on a world-space *light grid* that covers the scene's light domain
- * (all objects and the receiver): cubic voxels, the same grid for every light of a scene.
- * Its input fields (index, gradient, extinction, opaque coverage) are built on the CPU
- * from the scene's reference voxel fields (scene_reference.h) once per transport hash.
+ * The simulation runs on a world-space *light grid* that covers the light domain of a
+ * scene and a light (all objects and their footprint on the receiver as the light sees
+ * it): cubic voxels. Its input fields (index, gradient, extinction, opaque coverage) are
+ * built on the CPU from the scene's reference voxel fields (scene_reference.h) once per
+ * transport hash and light grid.
  *
  * Ownership: functions that fill a struct with buffers document how to free them.
  * Thread: any for everything in this header (no GL).
@@ -37,14 +38,21 @@ struct light_grid {
     double voxel; /* edge length, world units */
 };
 
-/* The light domain of a scene (docs/lightsim.md "Domain"): the union of the objects' and
- * the surfaces' world bounding boxes and the receiver square, padded by two voxels, with cubic voxels
- * and set->resolution voxels along its longest axis. Light-independent. A mesh surface's
- * box comes with its upload: lightsim_domain_lookup finds it through lookup (as
- * lightsim_fields_build does); lightsim_domain, and a mesh lookup cannot find, add none. */
+/* The light domain of a scene and a light (docs/lightsim.md "Domain"): the union of the
+ * objects' and the surfaces' world bounding boxes and, with a receiver, their footprint
+ * on it as light l sees it (clipped to the receiver's square and to LIGHTSIM_FOOTPRINT_MAX
+ * times the objects' longest extent), padded by two voxels, with cubic voxels and
+ * set->resolution voxels along its longest axis. Without a receiver it does not depend on
+ * the light. l NULL: the whole receiver square instead of the footprint (the objects'
+ * extent for an infinite receiver). A mesh surface's box comes with its upload: the
+ * _lookup and _light forms find it through lookup (as lightsim_fields_build does);
+ * lightsim_domain, and a mesh lookup cannot find, add none. */
+#define LIGHTSIM_FOOTPRINT_MAX 4.0
 void lightsim_domain(const struct scene *s, struct light_grid *out);
 void lightsim_domain_lookup(const struct scene *s, scene_volume_lookup_fn lookup, void *ctx,
                             struct light_grid *out);
+void lightsim_domain_light(const struct scene *s, const struct scene_light *l,
+                           scene_volume_lookup_fn lookup, void *ctx, struct light_grid *out);
 
 /* How many time steps a patch accumulates before a flux deposit (docs/lightsim.md step
  * 5): max(1, floor(1 / step_voxels)), so deposits lie about one voxel apart. */
@@ -73,12 +81,16 @@ struct lightsim_fields {
     int mesh_count;
 };
 
-/* Builds the fields from the scene (docs/lightsim.md "Fields"). CONFLICT for a missing
- * volume or mesh, INVALID_MESH for a mesh surface whose mesh cannot bound a medium,
- * INVALID_FIELD for a receiver above a mesh surface's bottom, OUT_OF_MEMORY. Free with
- * lightsim_fields_free. */
+/* Builds the fields from the scene (docs/lightsim.md "Fields") on the light grid of light
+ * l (lightsim_domain_light; NULL: the whole receiver). CONFLICT for a missing volume or
+ * mesh, INVALID_MESH for a mesh surface whose mesh cannot bound a medium, INVALID_FIELD for
+ * a receiver above a mesh surface's bottom, OUT_OF_MEMORY. Free with lightsim_fields_free.
+ * lightsim_fields_build is lightsim_fields_build_light with l NULL. */
 enum refract_code lightsim_fields_build(const struct scene *s, scene_volume_lookup_fn lookup,
                                         void *ctx, struct lightsim_fields *out, struct err *e);
+enum refract_code lightsim_fields_build_light(const struct scene *s, const struct scene_light *l,
+                                              scene_volume_lookup_fn lookup, void *ctx,
+                                              struct lightsim_fields *out, struct err *e);
 void lightsim_fields_free(struct lightsim_fields *f);
 
 /* Where the power went, per colour channel, for a light of colour (1, 1, 1) and intensity

@@ -66,8 +66,15 @@ static void voxel_value(const struct scene_reference *r, double ambient, vec3 x,
 enum refract_code lightsim_fields_build(const struct scene *s, scene_volume_lookup_fn lookup,
                                         void *ctx, struct lightsim_fields *out, struct err *e)
 {
+    return lightsim_fields_build_light(s, NULL, lookup, ctx, out, e);
+}
+
+enum refract_code lightsim_fields_build_light(const struct scene *s, const struct scene_light *l,
+                                              scene_volume_lookup_fn lookup, void *ctx,
+                                              struct lightsim_fields *out, struct err *e)
+{
     memset(out, 0, sizeof *out);
-    lightsim_domain_lookup(s, lookup, ctx, &out->grid);
+    lightsim_domain_light(s, l, lookup, ctx, &out->grid);
     out->ambient_ior = s->ambient_ior;
     out->boundary_threshold = s->render.boundary_threshold;
     double sigma_max = 0.0;

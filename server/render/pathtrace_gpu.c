@@ -52,8 +52,8 @@ static void pack_params(const struct pathtrace_scene *s, const struct pathtrace_
                         (int)pathtrace_inside_set(s, cam->eye)};
     const struct pathtrace_receiver *rc = &s->receiver;
     p->receiver = (vec4){rc->enabled ? 1.0f : 0.0f, (float)rc->height,
-                         isinf(rc->half_size) ? -1.0f : (float)rc->half_size, 0.0f};
-    p->albedo = rgb4(rc->albedo, 0.0);
+                         isinf(rc->half_size) ? -1.0f : (float)rc->half_size, (float)rc->center[0]};
+    p->albedo = rgb4(rc->albedo, rc->center[1]);
     p->env = rgb4(s->env_radiance, 0.0);
     for (int k = 0; k < s->light_count && k < PT_MAX_LIGHTS; k++) {
         const struct pathtrace_light *l = &s->lights[k];

@@ -260,7 +260,9 @@ static void fill_lights(struct march_lights *ml, const struct scene *s,
     if (count < 0 || req->lights == NULL)
         count = 0;
     ml->count = (ivec4){count, s->receiver.enabled ? 1 : 0, 0, 0};
-    ml->receiver = (vec4){(float)s->receiver.height, (float)s->receiver.half_size, 0.0f, 0.0f};
+    const struct scene_receiver *rc = &s->receiver;
+    ml->receiver = (vec4){(float)rc->height, isinf(rc->half_size) ? -1.0f : (float)rc->half_size,
+                          (float)rc->center[0], (float)rc->center[1]};
     ml->receiver_albedo = (vec4){(float)s->receiver.albedo[0], (float)s->receiver.albedo[1],
                                  (float)s->receiver.albedo[2], 0.0f};
     for (size_t i = 0; i < s->object_count + s->surface_count; i++) {

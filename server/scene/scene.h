@@ -221,7 +221,9 @@ struct scene_light {
 struct scene_receiver {
     bool enabled;
     double height;    /* world y of the plane */
-    double half_size; /* the plane is the square |x|, |z| <= half_size about x = z = 0 */
+    double half_size; /* the plane is the square |x - center[0]|, |z - center[1]| <=
+                         half_size; INFINITY: the whole plane ("infinite") */
+    double center[2]; /* world x and z of the square's centre; default (0, 0) */
     double albedo[3]; /* Lambertian reflectance, 0..1; default 0.8 */
 };
 
@@ -303,7 +305,8 @@ bool scene_needs_light_simulation(const struct scene *s);
 /* FNV-1a 64 over everything that affects light transport (docs/lightsim.md, the irradiance
  * cache key): ambient_ior, each object's bounds, resolution, transform, smoothing, opaque_ior
  * and its ior, attenuation, scattering and opaque layers (uploaded volumes by name, scale and
- * offset: the caller mixes in their content checksums), the receiver's geometry, the
+ * offset: the caller mixes in their content checksums), the receiver's geometry (height,
+ * half_size, center), the
  * lightsim settings and render.boundary_threshold. Not: lights, camera, environment,
  * emission, anisotropy, BRDFs, names, other render settings. Equal scenes give equal hashes
  * whatever the document's spelling (defaults written out or left away). */

@@ -252,9 +252,33 @@ static enum refract_code check_below_objects(const struct scene *s, double heigh
     return REFRACT_E_OK;
 }
 
+/* "center": [x, z], each a finite number in [-m, m]; absent: (0, 0). */
+static enum refract_code read_center(const cJSON *o, double m, double out[2], struct err *e)
+{
+    out[0] = out[1] = 0.0;
+    const cJSON *c = cJSON_GetObjectItemCaseSensitive(o, "center");
+    if (c == NULL)
+        return REFRACT_E_OK;
+    char what[64];
+    if (!cJSON_IsArray(c) || cJSON_GetArraySize(c) != 2)
+        return err_set(e, REFRACT_E_INVALID_FIELD,
+                       "receiver.center: expected an array of 2 numbers [x, z] (the world x "
+                       "and z of the square's centre), got %s",
+                       jr_describe(c, what, sizeof what));
+    for (int i = 0; i < 2; i++) {
+        char path[32];
+        snprintf(path, sizeof path, "receiver.center[%d]", i);
+        enum refract_code rc =
+            jr_check_number(cJSON_GetArrayItem(c, i), path, -m, false, m, &out[i], e);
+        if (rc != REFRACT_E_OK)
+            return rc;
+    }
+    return REFRACT_E_OK;
+}
+
 enum refract_code scene_parse_receiver(const cJSON *o, struct scene *s, struct err *e)
 {
-    static const char *const keys[] = {"height", "half_size", "albedo", NULL};
+    static const char *const keys[] = {"height", "half_size", "center", "albedo", NULL};
     const double m = SCENE_COORD_MAX;
     struct scene_receiver *r = &s->receiver;
     memset(r, 0, sizeof *r);
@@ -265,11 +289,25 @@ enum refract_code scene_parse_receiver(const cJSON *o, struct scene *s, struct e
         rc = jr_number(o, "receiver", "height", true, 0.0, -m, m, &r->height, e);
     if (rc == REFRACT_E_OK)
         rc = check_below_objects(s, r->height, e);
+    if (rc == REFRACT_E_OK)
+        rc = read_center(o, m, r->center, e);
+    const cJSON *hs = cJSON_GetObjectItemCaseSensitive(o, "half_size");
     double def = default_half_size(s);
-    if (rc == REFRACT_E_OK && def > 0.0 && def <= m)
+    if (rc != REFRACT_E_OK) {
+    } else if (cJSON_IsString(hs)) {
+        /* The whole plane (docs/scenes.md "receiver"). */
+        if (strcmp(hs->valuestring, "infinite") != 0)
+            rc = err_set(e, REFRACT_E_INVALID_FIELD,
+                         "receiver.half_size: expected a number > 0 and <= %g or the string "
+                         "\"infinite\", got \"%.32s\"",
+                         m, hs->valuestring);
+        else
+            r->half_size = INFINITY;
+    } else if (def > 0.0 && def <= m) {
         rc = jr_number_gt(o, "receiver", "half_size", false, def, 0.0, m, &r->half_size, e);
-    else if (rc == REFRACT_E_OK)
+    } else {
         rc = jr_number_gt(o, "receiver", "half_size", true, 1.0, 0.0, m, &r->half_size, e);
+    }
     if (rc == REFRACT_E_OK)
         rc = read_rgb(o, "receiver", "albedo", 0.8, 1.0, r->albedo, e);
     r->enabled = rc == REFRACT_E_OK;

@@ -76,7 +76,9 @@ enum refract_code scene_pathtrace_init(const struct scene *s, scene_volume_looku
     if (s->receiver.enabled) {
         p->receiver.enabled = true;
         p->receiver.height = s->receiver.height;
-        p->receiver.half_size = s->receiver.half_size;
+        p->receiver.half_size = s->receiver.half_size; /* INFINITY: "infinite" */
+        p->receiver.center[0] = s->receiver.center[0];
+        p->receiver.center[1] = s->receiver.center[1];
         memcpy(p->receiver.albedo, s->receiver.albedo, sizeof p->receiver.albedo);
     }
     for (size_t k = 0; k < s->light_count && k < PATHTRACE_MAX_LIGHTS; k++)

@@ -239,7 +239,9 @@ uint64_t scene_transport_hash(const struct scene *s)
     mix_int(&h, s->receiver.enabled);
     if (s->receiver.enabled) {
         mix_double(&h, s->receiver.height);
-        mix_double(&h, s->receiver.half_size);
+        mix_double(&h, s->receiver.half_size); /* INFINITY for the whole plane */
+        mix_double(&h, s->receiver.center[0]);
+        mix_double(&h, s->receiver.center[1]);
     }
     mix_lightsim(&h, &s->lightsim);
     return h;

@@ -29,7 +29,7 @@ static struct pathtrace_scene glass_ball_scene(void)
     s.env_kind = PATHTRACE_ENV_UNIFORM;
     for (int c = 0; c < 3; c++)
         s.env_radiance[c] = 0.2;
-    s.receiver = (struct pathtrace_receiver){true, -1.0, INFINITY, {0.5, 0.6, 0.7}};
+    s.receiver = (struct pathtrace_receiver){true, -1.0, INFINITY, {0.5, 0.6, 0.7}, {0, 0}};
     memset(&ball, 0, sizeof ball);
     ball.geom.kind = GEOM_SPHERE;
     ball.geom.xf = xform_identity();

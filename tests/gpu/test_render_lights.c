@@ -232,7 +232,8 @@ static void compare(struct gpu *gpu, struct lit_case *c)
             .enabled = s->receiver.enabled,
             .height = s->receiver.height,
             .half_size = s->receiver.half_size,
-            .albedo = {s->receiver.albedo[0], s->receiver.albedo[1], s->receiver.albedo[2]}}};
+            .albedo = {s->receiver.albedo[0], s->receiver.albedo[1], s->receiver.albedo[2]},
+            .center = {s->receiver.center[0], s->receiver.center[1]}}};
     ref.settings.lighting = &lt;
 
     const struct scene_camera *cam = &s->camera;
@@ -333,8 +334,19 @@ int main(void)
                  "-0.8], \"max\": [0.8, 0.8, 0.8]}, \"resolution\": 24, "
                  "\"smoothing_sigma\": 1, \"ior\": {\"shape\": \"sphere\", \"radius\": 0.6, "
                  "\"inside\": 1.5}, \"brdf\": {\"type\": \"ggx\", \"roughness\": 0.2}}], "
-                 "\"receiver\": {\"height\": -1.2, \"half_size\": 2, \"albedo\": [0.8, "
-                 "0.75, 0.5]}}");
+                 "\"receiver\": {\"height\": -1.2, \"half_size\": 2, \"center\": [0.25, "
+                 "-0.5], \"albedo\": [0.8, 0.75, 0.5]}}");
+    /* 2b. The same over an infinite receiver: beyond the volume (LIGHT_RECEIVER_INSET
+     * voxels inside its faces) the plane shows the light's closed form, light_direct. */
+    struct lit_case recv_inf = {
+        .name = "infinite receiver", .close_fraction = close, .mean_bound = mean};
+    recv_inf.scene =
+        parse_ok("{" CAMERA_B ", \"objects\": [{\"bounds\": {\"min\": [-0.8, -0.8, "
+                 "-0.8], \"max\": [0.8, 0.8, 0.8]}, \"resolution\": 24, "
+                 "\"smoothing_sigma\": 1, \"ior\": {\"shape\": \"sphere\", \"radius\": 0.6, "
+                 "\"inside\": 1.5}, \"brdf\": {\"type\": \"ggx\", \"roughness\": 0.2}}], "
+                 "\"receiver\": {\"height\": -1.2, \"half_size\": \"infinite\", \"albedo\": "
+                 "[0.8, 0.75, 0.5]}}");
     /* 3. A GGX highlight on a glass sphere under a direct light (no light simulation).
      * Its curved surfaces are where float and double rays part at silhouettes and the
      * environment's grid lines (as in test_render_reference): a few pixels differ by up
@@ -347,7 +359,7 @@ int main(void)
                          "\"ior\": {\"shape\": \"sphere\", \"radius\": 0.8, \"inside\": 1.5}, "
                          "\"brdf\": {\"type\": \"ggx\", \"color\": [1, 0.9, 0.8], "
                          "\"roughness\": 0.3}}]}");
-    if (slab.scene && recv.scene && ggx.scene) {
+    if (slab.scene && recv.scene && ggx.scene && recv_inf.scene) {
         CHECK(recv.scene->receiver.enabled && slab.scene->objects[0].brdf.kind == SCENE_BRDF_GGX);
         CHECK(scene_needs_light_simulation(slab.scene) && !scene_needs_light_simulation(ggx.scene));
         slab.light_count = recv.light_count = ggx.light_count = 1;
@@ -369,6 +381,14 @@ int main(void)
                                              .intensity = 40};
         compare(gpu, &slab);
         compare(gpu, &recv);
+        recv_inf.light_count = 1;
+        recv_inf.lights[0] = (struct scene_light){.kind = SCENE_LIGHT_POINT,
+                                                  .position = {0.5, 3, 0.2},
+                                                  .color = {1, 1, 1},
+                                                  .intensity = 8};
+        make_volume(&recv_inf.volumes[0], (vec3){-2.5, -1.5, -2.5}, 0.25, 20, spot_irradiance,
+                    vec3_normalize((vec3){0.1, -1, 0.05}));
+        compare(gpu, &recv_inf);
         compare(gpu, &ggx);
     }
     /* 4. Two direct lights, a spot and a point, on a Phong glass block holding an opaque
@@ -398,8 +418,8 @@ int main(void)
                                                .intensity = 200};
         compare(gpu, &multi);
     }
-    struct lit_case *cases[4] = {&slab, &recv, &ggx, &multi};
-    for (int i = 0; i < 4; i++) {
+    struct lit_case *cases[5] = {&slab, &recv, &recv_inf, &ggx, &multi};
+    for (int i = 0; i < 5; i++) {
         for (int j = 0; j < SCENE_MAX_LIGHTS; j++) {
             free(cases[i]->volumes[j].irradiance);
             free(cases[i]->volumes[j].direction);

@@ -281,7 +281,11 @@ static void exr_download(struct test_daemon *d, const char *id)
     int nz = (int)cJSON_GetArrayItem(dims, 2)->valuedouble;
     CHECK_INT(w, nx);
     CHECK_INT(h, ny * nz);
-    CHECK_INT(nx, 16); /* resolution 16 along the longest axis (x, z: the receiver) */
+    /* resolution 16 along the longest axis (y: from the receiver at -1 to the box's top at
+     * 0.5, 12 voxels of 0.125 and the pad); x: the box's footprint under the light
+     * straight down (8 voxels), the pad and the receiver margin (docs/lightsim.md "Domain") */
+    CHECK_INT(nx, 16);
+    CHECK_INT(ny, 16);
     double voxel = irr_num(grid, "voxel");
     const cJSON *bmin = cJSON_GetObjectItemCaseSensitive(grid, "bmin");
     double y0 = cJSON_GetArrayItem(bmin, 1)->valuedouble;
@@ -383,8 +387,17 @@ int main(void)
         exr_download(&d, id);
         point_light_positions(&d, id);
     }
+    /* Every pose above shares one transport, but with a receiver each light pose has its
+     * own light grid (the objects' footprint as that light sees it, docs/lightsim.md
+     * "Domain"), so the input fields are built once per grid: at most once per computed
+     * volume, and a pose whose grid is kept builds nothing. */
+    double computed = 0;
+    if (id[0]) {
+        cJSON *st = irr_status(&d, id);
+        computed = st ? irr_counter(st, "computed") : 0;
+        cJSON_Delete(st);
+    }
     not_needed(&d);
-    /* Every pose above shares one transport: its input fields were built once. */
     FILE *log = fopen(d.log_path, "r");
     int builds = 0;
     char line[2048];
@@ -392,7 +405,8 @@ int main(void)
         builds += strstr(line, "light fields") != NULL;
     if (log)
         fclose(log);
-    CHECK_INT(builds, 1);
+    printf("light fields built %d times for %.0f computed volumes\n", builds, computed);
+    CHECK(builds >= 1 && builds <= computed);
     CHECK_INT(test_daemon_stop(&d), 0);
     test_daemon_cleanup(&d);
     return test_summary("test_irradiance_cache");

@@ -89,14 +89,18 @@ static void caustic(struct test_daemon *d, const char *id)
     const cJSON *bmin = cJSON_GetObjectItemCaseSensitive(grid, "bmin");
     double x0 = cJSON_GetArrayItem(bmin, 0)->valuedouble;
     double z0 = cJSON_GetArrayItem(bmin, 2)->valuedouble;
-    /* the lowest layer (j = 0) lies on the receiver plane */
+    /* The receiver plane lies between layers 1 and 2: the grid reaches two voxels below it
+     * (docs/lightsim.md "Domain"), and the receiver reads E on the plane, their mean. */
+    double y0 = cJSON_GetArrayItem(bmin, 1)->valuedouble;
+    CHECK_NEAR(y0 + 2.0 * voxel, -0.8, 1e-9);
     double peak = 0, beside = 0;
     int n_beside = 0;
     for (int k = 0; k < h / ny; k++)
         for (int i = 0; i < nx; i++) {
             double x = x0 + (i + 0.5) * voxel, z = z0 + (k + 0.5) * voxel;
             double r = sqrt(x * x + z * z);
-            float E = px[((size_t)(k * ny + 0) * nx + i) * 7];
+            float E = 0.5f * (px[((size_t)(k * ny + 1) * nx + i) * 7] +
+                              px[((size_t)(k * ny + 2) * nx + i) * 7]);
             if (r < 0.2)
                 peak = fmax(peak, E);
             else if (r > 0.6 && fabs(x) < 0.75 && fabs(z) < 0.75) {

@@ -8,6 +8,7 @@
  * "Empty" is an object whose ior is the ambient value (n = 1 everywhere), so the domain
  * is its bounds [-1, 1]^3 padded by two voxels.
  */
+#include "bindings.h"
 #include "test_lightsim_fixture.h"
 
 static const char *EMPTY = "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, "
@@ -32,14 +33,16 @@ static void test_domain(void)
         CHECK_INT(g.dims[a], 32);
         CHECK_NEAR(vec3_get(g.bmin, a), -1.0 - 2.0 * g.voxel, 1e-12);
     }
-    /* a receiver below: the grid starts on its plane and holds its square */
+    /* a receiver below: the grid holds its square and reaches two voxels below its plane
+     * (the receiver reads E on the plane; docs/lightsim.md "Domain") */
     s->receiver = (struct scene_receiver){.enabled = true, .height = -1.5, .half_size = 2};
     lightsim_domain(s, &g);
     CHECK_NEAR(g.voxel, 4.0 / 28.0, 1e-12);
-    CHECK_NEAR(g.bmin.y, -1.5, 1e-12);
-    CHECK_INT(g.dims[1], (int)ceil(2.5 / g.voxel - 1e-9) + 2);
-    CHECK_INT(g.dims[0], 32);
-    CHECK_NEAR(g.bmin.x, -2.0 - 2.0 * g.voxel, 1e-12);
+    CHECK_NEAR(g.bmin.y, -1.5 - 2.0 * g.voxel, 1e-12);
+    CHECK_INT(g.dims[1], (int)ceil(2.5 / g.voxel - 1e-9) + 4);
+    /* x and z: the pad and the receiver margin (LIGHT_RECEIVER_INSET voxels) */
+    CHECK_INT(g.dims[0], 28 + 2 * (int)LIGHT_RECEIVER_INSET);
+    CHECK_NEAR(g.bmin.x, -2.0 - LIGHT_RECEIVER_INSET * g.voxel, 1e-12);
     scene_destroy(s);
 }
 

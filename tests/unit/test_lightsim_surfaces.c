@@ -17,6 +17,7 @@
  * measures it). Geometric optics of a hole of radius a = 0.05 with the deposit's blur
  * puts the maximum 0.003 R (n 1.5) and 0.001 R (n 1.8) before f.
  */
+#include "bindings.h"
 #include "core/fresnel.h"
 #include "test_lightsim_axis.h"
 #include "test_lightsim_fixture.h"
@@ -155,8 +156,8 @@ static void test_domain(void)
     printf("domain: %d x %d x %d, voxel %.5f, bmin (%.4f, %.4f, %.4f)\n", g.dims[0], g.dims[1],
            g.dims[2], g.voxel, g.bmin.x, g.bmin.y, g.bmin.z);
     CHECK_NEAR(g.voxel, voxel, 1e-12);
-    CHECK_NEAR(g.bmin.y, -1.0, 1e-12);                /* the receiver plane */
-    CHECK_NEAR(g.bmin.x, -0.4 - 2 * voxel, 1e-12);    /* the receiver's side */
+    CHECK_NEAR(g.bmin.y, -1.0 - 2 * voxel, 1e-12);    /* 2 voxels below the receiver */
+    CHECK_NEAR(g.bmin.x, -0.4 - LIGHT_RECEIVER_INSET * voxel, 1e-12); /* the receiver's side */
     CHECK(g.bmin.x + g.dims[0] * g.voxel >= 0.7);     /* the sphere's +x side */
     CHECK(g.bmin.y + g.dims[1] * g.voxel >= 0.5);     /* the sphere's top */
     scene_destroy(s);

@@ -85,7 +85,7 @@ static void white_furnace_holds_for_anisotropic_scattering(void)
 static void lambertian_plane_under_uniform_sky_reflects_albedo_times_sky(void)
 {
     struct pathtrace_scene s = pt_scene(L_ENV);
-    s.receiver = (struct pathtrace_receiver){true, -1.0, INFINITY, {0.8, 0.5, 0.2}};
+    s.receiver = (struct pathtrace_receiver){true, -1.0, INFINITY, {0.8, 0.5, 0.2}, {0, 0}};
     double expect[3] = {0.8 * L_ENV, 0.5 * L_ENV, 0.2 * L_ENV};
     check_pixel(&s, vec3_make(0, 2, 3), vec3_make(0.2, -1, -0.7), 2000, expect);
 }
@@ -97,7 +97,7 @@ static void lambertian_plane_under_uniform_sky_reflects_albedo_times_sky(void)
 static void glass_ball_on_white_plane_in_furnace_renders_the_environment(void)
 {
     struct pathtrace_scene s = pt_scene(L_ENV);
-    s.receiver = (struct pathtrace_receiver){true, -1.0, INFINITY, {1.0, 1.0, 1.0}};
+    s.receiver = (struct pathtrace_receiver){true, -1.0, INFINITY, {1.0, 1.0, 1.0}, {0, 0}};
     struct pathtrace_surface ball = pt_sphere(vec3_make(0, 0, 0), 1.0, 1.5);
     s.surfaces = &ball;
     s.surface_count = 1;

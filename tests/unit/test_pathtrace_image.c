@@ -20,7 +20,7 @@ static struct pathtrace_surface ball;
 static struct pathtrace_scene small_scene(void)
 {
     struct pathtrace_scene s = pt_scene(0.2);
-    s.receiver = (struct pathtrace_receiver){true, -1.0, INFINITY, {0.5, 0.5, 0.5}};
+    s.receiver = (struct pathtrace_receiver){true, -1.0, INFINITY, {0.5, 0.5, 0.5}, {0, 0}};
     ball = pt_sphere(vec3_make(0, 0, 0), 1.0, 1.5);
     s.surfaces = &ball;
     s.surface_count = 1;

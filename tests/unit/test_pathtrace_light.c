@@ -30,7 +30,7 @@ static void check_estimate(struct pt_estimate e, double expect, double rel)
 static struct pathtrace_scene scene_a_floor(const struct pathtrace_light *light)
 {
     struct pathtrace_scene s = pt_scene(0.0);
-    s.receiver = (struct pathtrace_receiver){true, -1.0, INFINITY, {0.8, 0.8, 0.8}};
+    s.receiver = (struct pathtrace_receiver){true, -1.0, INFINITY, {0.8, 0.8, 0.8}, {0, 0}};
     s.lights[0] = *light;
     s.light_count = 1;
     return s;
@@ -102,7 +102,7 @@ static void large_spherical_light_over_plane_is_counted_once_by_mis(void)
     for (int c = 0; c < 3; c++)
         l.value[c] = 2.0;
     struct pathtrace_scene s = pt_scene(0.0);
-    s.receiver = (struct pathtrace_receiver){true, -1.0, INFINITY, {0.5, 0.5, 0.5}};
+    s.receiver = (struct pathtrace_receiver){true, -1.0, INFINITY, {0.5, 0.5, 0.5}, {0, 0}};
     s.lights[0] = l;
     s.light_count = 1;
     double expect = 0.5 / M_PI * M_PI * 2.0 * 0.36;
@@ -119,7 +119,7 @@ static void large_spherical_light_over_plane_is_counted_once_by_mis(void)
 static void directional_and_spot_lights_light_the_floor_in_closed_form(void)
 {
     struct pathtrace_scene s = pt_scene(0.0);
-    s.receiver = (struct pathtrace_receiver){true, -1.0, INFINITY, {0.6, 0.6, 0.6}};
+    s.receiver = (struct pathtrace_receiver){true, -1.0, INFINITY, {0.6, 0.6, 0.6}, {0, 0}};
     vec3 dir = vec3_normalize(vec3_make(sin(M_PI / 3), -cos(M_PI / 3), 0.0));
     s.lights[0] = (struct pathtrace_light){
         .kind = PATHTRACE_LIGHT_DIRECTIONAL, .direction = dir, .value = {2.0, 2.0, 2.0}};

@@ -293,7 +293,9 @@ static void receiver_shows_the_volume_and_the_ambient_term(void)
 {
     struct volume vol;
     vec3 l = vec3_normalize((vec3){0, -1, 0.5});
-    volume_init(&vol, 8, (vec3){-2, -1.5, -2}, 0.5, (vec3){3, 2, 1}, l);
+    /* 16 voxels of 0.5 from -4: the volume is read LIGHT_RECEIVER_INSET (4) voxels inside
+     * the x, z faces, on [-2, 2] */
+    volume_init(&vol, 16, (vec3){-4, -1.5, -4}, 0.5, (vec3){3, 2, 1}, l);
     struct reftrace_lighting lt = {
         .lights = &vol.light,
         .count = 1,
@@ -311,11 +313,68 @@ static void receiver_shows_the_volume_and_the_ambient_term(void)
     printf("receiver: L = %.9f, closed form %.9f\n", r.radiance.x, expect);
     CHECK_NEAR(r.radiance.x, expect, 1e-6);
     CHECK_NEAR(r.radiance.z, 0.2 / M_PI * 1.0 * -lf.y + 0.2 * up.z, 1e-6);
+    /* Beyond the volume's inset region, still on the square: the light's closed form
+     * (reftrace_light_direct: E = scale = 1 along its direction). */
+    lt.receiver.half_size = 3.0; /* hit at (2.2, -1, 0.6) */
+    d = vec3_normalize((vec3){1.1, -1, 0.3});
+    reftrace_ray(NULL, 0, &s, (vec3){0, 1, 0}, d, &r);
+    printf("receiver beyond the volume: L = %.9f\n", r.radiance.x);
+    CHECK_NEAR(r.radiance.x, 0.8 / M_PI * 1.0 * -lf.y + 0.8 * up.x, 1e-6);
+    /* An infinite plane centred anywhere: hit far away, the closed form. */
+    lt.receiver.half_size = INFINITY;
+    lt.receiver.center[0] = 40.0;
+    d = vec3_normalize((vec3){30.0, -1, 0});
+    reftrace_ray(NULL, 0, &s, (vec3){0, 1, 0}, d, &r);
+    CHECK_NEAR(r.radiance.x, 0.8 / M_PI * 1.0 * -lf.y + 0.8 * up.x, 1e-6);
+    lt.receiver.half_size = 1.5;
+    /* A square centred at (40, 0): (0, -1, 0) is off it. */
+    d = (vec3){0, -1, 0};
+    reftrace_ray(NULL, 0, &s, (vec3){0, 1, 0}, d, &r);
+    CHECK_NEAR(r.radiance.x, env_procedural(d).x, 1e-12);
+    lt.receiver.center[0] = 0.0;
     /* Beyond the square: the environment. */
     d = vec3_normalize((vec3){1.0, -1, 0});
     reftrace_ray(NULL, 0, &s, (vec3){0, 1, 0}, d, &r);
     CHECK_NEAR(r.radiance.x, env_procedural(d).x, 1e-12);
     volume_fini(&vol);
+}
+
+/* The receiver seen in a glass's reflection (issue 14 item 4): a view ray meets an opaque-
+ * black glass ball (sigma_a 1e3: nothing comes through) at cos_i = 0.6, and the reflected
+ * ray goes down to the floor, lit by an unshadowed directional light straight down:
+ * L = R(0.6) * albedo / pi * E (no environment, no BRDF). */
+static void receiver_seen_in_a_reflection(void)
+{
+    struct reftrace_light sun = {.kind = LIGHT_KIND_DIRECTIONAL,
+                                 .mode = LIGHT_MODE_DIRECT,
+                                 .direction = {0, -1, 0},
+                                 .scale = {1, 1, 1}};
+    struct reftrace_lighting lt = {
+        .lights = &sun,
+        .count = 1,
+        .receiver = {
+            .enabled = true, .height = -1, .half_size = INFINITY, .albedo = {0.8, 0.8, 0.8}}};
+    struct reftrace_surface ball = {.ior = 1.5, .attenuation = {1e3, 1e3, 1e3}};
+    ball.geom.kind = GEOM_SPHERE;
+    ball.geom.xf = xform_identity();
+    ball.geom.center = (vec3){0, 0, 0};
+    ball.geom.radius = 1.0;
+    struct reftrace_settings s = settings(REFTRACE_RK4, 0.5);
+    s.env_intensity = 0.0;
+    s.lighting = &lt;
+    s.surfaces = &ball;
+    s.surface_count = 1;
+    struct reftrace_result r;
+    /* hits (0, -0.8, 0.6), normal (0, -0.8, 0.6); reflected (0, -0.96, -0.28) meets the
+     * floor at (0, -1, 0.54), outside the ball */
+    reftrace_ray(NULL, 0, &s, (vec3){0, -0.8, 5}, (vec3){0, 0, -1}, &r);
+    double expect = fresnel_unpolarized(0.6, 1.0, 1.5) * 0.8 / M_PI;
+    printf("receiver in a reflection: L = %.9f, closed form %.9f\n", r.radiance.x, expect);
+    CHECK_NEAR(r.radiance.x, expect, 1e-9);
+    /* without the receiver the reflection sees the (black) environment */
+    lt.receiver.enabled = false;
+    reftrace_ray(NULL, 0, &s, (vec3){0, -0.8, 5}, (vec3){0, 0, -1}, &r);
+    CHECK_NEAR(r.radiance.x, 0.0, 1e-12);
 }
 
 int main(void)
@@ -325,5 +384,6 @@ int main(void)
     faces_reflect_the_direct_light_with_their_brdf();
     volume_lookup_is_trilinear_clamped_and_zero_outside();
     receiver_shows_the_volume_and_the_ambient_term();
+    receiver_seen_in_a_reflection();
     return test_summary("test_reftrace_light");
 }

@@ -102,7 +102,7 @@ static const struct bad_case bad_cases[] = {
     {TOP("\"receiver\": {\"height\": -1, \"albedo\": [0.5, 0.5, 2]}"), REFRACT_E_INVALID_FIELD,
      "receiver.albedo[2]", NULL},
     {TOP("\"receiver\": {\"height\": -1, \"size\": 2}"), REFRACT_E_UNKNOWN_FIELD,
-     "receiver: unknown field \"size\"", "allowed: height, half_size, albedo"},
+     "receiver: unknown field \"size\"", "allowed: height, half_size, center, albedo"},
     /* lightsim */
     {TOP("\"lightsim\": []"), REFRACT_E_INVALID_FIELD, "lightsim: expected an object", NULL},
     {TOP("\"lightsim\": {\"resolution\": 4}"), REFRACT_E_INVALID_FIELD, "lightsim.resolution",
