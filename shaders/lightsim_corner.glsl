@@ -240,7 +240,7 @@ void ls_corner_move(inout ls_gpu_patch p, int k, float dt, bool may_spawn, inout
             s = ls_next_surface(x, d, p.last[k], L, h);
             float t = s >= 0 ? h.t : L;
             x += d * t;
-            tau += surfaces[m].attenuation.rgb * t;
+            tau += surface_extinction(m) * t; // sigma_a + sigma_s: scattered light leaves the beam
             if (s < 0) {
                 w = d * n;
                 break;
