@@ -6,7 +6,7 @@
  *     build/refract-pictures proto/examples/peer_scene_a.json [more scenes]
  *         [--ref-samples 256] [--settings 32:1,64:1,64:4,128:4] [--size 320x240]
  *         [--threads N] [--cache build/reference-cache] [--out section.md]
- *         [--images docs/images]
+ *         [--images docs/images] [--ref-max-scatter N]
  *
  * Per scene: the reference (the CPU double-precision path tracer of docs/pathtracer.md,
  * --ref-samples paths per pixel, cached in --cache by the document's bytes, the size and
@@ -17,7 +17,11 @@
  * Error = the relative RMSE of issue 14, sqrt(sum (x - r)^2 / sum r^2) over the image's
  * three channels. The reference's own noise enters that figure as sqrt(sum var / sum r^2)
  * (var: the variance of each pixel's mean), printed beside it: an error close to the
- * noise says nothing more than "as good as the reference can tell".
+ * noise says nothing more than "as good as the reference can tell". "mean fast/ref" is the
+ * ratio of the two images' sums over every pixel and channel (too dark below 1).
+ * --ref-max-scatter N limits the reference's paths to N medium scattering events
+ * (pathtrace_scene.max_scatter; 1: single scattering, what the fast renderer models), so
+ * that the share of multiple scattering can be told from the fast renderer's own error.
  *
  * Output: a Markdown table on stdout (or --out), the error-against-time plot
  * images/image_accuracy.png, and per scene the reference and the best setting's picture
@@ -53,6 +57,7 @@ struct setting {
 
 struct options {
     int ref_samples, threads, width, height;
+    int ref_max_scatter; /* 0: unlimited */
     const char *cache, *out, *images;
     struct setting settings[MAX_SETTINGS];
     int setting_count;
@@ -97,8 +102,11 @@ static bool reference(const struct options *o, const char *text, size_t len, str
                       int w, int h, double *mean, double *var, double *seconds)
 {
     char path[1024];
-    snprintf(path, sizeof path, "%s/%016llx-%dx%d-%d.ref", o->cache,
-             (unsigned long long)fnv1a(text, len), w, h, o->ref_samples);
+    char limit[32] = "";
+    if (o->ref_max_scatter > 0)
+        snprintf(limit, sizeof limit, "-s%d", o->ref_max_scatter);
+    snprintf(path, sizeof path, "%s/%016llx-%dx%d-%d%s.ref", o->cache,
+             (unsigned long long)fnv1a(text, len), w, h, o->ref_samples, limit);
     size_t n = (size_t)w * h * 3;
     FILE *f = fopen(path, "rb");
     if (f) {
@@ -116,6 +124,7 @@ static bool reference(const struct options *o, const char *text, size_t len, str
         fprintf(stderr, "refract-pictures: %s\n", e.msg);
         return false;
     }
+    pt.scene.max_scatter = o->ref_max_scatter;
     const struct scene_camera *c = &s->camera;
     struct pathtrace_camera cam = {c->eye, c->look_at, c->up, c->fov_y_deg, w, h};
     struct pathtrace_image img;
@@ -236,6 +245,18 @@ static double relative_rmse(const float *rgba, const double *ref, size_t pixels)
     return den > 0.0 ? sqrt(num / den) : NAN;
 }
 
+/* sum fast / sum reference over every pixel and channel. */
+static double mean_ratio(const float *rgba, const double *ref, size_t pixels)
+{
+    double a = 0.0, b = 0.0;
+    for (size_t i = 0; i < pixels; i++)
+        for (int c = 0; c < 3; c++) {
+            a += rgba[4 * i + c];
+            b += ref[3 * i + c];
+        }
+    return b > 0.0 ? a / b : NAN;
+}
+
 static double reference_noise(const double *ref, const double *var, size_t pixels)
 {
     double num = 0.0, den = 0.0;
@@ -326,6 +347,9 @@ int main(int argc, char **argv)
         } else if (!strcmp(a, "--threads") && v) {
             o.threads = atoi(v);
             i++;
+        } else if (!strcmp(a, "--ref-max-scatter") && v) {
+            o.ref_max_scatter = atoi(v);
+            i++;
         } else if (!strcmp(a, "--cache") && v) {
             o.cache = v;
             i++;
@@ -341,7 +365,7 @@ int main(int argc, char **argv)
             fprintf(stderr,
                     "usage: refract-pictures SCENE.json... [--ref-samples 256] "
                     "[--settings 32:1,64:4] [--size WxH] [--threads N] [--cache DIR] "
-                    "[--out FILE.md] [--images DIR]\n");
+                    "[--out FILE.md] [--images DIR] [--ref-max-scatter N]\n");
             return 2;
         }
     }
@@ -363,9 +387,13 @@ int main(int argc, char **argv)
         return 1;
     }
     bench_write_header(out, gpu, argc, argv);
+    if (o.ref_max_scatter > 0)
+        fprintf(out, "\nThe reference counts paths with at most %d medium scattering event%s.\n",
+                o.ref_max_scatter, o.ref_max_scatter == 1 ? "" : "s");
     fprintf(out, "\n| scene | reference (samples, s, own noise) | lightsim.resolution | "
-                 "samples/pixel | light simulation ms | render ms | relative RMSE |\n"
-                 "| --- | --- | --- | --- | --- | --- | --- |\n");
+                 "samples/pixel | light simulation ms | render ms | relative RMSE | "
+                 "mean fast/ref |\n"
+                 "| --- | --- | --- | --- | --- | --- | --- | --- |\n");
     struct plot_point pts[MAX_SCENES * MAX_SETTINGS];
     int npts = 0;
     struct plot_desc plot = {.title = "Fast renderer against the reference path tracer",
@@ -435,9 +463,10 @@ int main(int argc, char **argv)
                 continue;
             }
             double err = relative_rmse(r.rgba, mean, pixels);
-            fprintf(out, "| %s | %d, %.0f s, %.4f | %d | %d | %.0f | %.1f | %.4f |\n", name,
+            double ratio = mean_ratio(r.rgba, mean, pixels);
+            fprintf(out, "| %s | %d, %.0f s, %.4f | %d | %d | %.0f | %.1f | %.4f | %.3f |\n", name,
                     o.ref_samples, ref_s, noise, o.settings[k].resolution, o.settings[k].spp,
-                    r.sim_ms, r.render_ms, err);
+                    r.sim_ms, r.render_ms, err, ratio);
             fflush(out);
             fprintf(stderr, "%s %d:%d: %.0f ms + %.1f ms, relative RMSE %.4f\n", name,
                     o.settings[k].resolution, o.settings[k].spp, r.sim_ms, r.render_ms, err);
