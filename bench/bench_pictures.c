@@ -25,7 +25,9 @@
  * share of multiple scattering can be told from the fast renderer's own error.
  * --mask-above X leaves the pixels where the full reference exceeds X (any channel) out of
  * those extra figures (e.g. the refracted image of an emitter the fast renderer does not
- * show); with a mask the extra columns appear against the full reference too.
+ * show); with a mask the extra columns appear against the full reference too. --raw also
+ * writes the best setting's picture as linear floats (image_accuracy_<scene>_fast.rgba32f:
+ * width x height RGBA, rows top down, host byte order) for analyses of one's own.
  *
  * Output: a Markdown table on stdout (or --out), the error-against-time plot
  * images/image_accuracy.png, and per scene the reference and the best setting's picture
@@ -63,6 +65,7 @@ struct options {
     int ref_samples, threads, width, height;
     int ref_max_scatter; /* > 0: a second reference with at most this many scatterings */
     double mask_above;   /* > 0: the extra figures leave out pixels brighter in the reference */
+    bool raw;            /* also write the best picture as linear floats */
     const char *cache, *out, *images;
     struct setting settings[MAX_SETTINGS];
     int setting_count;
@@ -371,6 +374,8 @@ int main(int argc, char **argv)
         } else if (!strcmp(a, "--ref-max-scatter") && v) {
             o.ref_max_scatter = atoi(v);
             i++;
+        } else if (!strcmp(a, "--raw")) {
+            o.raw = true;
         } else if (!strcmp(a, "--mask-above") && v) {
             o.mask_above = atof(v);
             i++;
@@ -390,7 +395,7 @@ int main(int argc, char **argv)
                     "usage: refract-pictures SCENE.json... [--ref-samples 256] "
                     "[--settings 32:1,64:4] [--size WxH] [--threads N] [--cache DIR] "
                     "[--out FILE.md] [--images DIR] [--ref-max-scatter N] "
-                            "[--mask-above X]\n");
+                            "[--mask-above X] [--raw]\n");
             return 2;
         }
     }
@@ -535,6 +540,12 @@ int main(int argc, char **argv)
                 best = err;
                 snprintf(path, sizeof path, "%s/image_accuracy_%s_fast.png", o.images, name);
                 write_picture(path, r.rgba, w, h, ev);
+                snprintf(path, sizeof path, "%s/image_accuracy_%s_fast.rgba32f", o.images, name);
+                FILE *fr = o.raw ? fopen(path, "wb") : NULL;
+                if (fr) {
+                    fwrite(r.rgba, sizeof *r.rgba, pixels * 4, fr);
+                    fclose(fr);
+                }
             }
             free(r.rgba);
         }
