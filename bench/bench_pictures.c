@@ -106,8 +106,8 @@ static uint64_t fnv1a(const char *p, size_t n)
 
 /* mean and var: 3 doubles per pixel each. Reads the cache file when it exists, else renders
  * and writes it. Returns the render's seconds (from the cache: as recorded). */
-static bool reference(const struct options *o, const char *text, size_t len, struct scene *s,
-                      int w, int h, int max_scatter, double *mean, double *var, double *seconds)
+static bool reference(const struct options *o, const char *text, size_t len, struct scene *s, int w,
+                      int h, int max_scatter, double *mean, double *var, double *seconds)
 {
     char path[1024];
     char limit[32] = "";
@@ -267,7 +267,7 @@ static double mean_ratio(const float *rgba, const double *ref, size_t pixels, co
 
 /* relative_rmse and reference_noise over the kept pixels. */
 static void masked_figures(const float *rgba, const double *ref, const double *var, size_t pixels,
-                          const bool *keep, double *rmse, double *noise)
+                           const bool *keep, double *rmse, double *noise)
 {
     double num = 0.0, den = 0.0, v = 0.0;
     for (size_t i = 0; i < pixels; i++)
@@ -391,10 +391,9 @@ int main(int argc, char **argv)
         } else if (a[0] != '-' && scene_count < MAX_SCENES) {
             scenes[scene_count++] = a;
         } else {
-            fprintf(stderr,
-                    "usage: refract-pictures SCENE.json... [--ref-samples 256] "
-                    "[--settings 32:1,64:4] [--size WxH] [--threads N] [--cache DIR] "
-                    "[--out FILE.md] [--images DIR] [--ref-max-scatter N] "
+            fprintf(stderr, "usage: refract-pictures SCENE.json... [--ref-samples 256] "
+                            "[--settings 32:1,64:4] [--size WxH] [--threads N] [--cache DIR] "
+                            "[--out FILE.md] [--images DIR] [--ref-max-scatter N] "
                             "[--mask-above X] [--raw]\n");
             return 2;
         }
@@ -422,13 +421,15 @@ int main(int argc, char **argv)
         fprintf(out, "\n\"masked\": without the pixels where the reference exceeds %g.\n",
                 o.mask_above);
     if (o.ref_max_scatter > 0)
-        fprintf(out, "\n\"<= %d\": against a reference of the paths with at most %d medium "
-                     "scattering event%s.\n",
+        fprintf(out,
+                "\n\"<= %d\": against a reference of the paths with at most %d medium "
+                "scattering event%s.\n",
                 o.ref_max_scatter, o.ref_max_scatter, o.ref_max_scatter == 1 ? "" : "s");
-    fprintf(out, "\n| scene | reference (samples, s, own noise) | lightsim.resolution | "
-                 "samples/pixel | light simulation ms | render ms | relative RMSE | "
-                 "mean fast/ref |%s\n"
-                 "| --- | --- | --- | --- | --- | --- | --- | --- |%s\n",
+    fprintf(out,
+            "\n| scene | reference (samples, s, own noise) | lightsim.resolution | "
+            "samples/pixel | light simulation ms | render ms | relative RMSE | "
+            "mean fast/ref |%s\n"
+            "| --- | --- | --- | --- | --- | --- | --- | --- |%s\n",
             extra ? " masked RMSE (ref noise) | masked mean fast/ref | <= N: RMSE (ref noise) | "
                     "<= N: mean fast/ref |"
                   : "",
@@ -455,7 +456,8 @@ int main(int argc, char **argv)
         double *mean = malloc(pixels * 3 * sizeof *mean), *var = malloc(pixels * 3 * sizeof *var);
         double ref_s = 0.0;
         /* the optional second reference (mean1, var1) and the mask */
-        double *mean1 = malloc(pixels * 3 * sizeof *mean1), *var1 = malloc(pixels * 3 * sizeof *var1);
+        double *mean1 = malloc(pixels * 3 * sizeof *mean1),
+               *var1 = malloc(pixels * 3 * sizeof *var1);
         bool *keep = malloc(pixels * sizeof *keep);
         double ref1_s = 0.0;
         if (!reference(&o, text, len, s, w, h, 0, mean, var, &ref_s) ||
