@@ -6,7 +6,7 @@
  *     build/refract-pictures proto/examples/peer_scene_a.json [more scenes]
  *         [--ref-samples 256] [--settings 32:1,64:1,64:4,128:4] [--size 320x240]
  *         [--threads N] [--cache build/reference-cache] [--out section.md]
- *         [--images docs/images]
+ *         [--images docs/images] [--ref-max-scatter N]
  *
  * Per scene: the reference (the CPU double-precision path tracer of docs/pathtracer.md,
  * --ref-samples paths per pixel, cached in --cache by the document's bytes, the size and
@@ -17,7 +17,17 @@
  * Error = the relative RMSE of issue 14, sqrt(sum (x - r)^2 / sum r^2) over the image's
  * three channels. The reference's own noise enters that figure as sqrt(sum var / sum r^2)
  * (var: the variance of each pixel's mean), printed beside it: an error close to the
- * noise says nothing more than "as good as the reference can tell".
+ * noise says nothing more than "as good as the reference can tell". "mean fast/ref" is the
+ * ratio of the two images' sums over every pixel and channel (too dark below 1).
+ * --ref-max-scatter N renders a second reference whose paths have at most N medium
+ * scattering events (pathtrace_scene.max_scatter; 1: single scattering, what the fast
+ * renderer models) and adds each setting's error and mean ratio against it, so that the
+ * share of multiple scattering can be told from the fast renderer's own error.
+ * --mask-above X leaves the pixels where the full reference exceeds X (any channel) out of
+ * those extra figures (e.g. the refracted image of an emitter the fast renderer does not
+ * show); with a mask the extra columns appear against the full reference too. --raw also
+ * writes the best setting's picture as linear floats (image_accuracy_<scene>_fast.rgba32f:
+ * width x height RGBA, rows top down, host byte order) for analyses of one's own.
  *
  * Output: a Markdown table on stdout (or --out), the error-against-time plot
  * images/image_accuracy.png, and per scene the reference and the best setting's picture
@@ -53,6 +63,9 @@ struct setting {
 
 struct options {
     int ref_samples, threads, width, height;
+    int ref_max_scatter; /* > 0: a second reference with at most this many scatterings */
+    double mask_above;   /* > 0: the extra figures leave out pixels brighter in the reference */
+    bool raw;            /* also write the best picture as linear floats */
     const char *cache, *out, *images;
     struct setting settings[MAX_SETTINGS];
     int setting_count;
@@ -93,12 +106,15 @@ static uint64_t fnv1a(const char *p, size_t n)
 
 /* mean and var: 3 doubles per pixel each. Reads the cache file when it exists, else renders
  * and writes it. Returns the render's seconds (from the cache: as recorded). */
-static bool reference(const struct options *o, const char *text, size_t len, struct scene *s,
-                      int w, int h, double *mean, double *var, double *seconds)
+static bool reference(const struct options *o, const char *text, size_t len, struct scene *s, int w,
+                      int h, int max_scatter, double *mean, double *var, double *seconds)
 {
     char path[1024];
-    snprintf(path, sizeof path, "%s/%016llx-%dx%d-%d.ref", o->cache,
-             (unsigned long long)fnv1a(text, len), w, h, o->ref_samples);
+    char limit[32] = "";
+    if (max_scatter > 0)
+        snprintf(limit, sizeof limit, "-s%d", max_scatter);
+    snprintf(path, sizeof path, "%s/%016llx-%dx%d-%d%s.ref", o->cache,
+             (unsigned long long)fnv1a(text, len), w, h, o->ref_samples, limit);
     size_t n = (size_t)w * h * 3;
     FILE *f = fopen(path, "rb");
     if (f) {
@@ -116,6 +132,7 @@ static bool reference(const struct options *o, const char *text, size_t len, str
         fprintf(stderr, "refract-pictures: %s\n", e.msg);
         return false;
     }
+    pt.scene.max_scatter = max_scatter;
     const struct scene_camera *c = &s->camera;
     struct pathtrace_camera cam = {c->eye, c->look_at, c->up, c->fov_y_deg, w, h};
     struct pathtrace_image img;
@@ -141,8 +158,8 @@ static bool reference(const struct options *o, const char *text, size_t len, str
         fwrite(var, sizeof *var, n, f);
         fclose(f);
     }
-    fprintf(stderr, "refract-pictures: reference %dx%d, %d samples: %.1f s\n", w, h,
-            o->ref_samples, *seconds);
+    fprintf(stderr, "refract-pictures: reference %dx%d, %d samples%s: %.1f s\n", w, h,
+            o->ref_samples, limit, *seconds);
     return true;
 }
 
@@ -236,6 +253,34 @@ static double relative_rmse(const float *rgba, const double *ref, size_t pixels)
     return den > 0.0 ? sqrt(num / den) : NAN;
 }
 
+/* sum fast / sum reference over every pixel (keep NULL) or the kept ones, all channels. */
+static double mean_ratio(const float *rgba, const double *ref, size_t pixels, const bool *keep)
+{
+    double a = 0.0, b = 0.0;
+    for (size_t i = 0; i < pixels; i++)
+        for (int c = 0; c < 3 && (keep == NULL || keep[i]); c++) {
+            a += rgba[4 * i + c];
+            b += ref[3 * i + c];
+        }
+    return b > 0.0 ? a / b : NAN;
+}
+
+/* relative_rmse and reference_noise over the kept pixels. */
+static void masked_figures(const float *rgba, const double *ref, const double *var, size_t pixels,
+                           const bool *keep, double *rmse, double *noise)
+{
+    double num = 0.0, den = 0.0, v = 0.0;
+    for (size_t i = 0; i < pixels; i++)
+        for (int c = 0; c < 3 && keep[i]; c++) {
+            double d = (double)rgba[4 * i + c] - ref[3 * i + c];
+            num += d * d;
+            den += ref[3 * i + c] * ref[3 * i + c];
+            v += var[3 * i + c];
+        }
+    *rmse = den > 0.0 ? sqrt(num / den) : NAN;
+    *noise = den > 0.0 ? sqrt(v / den) : NAN;
+}
+
 static double reference_noise(const double *ref, const double *var, size_t pixels)
 {
     double num = 0.0, den = 0.0;
@@ -326,6 +371,14 @@ int main(int argc, char **argv)
         } else if (!strcmp(a, "--threads") && v) {
             o.threads = atoi(v);
             i++;
+        } else if (!strcmp(a, "--ref-max-scatter") && v) {
+            o.ref_max_scatter = atoi(v);
+            i++;
+        } else if (!strcmp(a, "--raw")) {
+            o.raw = true;
+        } else if (!strcmp(a, "--mask-above") && v) {
+            o.mask_above = atof(v);
+            i++;
         } else if (!strcmp(a, "--cache") && v) {
             o.cache = v;
             i++;
@@ -338,10 +391,10 @@ int main(int argc, char **argv)
         } else if (a[0] != '-' && scene_count < MAX_SCENES) {
             scenes[scene_count++] = a;
         } else {
-            fprintf(stderr,
-                    "usage: refract-pictures SCENE.json... [--ref-samples 256] "
-                    "[--settings 32:1,64:4] [--size WxH] [--threads N] [--cache DIR] "
-                    "[--out FILE.md] [--images DIR]\n");
+            fprintf(stderr, "usage: refract-pictures SCENE.json... [--ref-samples 256] "
+                            "[--settings 32:1,64:4] [--size WxH] [--threads N] [--cache DIR] "
+                            "[--out FILE.md] [--images DIR] [--ref-max-scatter N] "
+                            "[--mask-above X] [--raw]\n");
             return 2;
         }
     }
@@ -363,9 +416,24 @@ int main(int argc, char **argv)
         return 1;
     }
     bench_write_header(out, gpu, argc, argv);
-    fprintf(out, "\n| scene | reference (samples, s, own noise) | lightsim.resolution | "
-                 "samples/pixel | light simulation ms | render ms | relative RMSE |\n"
-                 "| --- | --- | --- | --- | --- | --- | --- |\n");
+    bool extra = o.ref_max_scatter > 0 || o.mask_above > 0.0;
+    if (o.mask_above > 0.0)
+        fprintf(out, "\n\"masked\": without the pixels where the reference exceeds %g.\n",
+                o.mask_above);
+    if (o.ref_max_scatter > 0)
+        fprintf(out,
+                "\n\"<= %d\": against a reference of the paths with at most %d medium "
+                "scattering event%s.\n",
+                o.ref_max_scatter, o.ref_max_scatter, o.ref_max_scatter == 1 ? "" : "s");
+    fprintf(out,
+            "\n| scene | reference (samples, s, own noise) | lightsim.resolution | "
+            "samples/pixel | light simulation ms | render ms | relative RMSE | "
+            "mean fast/ref |%s\n"
+            "| --- | --- | --- | --- | --- | --- | --- | --- |%s\n",
+            extra ? " masked RMSE (ref noise) | masked mean fast/ref | <= N: RMSE (ref noise) | "
+                    "<= N: mean fast/ref |"
+                  : "",
+            extra ? " --- | --- | --- | --- |" : "");
     struct plot_point pts[MAX_SCENES * MAX_SETTINGS];
     int npts = 0;
     struct plot_desc plot = {.title = "Fast renderer against the reference path tracer",
@@ -387,12 +455,27 @@ int main(int argc, char **argv)
         size_t pixels = (size_t)w * h;
         double *mean = malloc(pixels * 3 * sizeof *mean), *var = malloc(pixels * 3 * sizeof *var);
         double ref_s = 0.0;
-        if (!reference(&o, text, len, s, w, h, mean, var, &ref_s)) {
+        /* the optional second reference (mean1, var1) and the mask */
+        double *mean1 = malloc(pixels * 3 * sizeof *mean1),
+               *var1 = malloc(pixels * 3 * sizeof *var1);
+        bool *keep = malloc(pixels * sizeof *keep);
+        double ref1_s = 0.0;
+        if (!reference(&o, text, len, s, w, h, 0, mean, var, &ref_s) ||
+            (o.ref_max_scatter > 0 &&
+             !reference(&o, text, len, s, w, h, o.ref_max_scatter, mean1, var1, &ref1_s))) {
             status = 1;
             free(mean);
             free(var);
+            free(mean1);
+            free(var1);
+            free(keep);
             scene_destroy(s);
             continue;
+        }
+        for (size_t i = 0; i < pixels; i++) {
+            keep[i] = true;
+            for (int c = 0; c < 3 && o.mask_above > 0.0; c++)
+                keep[i] = keep[i] && mean[3 * i + c] <= o.mask_above;
         }
         double noise = reference_noise(mean, var, pixels), ev = picture_exposure(mean, pixels);
         char name[128];
@@ -435,9 +518,21 @@ int main(int argc, char **argv)
                 continue;
             }
             double err = relative_rmse(r.rgba, mean, pixels);
-            fprintf(out, "| %s | %d, %.0f s, %.4f | %d | %d | %.0f | %.1f | %.4f |\n", name,
+            double ratio = mean_ratio(r.rgba, mean, pixels, NULL);
+            fprintf(out, "| %s | %d, %.0f s, %.4f | %d | %d | %.0f | %.1f | %.4f | %.3f |", name,
                     o.ref_samples, ref_s, noise, o.settings[k].resolution, o.settings[k].spp,
-                    r.sim_ms, r.render_ms, err);
+                    r.sim_ms, r.render_ms, err, ratio);
+            if (extra) {
+                double m_err, m_noise, s_err = NAN, s_noise = NAN, s_ratio = NAN;
+                masked_figures(r.rgba, mean, var, pixels, keep, &m_err, &m_noise);
+                if (o.ref_max_scatter > 0) {
+                    masked_figures(r.rgba, mean1, var1, pixels, keep, &s_err, &s_noise);
+                    s_ratio = mean_ratio(r.rgba, mean1, pixels, keep);
+                }
+                fprintf(out, " %.4f (%.4f) | %.3f | %.4f (%.4f) | %.3f |", m_err, m_noise,
+                        mean_ratio(r.rgba, mean, pixels, keep), s_err, s_noise, s_ratio);
+            }
+            fprintf(out, "\n");
             fflush(out);
             fprintf(stderr, "%s %d:%d: %.0f ms + %.1f ms, relative RMSE %.4f\n", name,
                     o.settings[k].resolution, o.settings[k].spp, r.sim_ms, r.render_ms, err);
@@ -447,11 +542,20 @@ int main(int argc, char **argv)
                 best = err;
                 snprintf(path, sizeof path, "%s/image_accuracy_%s_fast.png", o.images, name);
                 write_picture(path, r.rgba, w, h, ev);
+                snprintf(path, sizeof path, "%s/image_accuracy_%s_fast.rgba32f", o.images, name);
+                FILE *fr = o.raw ? fopen(path, "wb") : NULL;
+                if (fr) {
+                    fwrite(r.rgba, sizeof *r.rgba, pixels * 4, fr);
+                    fclose(fr);
+                }
             }
             free(r.rgba);
         }
         free(mean);
         free(var);
+        free(mean1);
+        free(var1);
+        free(keep);
         scene_destroy(s);
     }
     for (int i = 0; i < npts; i++) {

@@ -164,6 +164,22 @@ vec3 light_inscatter(vec3 x, vec3 d, vec3 sigma_s, float g)
     return sigma_s * sum;
 }
 
+// The step of in-scattering along a surface medium's segment (medium_step.glsl): half the
+// smallest voxel of the lights' irradiance volumes, where trilinear irradiance is sampled
+// finely enough; 0 where no light has a volume (direct lights: MEDIUM_DIRECT_STEPS).
+float light_inscatter_step()
+{
+    float voxel = 0.0;
+    for (int j = 0; j < MAX_LIGHTS; j++) {
+        if (j >= lights.count.x)
+            break;
+        float v = lights.lights[j].grid_min.w;
+        if (int(lights.lights[j].scale.w) == LIGHT_MODE_VOLUME && v > 0.0)
+            voxel = voxel > 0.0 ? min(voxel, v) : v;
+    }
+    return 0.5 * voxel;
+}
+
 // The receiver plane y = height, |x - cx|, |z - cz| <= half_size (half_size <= 0: the
 // whole plane; thesis fig. 7.4), seen by a ray that has left the scene at x going d.
 // Returns true with its radiance when hit:

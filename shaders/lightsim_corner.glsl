@@ -246,7 +246,7 @@ void ls_corner_move(inout ls_gpu_patch p, int k, float dt, bool may_spawn, inout
             float n = surfaces[m].medium.x;
             float t = s >= 0 ? h.t : reach;
             x += d * t;
-            tau += surfaces[m].attenuation.rgb * t;
+            tau += surface_extinction(m) * t; // sigma_a + sigma_s: scattered light leaves the beam
             if (s < 0) {
                 w = d * n;
                 break;

@@ -19,6 +19,7 @@
 #if MARCH_SURFACES
 #include "geom/kinds.glsl"
 #include "interface.glsl"
+#include "medium_step.glsl"
 #endif
 
 const float MARCH_INDEX_EPS = 1e-6;       // |n_field - n_ambient| below this: no interface
@@ -600,21 +601,40 @@ float march_medium_ior(int medium, vec3 x)
 }
 
 // A straight leg of length t through the medium of surface `medium` (-1: ambient): optical
-// path n t, Beer-Lambert depth sigma_a t (tevs2007 eq. 5.9) and the emission integrated in
-// closed form, L_e (1 - exp(-sigma t)) / sigma (L_e t where sigma = 0).
+// path n t, optical depth sigma_t t with sigma_t = sigma_a + sigma_s (tevs2007 eq. 5.9), and
+// eq. 5.4's source terms with the basic radiance factor: the emission and (MARCH_SCATTERING,
+// with lights) the single in-scattering of eq. 5.5 with the medium's g, over the steps of
+// medium_step.glsl: per step exp(-alpha_i) (1 - exp(-sigma_t h)) / sigma_t times the source
+// at the step's midpoint. Twin of surface_leg in server/core/reftrace.c.
 void march_surface_leg(inout march_state s, int medium, float t)
 {
     s.opl += march_medium_ior(medium, s.x) * t;
     if (medium >= 0) {
-        vec3 sig = surfaces[medium].attenuation.rgb;
+        vec3 sigma_t = surface_extinction(medium);
 #if MARCH_RADIANCE
         vec3 le = surfaces[medium].emission.rgb;
-        vec3 e = vec3(0.0);
-        for (int c = 0; c < 3; c++)
-            e[c] = sig[c] > 0.0 ? le[c] * (1.0 - exp(-sig[c] * t)) / sig[c] : le[c] * t;
-        s.L += s.t_f * exp(-s.alpha) * march_basic_radiance(surfaces[medium].medium.x) * e;
+        float w = s.t_f * march_basic_radiance(surfaces[medium].medium.x);
+        int steps = 1;
+#if MARCH_SCATTERING && MARCH_LIGHTS
+        vec4 sc = surfaces[medium].scattering;
+        bool scatters = lights.count.x > 0 && any(greaterThan(sc.rgb, vec3(0.0)));
+        if (scatters)
+            steps = medium_step_count(t, light_inscatter_step());
 #endif
-        s.alpha += sig * t;
+        float h = t / float(steps);
+        vec3 weight = medium_step_weight(sigma_t, h);
+        for (int i = 0; i < steps; i++) {
+            vec3 source = le;
+#if MARCH_SCATTERING && MARCH_LIGHTS
+            if (scatters)
+                source += light_inscatter(s.x + s.d * ((float(i) + 0.5) * h), s.d, sc.rgb, sc.a);
+#endif
+            s.L += w * exp(-s.alpha) * weight * source;
+            s.alpha += sigma_t * h;
+        }
+#else
+        s.alpha += sigma_t * t;
+#endif
     }
     s.x += s.d * t;
 }
@@ -735,7 +755,8 @@ march_state march_ray(vec3 origin, vec3 dir, uint inside)
         }
         last_surface = -1;
         if (obj < 0 && inside != 0u && surfaces[interface_medium(inside)].medium.w > 0.5) {
-            // A solid that never ends (a half-space) and absorbs in every channel.
+            // A solid that never ends (a half-space) whose extinction is positive in every
+            // channel.
             s.alpha = vec3(1e30);
             s.status = RAY_STATUS_ABSORBED;
             break;

@@ -89,10 +89,13 @@ struct surface_params {
     vec4 shape1;    /* box, rounded box: full sizes; cylinder: x full height; plane: unit normal;
                        lathe: x largest r, y lowest h, z highest h of the profile */
     vec4 medium;    /* x: n inside; y: scale (world units per object unit); z: offset past
-                       the surface just left (world units); w: 1 = absorbs in every channel */
+                       the surface just left (world units); w: 1 = extinction in every channel */
     vec4 attenuation; /* rgb: sigma_a per world unit; w: the object whose fields fill the
                          solid instead of the constants (march_bound.glsl), -1: none */
     vec4 emission;    /* rgb: L_e per world unit */
+    vec4 scattering;  /* rgb: sigma_s per world unit (extinction sigma_a + sigma_s, in-scattering
+                         along the segments, docs/tracing.md "Scattering inside surfaces");
+                         w: Henyey-Greenstein g */
 };
 
 /* Uniform block of smooth_ior.comp and gradient_ior.comp: one object's grid. */

@@ -37,6 +37,7 @@ struct pt_state {
     vec3 last_p;      /* where that sampling happened */
     int last_surface; /* the surface o lies on (-1: none), for mesh self-hits */
     int64_t last_prim;
+    int scatters; /* medium scattering events so far (pathtrace_scene.max_scatter) */
 };
 
 static double eps_at(vec3 p)
@@ -272,6 +273,8 @@ void pathtrace_radiance(const struct pathtrace_scene *s, vec3 origin, vec3 dir, 
             nearest(s, st.o, st.d, INFINITY, st.last_surface, st.last_prim, true, st.camera);
         double t;
         if (pathtrace_medium_sample(medium_of(s, st.inside), h.t, rng, st.beta, &t)) {
+            if (s->max_scatter > 0 && st.scatters++ >= s->max_scatter)
+                return; /* paths with more scattering events are left out */
             st.camera = false;
             scatter_medium(s, &st, vec3_madd(st.o, st.d, t), rng, L);
             if (!roulette(&st, depth, rng))

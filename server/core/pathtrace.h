@@ -105,6 +105,12 @@ struct pathtrace_scene {
     int light_count;
     enum pathtrace_env_kind env_kind;
     double env_radiance[3];
+    /* Most medium scattering events of a path (0: unlimited, the default); a path that
+     * would scatter once more ends there. 1 gives the single-scattered part of the image
+     * (and what reaches the eye unscattered): what the fast renderer models
+     * (refract-pictures --ref-max-scatter; CPU only, the GPU path tracer has no such
+     * limit). */
+    int max_scatter;
 };
 
 /* The converted spherical light of total flux phi_w (W, per channel) and radius r: a

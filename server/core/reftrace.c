@@ -30,6 +30,7 @@
 #include "env.h"
 #include "fresnel.h"
 #include "interface.h"
+#include "medium_step.h"
 #include "reftrace_integrate.h"
 #include "reftrace_march.h"
 #include "reftrace_light.h"
@@ -701,26 +702,40 @@ static double medium_ior(const struct march *m, int medium)
 }
 
 /* A straight leg of length t (world) through the medium of surface `medium` (-1: the
- * ambient medium, which neither absorbs nor emits): optical path n t, optical depth
- * sigma_a t (Beer-Lambert, tevs2007 eq. 5.9) and the emission integrated in closed form,
- * int_0^t exp(-sigma s) L_e ds = L_e (1 - exp(-sigma t)) / sigma (tevs2007 eq. 5.4 with
- * frisvad2010's basic radiance factor), the continuous limit of the voxel march's sum. */
+ * ambient medium, which neither absorbs, scatters nor emits): optical path n t, optical
+ * depth sigma_t t with sigma_t = sigma_a + sigma_s (Beer-Lambert, tevs2007 eq. 5.9), and
+ * eq. 5.4's source terms with frisvad2010's basic radiance factor: the emission and, with
+ * lights and sigma_s > 0, the single in-scattering of eq. 5.5 (phase_hg with the medium's
+ * g), over the steps of medium_step.h: per step the transmittance integrated exactly,
+ * exp(-alpha_i) (1 - exp(-sigma_t h)) / sigma_t, times the source at the step's midpoint
+ * (exact for the constant emission). Twin of march_surface_leg in shaders/ray_march.glsl. */
 static void surface_leg(struct march *m, int medium, double t)
 {
     m->opl += medium_ior(m, medium) * t;
     if (medium >= 0) {
         const struct reftrace_surface *sf = &m->set->surfaces[medium];
-        vec3 before = exp_neg(m->alpha);
         double w = m->t_f * basic_radiance(m, sf->ior);
-        double e[3];
-        for (int c = 0; c < 3; c++) {
-            double sig = sf->attenuation[c];
-            e[c] = sig > 0.0 ? sf->emission[c] * -expm1(-sig * t) / sig : sf->emission[c] * t;
+        vec3 sigma_t =
+            vec3_make(reftrace_surface_extinction(sf, 0), reftrace_surface_extinction(sf, 1),
+                      reftrace_surface_extinction(sf, 2));
+        vec3 sigma_s = vec3_make(sf->scattering[0], sf->scattering[1], sf->scattering[2]);
+        vec3 emission = vec3_make(sf->emission[0], sf->emission[1], sf->emission[2]);
+        const struct reftrace_lighting *lt = m->set->lighting;
+        bool scatters = lt != NULL && (sigma_s.x > 0.0 || sigma_s.y > 0.0 || sigma_s.z > 0.0);
+        int steps = scatters ? medium_step_count(t, reftrace_light_inscatter_step(lt)) : 1;
+        double h = t / steps;
+        vec3 weight = vec3_make(medium_step_weight(sigma_t.x, h), medium_step_weight(sigma_t.y, h),
+                                medium_step_weight(sigma_t.z, h));
+        for (int i = 0; i < steps; i++) {
+            vec3 source = emission;
+            if (scatters)
+                source = vec3_add(source,
+                                  reftrace_light_inscatter(lt, vec3_madd(m->x, m->d, (i + 0.5) * h),
+                                                           m->d, sigma_s, sf->anisotropy));
+            vec3 before = vec3_scale(exp_neg(m->alpha), w);
+            m->L = vec3_add(m->L, vec3_mul(vec3_mul(before, weight), source));
+            m->alpha = vec3_madd(m->alpha, sigma_t, h);
         }
-        m->L = vec3_add(m->L, vec3_mul(vec3_scale(before, w), vec3_make(e[0], e[1], e[2])));
-        m->alpha = vec3_add(
-            m->alpha,
-            vec3_scale(vec3_make(sf->attenuation[0], sf->attenuation[1], sf->attenuation[2]), t));
     }
     m->x = vec3_madd(m->x, m->d, t);
 }
@@ -852,10 +867,13 @@ void reftrace_ray(const struct reftrace_object *objects, int count,
             }
             last_surface = -1;
             if (!have_object && inside != 0) {
-                /* Inside a solid that never ends (a half-space): a medium that absorbs in
-                 * every channel takes all the light; one that does not lets it go. */
-                const double *a = settings->surfaces[interface_medium(inside)].attenuation;
-                if (a[0] > 0.0 && a[1] > 0.0 && a[2] > 0.0) {
+                /* Inside a solid that never ends (a half-space): a medium whose extinction
+                 * is positive in every channel takes all the light; one that is not lets
+                 * it go. */
+                const struct reftrace_surface *sf = &settings->surfaces[interface_medium(inside)];
+                if (reftrace_surface_extinction(sf, 0) > 0.0 &&
+                    reftrace_surface_extinction(sf, 1) > 0.0 &&
+                    reftrace_surface_extinction(sf, 2) > 0.0) {
                     m.alpha = vec3_make(INFINITY, INFINITY, INFINITY);
                     stop(&m, RAY_ABSORBED);
                     break;

@@ -113,11 +113,23 @@ struct reftrace_surface {
     double ior;              /* constant n of the medium inside */
     double attenuation[3];   /* sigma_a per world unit */
     double emission[3];      /* L_e per world unit */
+    double scattering[3];    /* sigma_s per world unit: extinction sigma_a + sigma_s and, with
+                                lights, single in-scattering (docs/tracing.md "Scattering
+                                inside surfaces") */
+    double anisotropy;       /* Henyey-Greenstein g of the in-scattering */
     struct brdf_params brdf; /* reflection of lights where it refracts; zero: none */
     /* The medium "object" form: this bound object's fields fill the solid instead of the
      * constants above (ior, attenuation, emission unused); NULL: constant medium. Borrowed. */
     const struct reftrace_object *field;
 };
+
+/* sigma_t = sigma_a + sigma_s of a surface's constant medium in channel c (tevs2007 eq. 5.9:
+ * light scattered out of a ray is lost to it); the twin of surface_extinction in
+ * shaders/geom/surface.glsl. */
+static inline double reftrace_surface_extinction(const struct reftrace_surface *sf, int c)
+{
+    return sf->attenuation[c] + sf->scattering[c];
+}
 
 /* One surface event of a ray (the trace API's "events"). */
 enum reftrace_event_kind {

@@ -95,6 +95,17 @@ vec3 reftrace_light_inscatter(const struct reftrace_lighting *lt, vec3 x, vec3 d
     return vec3_mul(sigma_s, sum);
 }
 
+double reftrace_light_inscatter_step(const struct reftrace_lighting *lt)
+{
+    double voxel = 0.0;
+    for (int j = 0; lt != NULL && j < lt->count && j < MAX_LIGHTS; j++) {
+        double v = lt->lights[j].voxel;
+        if (lt->lights[j].mode == LIGHT_MODE_VOLUME && v > 0.0)
+            voxel = voxel > 0.0 ? fmin(voxel, v) : v;
+    }
+    return 0.5 * voxel;
+}
+
 bool reftrace_light_receiver(const struct reftrace_lighting *lt, vec3 env_up, vec3 x, vec3 d,
                              vec3 *L)
 {

@@ -30,6 +30,10 @@ vec3 reftrace_light_reflected(const struct reftrace_lighting *lt, const struct b
 vec3 reftrace_light_inscatter(const struct reftrace_lighting *lt, vec3 x, vec3 d, vec3 sigma_s,
                               double g);
 
+/* The step of in-scattering along a surface medium's segment (medium_step.h): half the
+ * smallest voxel of the lights' irradiance volumes; 0 where none has one (lt NULL too). */
+double reftrace_light_inscatter_step(const struct reftrace_lighting *lt);
+
 /* The receiver seen from x along d after the ray left the scene: true with its radiance
  * (albedo / pi) sum_j E_j(hit) max(0, -l_j.y) + albedo env_up, E read on the plane
  * (docs/lightsim.md "Domain": the light grid reaches two voxels below it) from light j's

@@ -160,7 +160,8 @@ void ls_corner_move(const struct ls_step_ctx *c, struct ls_patch *p, int k, bool
             double t = s >= 0 ? h.t : L;
             x = vec3_madd(x, d, t);
             for (int ch = 0; ch < 3; ch++)
-                tau[ch] += sf->attenuation[ch] * t; /* Beer-Lambert */
+                tau[ch] += reftrace_surface_extinction(sf, ch) * t; /* Beer-Lambert over
+                                      sigma_a + sigma_s: the scattered part leaves the beam */
             if (s < 0) {
                 w = vec3_scale(d, n);
                 break;

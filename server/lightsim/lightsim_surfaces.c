@@ -116,7 +116,9 @@ enum refract_code ls_surfaces_build(const struct scene *s, scene_volume_lookup_f
         for (int c = 0; c < 3; c++) {
             rs->attenuation[c] = sf->medium.attenuation[c];
             rs->emission[c] = sf->medium.emission[c];
+            rs->scattering[c] = sf->medium.scattering[c]; /* extinction: ls_corner_move */
         }
+        rs->anisotropy = sf->medium.anisotropy;
     }
     f->surface_count = (int)n;
     return REFRACT_E_OK;

@@ -87,8 +87,8 @@ static bool pack_surfaces(const struct pathtrace_scene *s, struct surface_params
     for (int k = 0; k < s->surface_count; k++) {
         const struct pathtrace_surface *su = &s->surfaces[k];
         const double zero[3] = {0, 0, 0};
-        geom_surface_pack(&su->geom, su->medium.ior, su->medium.sigma_a, zero, (int)next,
-                          &(*sp)[k]);
+        geom_surface_pack(&su->geom, su->medium.ior, su->medium.sigma_a, zero, su->medium.sigma_s,
+                          su->medium.g, (int)next, &(*sp)[k]);
         if (su->geom.kind == GEOM_LATHE)
             for (size_t j = 0; j < su->geom.profile_count; j++, next++) {
                 (*pts)[2 * next] = (float)su->geom.profile[j][0];

@@ -40,7 +40,7 @@ _Static_assert(sizeof(struct object_params) == 2 * 64 + 6 * 16, "object_params l
 _Static_assert(sizeof(struct march_params) ==
                    11 * 16 + MAX_OBJECTS * (sizeof(struct object_params) + 16),
                "march_params layout");
-_Static_assert(sizeof(struct surface_params) == 2 * 64 + 7 * 16, "surface_params layout");
+_Static_assert(sizeof(struct surface_params) == 2 * 64 + 8 * 16, "surface_params layout");
 _Static_assert(MAX_SURFACES == SCENE_MAX_SURFACES && MAX_SURFACES == INTERFACE_MAX_SURFACES,
                "one bit per surface in a ray's inside set");
 _Static_assert(sizeof(struct volume_params) == 3 * 16 + 8 * 16, "volume_params layout");
@@ -340,6 +340,8 @@ static unsigned march_variant(const struct render *r, const struct scene_gpu *sg
         v |= GPU_VARIANT_SKIP;
     if (sg->surface_count > 0)
         v |= GPU_VARIANT_SURFACES;
+    if (sg->surfaces_scatter) /* in-scattering along the surface media's segments */
+        v |= GPU_VARIANT_SCATTERING;
     if (r->all_variant_bits)
         v |= GPU_VARIANT_ATTENUATION | GPU_VARIANT_EMISSION | GPU_VARIANT_OPAQUE |
              GPU_VARIANT_SCATTERING | GPU_VARIANT_LIGHTS;

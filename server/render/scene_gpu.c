@@ -505,6 +505,8 @@ static enum refract_code build_all(struct build_ctx *b, struct err *e)
     if (rc == REFRACT_E_OK)
         rc = surfaces_gpu_build(b->src, b->sg, e);
     b->sg->surface_count = s->surface_count;
+    for (size_t k = 0; k < s->surface_count; k++)
+        b->sg->surfaces_scatter |= scene_surface_scatters(&s->surfaces[k]);
     if (rc == REFRACT_E_OK)
         rc = build_environment(b, e);
     if (rc == REFRACT_E_OK && s->render.ior_texture == SCENE_IOR_FLOAT16)

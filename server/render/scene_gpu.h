@@ -49,6 +49,9 @@ struct scene_gpu {
     struct gpu_buffer mesh_tris;        /* ... their triangles (mesh_rt.h records) */
     struct gpu_buffer mesh_verts;       /* ... their vertices and shading normals */
     size_t surface_count;
+    bool surfaces_scatter; /* some surface's constant medium has sigma_s > 0: the kernel's
+                              MARCH_SCATTERING variant (docs/tracing.md "Scattering inside
+                              surfaces") */
     int atlas_size[3];
     size_t object_count;
     struct scene_gpu_object objects[MAX_OBJECTS];

@@ -123,7 +123,8 @@ enum refract_code surfaces_gpu_build(const struct render_scene_source *src, stru
     for (size_t i = 0; i < n; i++) {
         const struct scene_shape *sh = &s->surfaces[i].shape;
         const struct scene_medium *m = &s->surfaces[i].medium;
-        geom_surface_pack(&g[i], m->ior, m->attenuation, m->emission, (int)next, &sp[i]);
+        geom_surface_pack(&g[i], m->ior, m->attenuation, m->emission, m->scattering, m->anisotropy,
+                          (int)next, &sp[i]);
         sp[i].mesh = first[i];
         /* The medium "object" form: the object whose fields fill the solid. */
         sp[i].attenuation.w = m->has_object ? (float)m->object : -1.0f;

@@ -261,8 +261,9 @@ struct scene_medium {
     double emission[3];    /* L_e per world unit, >= 0; 0 when has_object */
     bool has_object;       /* the medium is the fields of scene.objects[object] */
     int object;            /* when has_object: index into scene.objects */
-    /* Rendered by "mode": "reference" only (docs/pathtracer.md); the fast renderer ignores
-     * them (it shows the medium's absorption alone). */
+    /* Extinction sigma_a + sigma_s everywhere; single in-scattering in the fast renderer
+     * (docs/tracing.md "Scattering inside surfaces"), multiple in "mode": "reference"
+     * (docs/pathtracer.md). */
     double scattering[3]; /* sigma_s per world unit, >= 0 */
     double anisotropy;    /* Henyey-Greenstein g, -0.99..0.99 */
 };
@@ -295,7 +296,13 @@ struct scene {
     struct scene_lightsim lightsim;
 };
 
-/* True when some object scatters (a SCENE_CH_SCATTERING field) or a receiver is enabled:
+/* True when a surface's constant medium scatters (sigma_s > 0 in some channel): the fast
+ * renderer's in-scattering and the light simulator's extinction (docs/tracing.md
+ * "Scattering inside surfaces"). */
+bool scene_surface_scatters(const struct scene_surface *sf);
+
+/* True when some object scatters (a SCENE_CH_SCATTERING field), some surface's medium
+ * scatters (scene_surface_scatters) or a receiver is enabled:
  * only then does the scene need irradiance volumes (tevs2007 sect. 1.2: model only what a
  * scene needs). Defined by the scene's transport alone, not by its lights: a scene that
  * needs light simulation but has no lights simply has nothing to simulate yet (lights

@@ -115,7 +115,7 @@ static enum refract_code parse_medium(const cJSON *o, const char *path, const st
         rc = parse_rgb(mo, p, "attenuation", m->attenuation, e);
     if (rc == REFRACT_E_OK)
         rc = parse_rgb(mo, p, "emission", m->emission, e);
-    if (rc == REFRACT_E_OK) /* reference mode only (scene.h) */
+    if (rc == REFRACT_E_OK) /* extinction and in-scattering (scene.h) */
         rc = parse_rgb(mo, p, "scattering", m->scattering, e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(mo, p, "anisotropy", false, 0.0, -0.99, 0.99, &m->anisotropy, e);
@@ -383,6 +383,15 @@ static enum refract_code check_rules(const struct scene *s, struct err *e)
         if (scene_channel_used(&s->objects[k], SCENE_CH_SCATTERING)) {
             char path[48];
             snprintf(path, sizeof path, "objects[%zu].scattering", k);
+            enum refract_code rc = scene_check_lightsim_surfaces(s, path, e);
+            if (rc != REFRACT_E_OK)
+                return rc;
+        }
+    for (size_t k = 0; k < s->surface_count; k++)
+        if (scene_surface_scatters(&s->surfaces[k])) { /* it needs the light simulator too */
+            char path[64];
+            snprintf(path, sizeof path, "surfaces[%d].medium.scattering",
+                     s->surfaces[k].document_index);
             enum refract_code rc = scene_check_lightsim_surfaces(s, path, e);
             if (rc != REFRACT_E_OK)
                 return rc;

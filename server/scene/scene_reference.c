@@ -233,6 +233,8 @@ enum refract_code scene_reference_build(const struct scene *s, enum scene_refere
         rs->ior = m->ior;
         memcpy(rs->attenuation, m->attenuation, sizeof rs->attenuation);
         memcpy(rs->emission, m->emission, sizeof rs->emission);
+        memcpy(rs->scattering, m->scattering, sizeof rs->scattering);
+        rs->anisotropy = m->anisotropy;
         const struct scene_brdf *b = &s->surfaces[k].brdf; /* as render.c fills it */
         rs->brdf.kind = (int)b->kind;
         memcpy(rs->brdf.color, b->color, sizeof rs->brdf.color);

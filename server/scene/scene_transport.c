@@ -12,9 +12,9 @@
  *
  * Deliberately left out (transport is linear in them, or they act after the simulation):
  * lights (their pose keys each volume separately; colour and intensity scale it), camera,
- * environment, emission, anisotropy (it shapes in-scattering at render time, not the
- * irradiance arriving), BRDFs, names, the receiver's albedo and the render settings other
- * than boundary_threshold.
+ * environment, emission, anisotropy (of objects and surface media alike: it shapes
+ * in-scattering at render time, not the irradiance arriving), BRDFs, names, the receiver's
+ * albedo and the render settings other than boundary_threshold.
  */
 #include <string.h>
 
@@ -23,12 +23,23 @@
 #define FNV_OFFSET 0xcbf29ce484222325ull
 #define FNV_PRIME 0x100000001b3ull
 
+bool scene_surface_scatters(const struct scene_surface *sf)
+{
+    const struct scene_medium *m = &sf->medium;
+    return !m->has_object &&
+           (m->scattering[0] > 0.0 || m->scattering[1] > 0.0 || m->scattering[2] > 0.0);
+}
+
 bool scene_needs_light_simulation(const struct scene *s)
 {
     if (s->receiver.enabled)
         return true;
     for (size_t i = 0; i < s->object_count; i++) {
         if (scene_channel_used(&s->objects[i], SCENE_CH_SCATTERING))
+            return true;
+    }
+    for (size_t k = 0; k < s->surface_count; k++) {
+        if (scene_surface_scatters(&s->surfaces[k]))
             return true;
     }
     return false;
@@ -216,6 +227,13 @@ static void mix_surface(uint64_t *h, const struct scene_surface *sf)
     if (sf->medium.has_object) {
         mix_int(h, 0x0b1ec7);
         mix_int(h, sf->medium.object);
+    }
+    /* Scattering: part of the extinction the light simulator applies (sigma_a + sigma_s).
+     * Only when the medium scatters, so non-scattering media hash as before. */
+    if (scene_surface_scatters(sf)) {
+        mix_int(h, 0x5ca77e);
+        for (int c = 0; c < 3; c++)
+            mix_double(h, sf->medium.scattering[c]);
     }
 }
 

@@ -8,6 +8,13 @@ layout(std430, binding = BIND_SSBO_SURFACES) readonly buffer surfaces_block
     surface_params surfaces[];
 };
 
+// sigma_t = sigma_a + sigma_s of surface k's constant medium (tevs2007 eq. 5.9: light
+// scattered out of a ray is lost to it); the twin of reftrace_surface_extinction.
+vec3 surface_extinction(int k)
+{
+    return surfaces[k].attenuation.rgb + surfaces[k].scattering.rgb;
+}
+
 layout(std430, binding = BIND_SSBO_SURFACE_PROFILES) readonly buffer surface_profiles_block
 {
     vec2 lathe_points[];

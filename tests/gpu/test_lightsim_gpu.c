@@ -260,7 +260,7 @@ static void lifecycle_run(struct gpu_work *w, struct gpu *gpu)
         return;
     size_t voxels = (size_t)f->grid.dims[0] * f->grid.dims[1] * f->grid.dims[2];
     size_t cap = 5000, blocks = (cap + LS_SCAN_BLOCK - 1) / LS_SCAN_BLOCK;
-    /* without surfaces the twin list, the surface records (surface_params: 224 bytes), the
+    /* without surfaces the twin list, the surface records (surface_params: 240 bytes), the
      * lathe points and the meshes' packed records (16 bytes) are one stand-in element
      * each; the control block holds the step sums after its 80 bytes */
     size_t stepping = 2 * cap * 256 + /* ls_gpu_patch: 256 bytes */ 2 * cap * 4 + blocks * 4 + 80 +

@@ -1,16 +1,17 @@
 /*
  * test_lightsim_gpu_surfaces.c - the GPU light simulator among exact surfaces
  * (docs/lightsim.md "Surfaces"; issue 12 item 4's acceptance), on llvmpipe in CI:
- *   - against its CPU double twin (lightsim_ref_run) on coarse grids: an absorbing glass
- *     sphere surface under a directional light, a rotated glass box (refraction, reflected
- *     twins, total internal reflection at its side faces) under a point light; the same
+ *   - against its CPU double twin (lightsim_ref_run) on coarse grids: an absorbing and
+ *     scattering glass sphere surface (extinction sigma_a + sigma_s) under a directional
+ *     light, a rotated glass box (refraction, reflected twins, total internal reflection at
+ *     its side faces) under a point light; the same
  *     quantities as test_lightsim_gpu_vs_ref.c bounds for voxel scenes, about 10x looser:
  *     a corner that ends a step within float rounding of a surface crosses it one step
  *     earlier or later on the GPU, which moves when a patch's event completes, so when it
  *     may split, and whether a rim patch's next crossing falls inside or outside an event.
- *     Measured on llvmpipe (sphere / box): flux terms 9.2e-5 / 2.6e-4 of flux_in,
- *     patch-steps 1.4e-3 / 1.1e-3, irradiance relative L1 4.5e-4 / 7.9e-4, direction
- *     mean 1 - cos 1.4e-4 / 7.4e-4; bounds 1e-3, 1e-2, 3e-3, 3e-3. A GPU that followed no
+ *     Measured on llvmpipe (sphere / box): flux terms 5.0e-5 / 2.6e-4 of flux_in,
+ *     patch-steps 9.7e-4 / 1.1e-3, irradiance relative L1 3.1e-4 / 7.9e-4, direction
+ *     mean 1 - cos 1.3e-4 / 7.4e-4; bounds 1e-3, 1e-2, 3e-3, 3e-3. A GPU that followed no
  *     twin, or refracted wrongly, misses them by 10-100x (the twins carry 4-8 % of the
  *     power into other voxels);
  *   - the ball lens of test_lightsim_surfaces.c (n = 1.5, 1.8, R = 0.5, stopped down):
@@ -171,7 +172,8 @@ static void ball_lens(struct gpu *gpu, double n, int resolution, int patches)
 
 static const char *const sphere_json =
     "{\"surfaces\": [{\"shape\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 0.6,"
-    " \"medium\": {\"ior\": 1.5, \"attenuation\": [0.2, 0.5, 1.0]}}],"
+    " \"medium\": {\"ior\": 1.5, \"attenuation\": [0.2, 0.5, 1.0],"
+    " \"scattering\": [0.6, 0.2, 0]}}],"
     " \"receiver\": {\"height\": -0.8, \"half_size\": 0.8}}";
 
 static const char *const box_json =

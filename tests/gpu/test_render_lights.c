@@ -6,7 +6,8 @@
  * (g = 0.5) lit by a volume whose irradiance varies across it; a receiver plane under a
  * glass ball with a bright spot in the volume (and the ball's GGX reflection of the same
  * volume); a GGX highlight on a glass sphere under an unshadowed direct light (a scene that
- * needs no light simulation).
+ * needs no light simulation); a glass sphere surface filled with a scattering medium in
+ * the varying volume (in-scattering along surface segments).
  *
  * The scenes (scattering, anisotropy, receiver, BRDFs) are parsed from JSON; the light
  * and its synthetic volume are set by hand. Values are chosen exactly representable in
@@ -418,8 +419,29 @@ int main(void)
                                                .intensity = 200};
         compare(gpu, &multi);
     }
-    struct lit_case *cases[5] = {&slab, &recv, &recv_inf, &ggx, &multi};
-    for (int i = 0; i < 5; i++) {
+    /* 5. A glass sphere surface (n = 1.5) filled with a scattering constant medium (sigma_s
+     * (0.75, 0.5, 0.25), sigma_a 0.1, g 0.4) in the ramp volume: in-scattering along the
+     * surface segments (docs/tracing.md "Scattering inside surfaces") with refraction,
+     * Fresnel and the basic-radiance factor. */
+    struct lit_case ball = {
+        .name = "scattering medium in a glass sphere", .close_fraction = close, .mean_bound = mean};
+    ball.scene = parse_ok("{" CAMERA_A ", \"surfaces\": [{\"shape\": \"sphere\", \"center\": "
+                          "[0, 0, 0], \"radius\": 0.9, \"medium\": {\"ior\": 1.5, "
+                          "\"attenuation\": [0.1, 0.1, 0.1], \"scattering\": [0.75, 0.5, 0.25], "
+                          "\"anisotropy\": 0.4}}]}");
+    if (ball.scene) {
+        CHECK(scene_needs_light_simulation(ball.scene));
+        ball.light_count = 1;
+        ball.lights[0] = (struct scene_light){.kind = SCENE_LIGHT_DIRECTIONAL,
+                                              .direction = vec3_normalize((vec3){0.3, -1, 0.2}),
+                                              .color = {1, 1, 1},
+                                              .intensity = 20};
+        make_volume(&ball.volumes[0], (vec3){-1.5, -1.5, -1.5}, 0.125, 24, ramp_irradiance,
+                    ball.lights[0].direction);
+        compare(gpu, &ball);
+    }
+    struct lit_case *cases[6] = {&slab, &recv, &recv_inf, &ggx, &multi, &ball};
+    for (int i = 0; i < 6; i++) {
         for (int j = 0; j < SCENE_MAX_LIGHTS; j++) {
             free(cases[i]->volumes[j].irradiance);
             free(cases[i]->volumes[j].direction);

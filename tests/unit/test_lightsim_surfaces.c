@@ -9,6 +9,8 @@
  *   - a glass slab (box surface) at normal incidence: the irradiance above it is
  *     1 + 2 R / (1 + R), the slab's reflectance with every internal reflection, which only
  *     reflected patches that live on can give (R the single surface's Fresnel reflectance);
+ *   - a scattering slab of index 1: the beam below is exp(-(sigma_a + sigma_s) d) per
+ *     channel (the scattered part leaves the beam);
  *   - energy: flux_in = out + reflected + absorbed + culled + live to rounding in each;
  *   - the parser takes a receiver and scattering objects with surfaces (not with meshes).
  *
@@ -115,6 +117,55 @@ static void test_slab_reflections(void)
     scene_destroy(s);
 }
 
+/* A scattering slab of index 1 (no Fresnel event): the beam below it is exp(-sigma_t d)
+ * with sigma_t = sigma_a + sigma_s per channel (the scattered part leaves the beam;
+ * docs/lightsim.md "Surfaces"). With sigma_a alone it would be exp(-0.04) = 0.96. */
+static void test_scattering_slab(void)
+{
+    const double d = 0.4, sigma_a = 0.1, sigma_s[3] = {0.4, 0.9, 0.2};
+    struct scene *s =
+        fx_scene("{\"surfaces\": [{\"shape\": \"box\", \"center\": [0, 0, 0], "
+                 "\"size\": [1, 0.4, 1], \"medium\": {\"ior\": 1, "
+                 "\"attenuation\": [0.1, 0.1, 0.1], \"scattering\": [0.4, 0.9, 0.2]}}],"
+                 " \"receiver\": {\"height\": -0.5, \"half_size\": 0.5}}");
+    CHECK(scene_needs_light_simulation(s));
+    struct scene_lightsim set = fx_settings(32, 32);
+    struct scene_light l = fx_directional((vec3){0, -1, 0});
+    struct lightsim_fields f;
+    struct irradiance_volume v;
+    fx_run(s, &l, &set, &f, &v);
+    fx_print_stats("scattering slab", &v.stats);
+    const struct light_grid *g = &v.grid;
+    double sum[3] = {0}, worst = 0.0;
+    int count = 0;
+    for (int k = 0; k < g->dims[2]; k++)
+        for (int j = 0; j < g->dims[1]; j++)
+            for (int i = 0; i < g->dims[0]; i++) {
+                vec3 x = fx_centre(g, i, j, k);
+                /* below the slab, away from its sides and from the receiver's layer */
+                if (fabs(x.x) > 0.3 || fabs(x.z) > 0.3 || x.y > -0.25 || x.y < -0.4)
+                    continue;
+                for (int c = 0; c < 3; c++) {
+                    double want = exp(-(sigma_a + sigma_s[c]) * d), E = fx_E(&v, i, j, k)[c];
+                    sum[c] += E;
+                    worst = fmax(worst, fabs(E - want) / want);
+                }
+                count++;
+            }
+    printf("scattering slab: E below (%.5f, %.5f, %.5f) over %d voxels, exp(-sigma_t d) = "
+           "(%.5f, %.5f, %.5f); worst relative %.2e\n",
+           sum[0] / count, sum[1] / count, sum[2] / count, count, exp(-(sigma_a + sigma_s[0]) * d),
+           exp(-(sigma_a + sigma_s[1]) * d), exp(-(sigma_a + sigma_s[2]) * d), worst);
+    CHECK(count > 20);
+    for (int c = 0; c < 3; c++)
+        CHECK_NEAR(sum[c] / count, exp(-(sigma_a + sigma_s[c]) * d), 2e-3);
+    CHECK(worst < 1e-2);
+    check_balance("scattering slab", &v.stats);
+    irradiance_volume_free(&v);
+    lightsim_fields_free(&f);
+    scene_destroy(s);
+}
+
 /* The parser: a receiver and scattering objects with surfaces. */
 static void test_parse(void)
 {
@@ -168,6 +219,7 @@ int main(void)
     test_parse();
     test_domain();
     test_slab_reflections();
+    test_scattering_slab();
     test_ball_lens(1.5, 128, 192);
     /* n = 1.8 runs the same code as n = 1.5; the sanitizer build leaves it out. */
     if (!test_sanitized())

@@ -88,6 +88,14 @@ static void test_refuses_bad_bindings(void)
              "{\"object\": \"lens\"}") "], "
                                        "\"receiver\": {\"height\": -1.5}}",
          REFRACT_E_INVALID_FIELD, "receiver: needs the light simulator", "\"lens\""},
+        /* ... nor does a scattering surface medium beside a field-filled surface. */
+        {"{\"objects\": [" LENS("1") "], \"surfaces\": [" BALL(
+             "{\"object\": \"lens\"}") ", "
+                                       "{\"shape\": \"box\", \"center\": [0, 0, 2.5], \"size\": "
+                                       "[1, 1, 1], \"medium\": {\"ior\": 1.3, \"scattering\": "
+                                       "[0.1, 0.1, 0.1]}}]}",
+         REFRACT_E_INVALID_FIELD, "surfaces[1].medium.scattering: needs the light simulator",
+         "\"lens\""},
         /* Opaque embeddings are not modelled inside a surface. */
         {"{\"objects\": [{\"name\": \"lens\", " BOUNDS ", \"resolution\": 8, \"ior\": 1.5, "
          "\"opaque\": {\"shape\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 0.2, "

@@ -266,6 +266,14 @@ static void needs_light_simulation_for_scattering_or_a_receiver(void)
         {"{\"objects\": [{\"bounds\": {\"min\": [0, 0, 0], \"max\": [1, 1, 1]}, \"ior\": 1.2, "
          "\"scattering\": {\"shape\": \"box\", \"size\": [0.1, 0.1, 0.1], \"inside\": 0}}]}",
          true},
+        /* a surface's constant medium that scatters (docs/tracing.md "Scattering inside
+         * surfaces"); one that only absorbs does not */
+        {"{\"surfaces\": [{\"shape\": \"sphere\", \"radius\": 1, \"medium\": {\"ior\": 1.5, "
+         "\"scattering\": [0, 0.5, 0]}}]}",
+         true},
+        {"{\"surfaces\": [{\"shape\": \"sphere\", \"radius\": 1, \"medium\": {\"ior\": 1.5, "
+         "\"attenuation\": [1, 1, 1], \"anisotropy\": 0.5}}]}",
+         false},
         {"{\"objects\": [{\"bounds\": {\"min\": [0, 0, 0], \"max\": [1, 1, 1]}, \"attenuation\": "
          "1, "
          "\"emission\": 1, \"opaque\": 1}]}",
@@ -281,6 +289,24 @@ static void needs_light_simulation_for_scattering_or_a_receiver(void)
     }
 }
 
+/* A surface medium's scattering is part of the light simulator's extinction: it changes
+ * the hash; zero scattering and the anisotropy (render time only) do not. */
+static void surface_scattering_changes_the_hash(void)
+{
+#define SURF(m)                                                                                    \
+    "{\"surfaces\": [{\"shape\": \"sphere\", \"radius\": 1, \"medium\": {\"ior\": 1.5" m "}}]}"
+    bool ok[4];
+    uint64_t plain = hash_of(SURF(""), &ok[0]);
+    uint64_t zero = hash_of(SURF(", \"scattering\": [0, 0, 0], \"anisotropy\": 0.3"), &ok[1]);
+    uint64_t a = hash_of(SURF(", \"scattering\": [0.5, 0.5, 0.5]"), &ok[2]);
+    uint64_t b = hash_of(SURF(", \"scattering\": [0.5, 0.5, 0.6], \"anisotropy\": 0.3"), &ok[3]);
+#undef SURF
+    CHECK(ok[0] && ok[1] && ok[2] && ok[3]);
+    CHECK(plain == zero);
+    CHECK(a != plain);
+    CHECK(a != b);
+}
+
 int main(void)
 {
     same_transport_gives_the_same_hash();
@@ -288,5 +314,6 @@ int main(void)
     bumpy_sphere_defaults_hash_like_their_spelling();
     hash_reads_the_structs_not_their_addresses();
     needs_light_simulation_for_scattering_or_a_receiver();
+    surface_scattering_changes_the_hash();
     return test_summary("test_scene_transport");
 }

@@ -139,9 +139,11 @@ double geom_surface_size(const struct geom_surface *g);
 struct surface_params; /* shaders/shared_types.h */
 
 /* Packs g (its kind's numbers, transform, lathe orientation and bounding cylinder) and its
- * medium into sp; first_point: a lathe's first profile point in the shared points buffer.
- * A mesh's buffer offsets (sp->mesh) are the caller's. */
+ * medium (n, sigma_a, L_e, sigma_s and the Henyey-Greenstein g) into sp; first_point: a
+ * lathe's first profile point in the shared points buffer. A mesh's buffer offsets
+ * (sp->mesh) are the caller's. */
 void geom_surface_pack(const struct geom_surface *g, double ior, const double attenuation[3],
-                       const double emission[3], int first_point, struct surface_params *sp);
+                       const double emission[3], const double scattering[3], double anisotropy,
+                       int first_point, struct surface_params *sp);
 
 #endif

@@ -16,7 +16,8 @@ static vec4 v4(vec3 v, double w)
 }
 
 void geom_surface_pack(const struct geom_surface *g, double ior, const double attenuation[3],
-                       const double emission[3], int first_point, struct surface_params *sp)
+                       const double emission[3], const double scattering[3], double anisotropy,
+                       int first_point, struct surface_params *sp)
 {
     xform_to_gl_mat4(&g->xf, sp->world_from_object.m, sp->object_from_world.m);
     sp->kind = (ivec4){g->kind, g->axis, first_point, (int)g->profile_count};
@@ -54,10 +55,15 @@ void geom_surface_pack(const struct geom_surface *g, double ior, const double at
     default: /* GEOM_MESH: the caller sets sp->mesh */
         break;
     }
-    bool absorbs = attenuation[0] > 0 && attenuation[1] > 0 && attenuation[2] > 0;
+    /* An endless solid (a half-space) takes all the light when its extinction
+     * sigma_a + sigma_s is positive in every channel. */
+    bool absorbs = attenuation[0] + scattering[0] > 0 && attenuation[1] + scattering[1] > 0 &&
+                   attenuation[2] + scattering[2] > 0;
     sp->medium = (vec4){(float)ior, (float)g->xf.scale,
                         (float)(GEOM_PACK_EPS * geom_surface_size(g)), absorbs ? 1.0f : 0.0f};
     sp->attenuation =
         (vec4){(float)attenuation[0], (float)attenuation[1], (float)attenuation[2], 0.0f};
     sp->emission = (vec4){(float)emission[0], (float)emission[1], (float)emission[2], 0.0f};
+    sp->scattering =
+        (vec4){(float)scattering[0], (float)scattering[1], (float)scattering[2], (float)anisotropy};
 }

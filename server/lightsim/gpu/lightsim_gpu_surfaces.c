@@ -72,7 +72,8 @@ bool lightsim_gpu_pack_surfaces(const struct lightsim_fields *f, surface_params 
     for (size_t k = 0; k < n; k++) {
         const struct geom_surface *g = &f->surfaces[k].geom;
         const struct reftrace_surface *rs = &f->surfaces[k];
-        geom_surface_pack(g, rs->ior, rs->attenuation, rs->emission, (int)next, &(*records)[k]);
+        geom_surface_pack(g, rs->ior, rs->attenuation, rs->emission, rs->scattering, rs->anisotropy,
+                          (int)next, &(*records)[k]);
         if (g->kind == GEOM_MESH)
             for (int i = 0; i < f->mesh_count; i++)
                 if (g->mesh == f->meshes[i])
