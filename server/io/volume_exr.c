@@ -130,8 +130,16 @@ static enum refract_code read_part(exr_context_t ctxt, int part, const struct pa
                            names[c]);
     size_t row_floats = (size_t)ps->width * (size_t)comps;
     float *buf = malloc(row_floats * (size_t)lines * sizeof *buf);
-    if (buf == NULL)
+    /* Channels the volume does not use are decoded into a scratch row block rather than
+     * skipped with a NULL destination: Debian 12's OpenEXRCore 3.1 writes through a NULL
+     * decode_to_ptr in some unpackers (found by fuzz_exr: a B44A file with an unused
+     * channel crashed the reader, docs/fuzzing.md). */
+    float *scratch = malloc((size_t)ps->width * (size_t)lines * sizeof *scratch);
+    if (buf == NULL || scratch == NULL) {
+        free(buf);
+        free(scratch);
         return err_set(s->e, REFRACT_E_OUT_OF_MEMORY, "out of memory decoding an EXR volume");
+    }
     exr_decode_pipeline_t pipe = EXR_DECODE_PIPELINE_INITIALIZER;
     bool have_pipe = false;
     enum refract_code rc = REFRACT_E_OK;
@@ -154,12 +162,14 @@ static enum refract_code read_part(exr_context_t ctxt, int part, const struct pa
             for (int c = 0; c < pipe.channel_count; c++) {
                 exr_coding_channel_info_t *ch = &pipe.channels[c];
                 int k = wanted(names, comps, ch->channel_name);
-                if (k < 0) {
-                    ch->decode_to_ptr = NULL;
-                    continue;
-                }
                 ch->user_bytes_per_element = 4;
                 ch->user_data_type = EXR_PIXEL_FLOAT;
+                if (k < 0) {
+                    ch->user_pixel_stride = (int32_t)sizeof(float);
+                    ch->user_line_stride = (int32_t)((size_t)ps->width * sizeof(float));
+                    ch->decode_to_ptr = (uint8_t *)scratch;
+                    continue;
+                }
                 ch->user_pixel_stride = comps * (int32_t)sizeof(float);
                 ch->user_line_stride = (int32_t)(row_floats * sizeof(float));
                 ch->decode_to_ptr = (uint8_t *)(buf + k);
@@ -179,6 +189,7 @@ static enum refract_code read_part(exr_context_t ctxt, int part, const struct pa
     if (have_pipe)
         exr_decoding_destroy(ctxt, &pipe);
     free(buf);
+    free(scratch);
     return rc;
 }
 
