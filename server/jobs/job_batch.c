@@ -250,6 +250,14 @@ static enum refract_code render_frame(const struct job_batch_desc *d, struct sto
                                    .abandoned_why = "the task was told to stop",
                                    .user = &b};
         rc = gpu_run_sync(d->gpu, &b.work);
+        if (rc != REFRACT_E_OK && stopping(d)) {
+            /* Told to stop between two tiles: the frame was abandoned or the queue is
+             * shutting down. The frame is not written; the task stops, it did not fail. */
+            free(b.result.rgba);
+            rc = REFRACT_E_OK;
+            *out = FRAME_STOPPED;
+            break;
+        }
         bool unlit = rc == REFRACT_E_OK && b.irradiance &&
                      (!strcmp(b.irradiance, "missing") || !strcmp(b.irradiance, "stale"));
         if (rc == REFRACT_E_BUSY || rc == REFRACT_E_TIMEOUT || unlit) {
