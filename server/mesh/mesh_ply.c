@@ -534,6 +534,14 @@ static enum refract_code read_record(struct record_ctx *r)
                 rc = face_list(r, p, v);
             } else {
                 rc = check_integer(r, v, "a list count");
+                /* As for a face: a count past the body's size (or below zero) is a lie,
+                 * refused before it becomes the loop's bound ((long long)3e40 is undefined). */
+                if (rc == REFRACT_E_OK && (v < 0 || v > (double)r->f->body_len))
+                    rc = err_set(r->e, REFRACT_E_INVALID_MESH,
+                                 "%s %llu: a list count of %g is %s; the list's count is wrong",
+                                 el->name, r->index, v,
+                                 v < 0 ? "negative"
+                                       : "more than the bytes after the header can hold");
                 for (long long k = 0; rc == REFRACT_E_OK && k < (long long)v; k++) {
                     double skip;
                     if (!value(r, p->type, &skip, &garbage))

@@ -136,8 +136,14 @@ static double half_area(const struct bounds *b)
  * every triangle. */
 static inline int bin_of(float c, float cmin, float scale)
 {
-    int k = (int)((c - cmin) * scale);
-    return k < 0 ? 0 : (k >= MESH_RT_BINS ? MESH_RT_BINS - 1 : k);
+    /* Clamped before the conversion, which is undefined outside int's range: a key extent
+     * that is a float denormal makes scale infinite, and 0 * inf is NaN (found by
+     * tests/fuzz/fuzz_ply.c). A NaN fails both comparisons and lands in bin 0; binning and
+     * partitioning call this one function, so they agree. */
+    float t = (c - cmin) * scale;
+    if (!(t >= 1.0f))
+        return 0;
+    return t >= (float)MESH_RT_BINS ? MESH_RT_BINS - 1 : (int)t;
 }
 
 struct split {

@@ -137,6 +137,16 @@ static void each_malformed_ascii_ply_gets_its_precise_message(void)
         {HDR_ASCII VTX3 FACE1 "end_header\n" TRI_VERTS "3e40 0 1 2\n", 0, REFRACT_E_INVALID_MESH,
          "face 0 has 3e+40 vertices, more than the 29 bytes after the header can hold; the "
          "face's vertex count is wrong"},
+        /* the same for a list that is not the faces' indices (skipped, but its count is
+         * still the loop's bound; found by the fuzz run in CI) */
+        {HDR_ASCII VTX3 FACE1 "element edge 1\nproperty list uchar int vertex_pair\n"
+                              "end_header\n" TRI_VERTS "3 0 1 2\n3e40 0 2\n",
+         0, REFRACT_E_INVALID_MESH,
+         "edge 0: a list count of 3e+40 is more than the bytes after the header can hold; the "
+         "list's count is wrong"},
+        {HDR_ASCII VTX3 FACE1 "element edge 1\nproperty list uchar int vertex_pair\n"
+                              "end_header\n" TRI_VERTS "3 0 1 2\n-2 0 2\n",
+         0, REFRACT_E_INVALID_MESH, "edge 0: a list count of -2 is negative; the list's count is wrong"},
         {HDR_ASCII VTX3 FACE1 "end_header\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n", 0,
          REFRACT_E_INVALID_MESH,
          "vertex 1: coordinate y is nan, not a finite number; every coordinate must be finite"},

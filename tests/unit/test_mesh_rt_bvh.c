@@ -115,7 +115,8 @@ static void check_invariants(const char *name, const struct mesh *m, bool check_
     free(orig_seen);
 }
 
-static struct mesh *soup(size_t n, uint64_t seed)
+/* n random triangles in a 10 x 10 x 3 slab, every coordinate times scale. */
+static struct mesh *soup(size_t n, uint64_t seed, double scale)
 {
     struct rt_rng r = {seed};
     double(*v)[3] = malloc(3 * n * sizeof *v);
@@ -125,9 +126,9 @@ static struct mesh *soup(size_t n, uint64_t seed)
         double size = 0.01 + 0.5 * rt_uniform(&r) * rt_uniform(&r);
         for (int k = 0; k < 3; k++) {
             vec3 p = vec3_madd(c, rt_unit(&r), size);
-            v[3 * i + (size_t)k][0] = p.x;
-            v[3 * i + (size_t)k][1] = p.y;
-            v[3 * i + (size_t)k][2] = p.z;
+            v[3 * i + (size_t)k][0] = p.x * scale;
+            v[3 * i + (size_t)k][1] = p.y * scale;
+            v[3 * i + (size_t)k][2] = p.z * scale;
             t[i][k] = (uint32_t)(3 * i + (size_t)k);
         }
     }
@@ -241,8 +242,17 @@ int main(void)
     CHECK_INT(mesh_make_icosphere(4, 1.0, &ico, &e), REFRACT_E_OK);
     check_invariants("icosphere s=4", ico, true);
     mesh_destroy(ico);
-    struct mesh *s = soup(50000, 12345);
+    struct mesh *s = soup(50000, 12345, 1.0);
     check_invariants("random soup", s, false); /* 3 own vertices a triangle: 48 B alone */
+    mesh_destroy(s);
+    /* Extreme scales: float denormals (found by tests/fuzz/fuzz_ply.c: the key extent made
+     * the bin scale infinite and 0 * inf gave NaN bins, a conversion UBSan reports) and
+     * the largest coordinates mesh_create accepts (1e15). The tree must still hold. */
+    s = soup(2000, 7, 1e-44);
+    check_invariants("denormal soup", s, false);
+    mesh_destroy(s);
+    s = soup(2000, 8, 1e14);
+    check_invariants("soup at 1e14", s, false);
     mesh_destroy(s);
     struct mesh *box = rt_box_mesh(1.0);
     check_invariants("box", box, false); /* 12 triangles, 8 vertices: bytes are per mesh */
