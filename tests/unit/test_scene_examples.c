@@ -113,12 +113,20 @@ static void check_framing(const char *file, const struct scene *s)
         radius =
             0.5 * vec3_length(vec3_sub(o->bounds_max, o->bounds_min)) * o->world_from_object.scale;
     } else {
-        /* A scene of surfaces: the first bounded surface's world box. */
-        vec3 lo = {0, 0, 0}, hi = {0, 0, 0};
+        /* A scene of surfaces: the union of the bounded surfaces' world boxes (the first
+         * alone may be a small solid nested in a larger one: surfaces are stored by
+         * priority). */
+        vec3 lo = {INFINITY, INFINITY, INFINITY}, hi = {-INFINITY, -INFINITY, -INFINITY};
         bool found = false;
-        for (size_t k = 0; k < s->surface_count && !found; k++) {
-            found = scene_surface_world_bounds(&s->surfaces[k], &lo, &hi) && isfinite(lo.x) &&
-                    isfinite(hi.x) && isfinite(lo.y) && isfinite(hi.y);
+        for (size_t k = 0; k < s->surface_count; k++) {
+            vec3 a, b;
+            if (scene_surface_world_bounds(&s->surfaces[k], &a, &b) && isfinite(a.x) &&
+                isfinite(b.x) && isfinite(a.y) && isfinite(b.y) && isfinite(a.z) &&
+                isfinite(b.z)) {
+                lo = vec3_make(fmin(lo.x, a.x), fmin(lo.y, a.y), fmin(lo.z, a.z));
+                hi = vec3_make(fmax(hi.x, b.x), fmax(hi.y, b.y), fmax(hi.z, b.z));
+                found = true;
+            }
         }
         CHECK_MSG(found, "%s: no object and no bounded surface to frame", file);
         c = vec3_scale(vec3_add(lo, hi), 0.5);
