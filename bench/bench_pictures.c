@@ -8,6 +8,9 @@
  *         [--threads N] [--cache build/reference-cache] [--out section.md]
  *         [--images docs/images] [--ref-max-scatter N]
  *
+ * A scene named as `scene.json@N` gets N reference samples per pixel instead of
+ * --ref-samples (a scattering medium seen through glass needs far more than a caustic).
+ *
  * Per scene: the reference (the CPU double-precision path tracer of docs/pathtracer.md,
  * --ref-samples paths per pixel, cached in --cache by the document's bytes, the size and
  * the sample count, since it takes minutes), then the fast renderer for each setting
@@ -352,6 +355,8 @@ int main(int argc, char **argv)
                         .images = "docs/images"};
     parse_settings("32:1,64:1,64:4,96:4,128:4", &o);
     const char *scenes[MAX_SCENES];
+    int scene_samples[MAX_SCENES]; /* "scene.json@N": this scene's reference samples */
+    static char scene_paths[MAX_SCENES][1024];
     int scene_count = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -389,9 +394,22 @@ int main(int argc, char **argv)
             o.images = v;
             i++;
         } else if (a[0] != '-' && scene_count < MAX_SCENES) {
-            scenes[scene_count++] = a;
+            snprintf(scene_paths[scene_count], sizeof scene_paths[0], "%s", a);
+            char *at = strrchr(scene_paths[scene_count], '@');
+            scene_samples[scene_count] = 0;
+            if (at != NULL) {
+                *at = '\0';
+                scene_samples[scene_count] = atoi(at + 1);
+                if (scene_samples[scene_count] < 1) {
+                    fprintf(stderr, "refract-pictures: %s: after @ comes the reference's "
+                                    "samples per pixel, a whole number >= 1\n", a);
+                    return 2;
+                }
+            }
+            scenes[scene_count] = scene_paths[scene_count];
+            scene_count++;
         } else {
-            fprintf(stderr, "usage: refract-pictures SCENE.json... [--ref-samples 256] "
+            fprintf(stderr, "usage: refract-pictures SCENE.json[@SAMPLES]... [--ref-samples 256] "
                             "[--settings 32:1,64:4] [--size WxH] [--threads N] [--cache DIR] "
                             "[--out FILE.md] [--images DIR] [--ref-max-scatter N] "
                             "[--mask-above X] [--raw]\n");
@@ -440,7 +458,9 @@ int main(int argc, char **argv)
                              .x_label = "light simulation + render time (ms, llvmpipe)",
                              .y_label = "relative RMSE"};
     int status = 0;
+    const int default_ref_samples = o.ref_samples;
     for (int si = 0; si < scene_count; si++) {
+        o.ref_samples = scene_samples[si] > 0 ? scene_samples[si] : default_ref_samples;
         FILE *f = fopen(scenes[si], "rb");
         static char text[1 << 20];
         size_t len = f ? fread(text, 1, sizeof text - 1, f) : 0;

@@ -753,7 +753,7 @@ void irradiance_cache_release_gpu(struct irradiance_cache *c)
     pthread_mutex_unlock(&c->lock);
 }
 
-void irradiance_cache_destroy(struct irradiance_cache *c)
+void irradiance_cache_stop(struct irradiance_cache *c)
 {
     if (c == NULL)
         return;
@@ -763,6 +763,14 @@ void irradiance_cache_destroy(struct irradiance_cache *c)
     pthread_mutex_unlock(&c->lock);
     if (c->worker_started)
         pthread_join(c->worker, NULL);
+    c->worker_started = false;
+}
+
+void irradiance_cache_destroy(struct irradiance_cache *c)
+{
+    if (c == NULL)
+        return;
+    irradiance_cache_stop(c);
     while (c->task_head) {
         struct irr_task *t = c->task_head;
         c->task_head = t->next;

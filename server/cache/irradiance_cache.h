@@ -124,7 +124,12 @@ struct irradiance_cache *irradiance_cache_create(const struct irradiance_cache_d
                                                  struct gpu *gpu, struct err *e);
 /* GPU thread, in the GPU thread's final work item: destroys runs and textures. */
 void irradiance_cache_release_gpu(struct irradiance_cache *c);
-/* Any thread, after the GPU thread has stopped: stops the worker, frees the rest. */
+/* Any thread, after the GPU thread has stopped and before gpu_destroy frees the queue:
+ * stops the worker and waits for it (a build in progress still calls gpu_submit, which
+ * then refuses). Idempotent. */
+void irradiance_cache_stop(struct irradiance_cache *c);
+/* Any thread, after the GPU thread has stopped: stops the worker (irradiance_cache_stop),
+ * frees the rest. */
 void irradiance_cache_destroy(struct irradiance_cache *c);
 
 /* The transport hash of a source: scene_transport_hash mixed with uploads_hash. */
