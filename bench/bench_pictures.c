@@ -32,6 +32,12 @@
  * writes the best setting's picture as linear floats (image_accuracy_<scene>_fast.rgba32f:
  * width x height RGBA, rows top down, host byte order) for analyses of one's own.
  *
+ * --no-highlights sets every object's and surface's `brdf` to "none" in the fast renderer:
+ * its highlights of the `lights` (tevs2007 eq. 5.6) have no counterpart in the reference,
+ * which treats a smooth interface as the perfect mirror it is (a point light's reflection
+ * in it is a delta no camera ray can hit; a spherical lamp's is its image), so a GGX
+ * highlight a jittered ray happens to hit can hold most of an image's squared error.
+ *
  * Output: a Markdown table on stdout (or --out), the error-against-time plot
  * images/image_accuracy.png, and per scene the reference and the best setting's picture
  * (images/image_accuracy_<scene>_{reference,fast}.png) with the same exposure.
@@ -69,6 +75,7 @@ struct options {
     int ref_max_scatter; /* > 0: a second reference with at most this many scatterings */
     double mask_above;   /* > 0: the extra figures leave out pixels brighter in the reference */
     bool raw;            /* also write the best picture as linear floats */
+    bool no_highlights;  /* every object's and surface's brdf "none" in the fast renderer */
     const char *cache, *out, *images;
     struct setting settings[MAX_SETTINGS];
     int setting_count;
@@ -381,6 +388,8 @@ int main(int argc, char **argv)
             i++;
         } else if (!strcmp(a, "--raw")) {
             o.raw = true;
+        } else if (!strcmp(a, "--no-highlights")) {
+            o.no_highlights = true;
         } else if (!strcmp(a, "--mask-above") && v) {
             o.mask_above = atof(v);
             i++;
@@ -412,7 +421,7 @@ int main(int argc, char **argv)
             fprintf(stderr, "usage: refract-pictures SCENE.json[@SAMPLES]... [--ref-samples 256] "
                             "[--settings 32:1,64:4] [--size WxH] [--threads N] [--cache DIR] "
                             "[--out FILE.md] [--images DIR] [--ref-max-scatter N] "
-                            "[--mask-above X] [--raw]\n");
+                            "[--mask-above X] [--raw] [--no-highlights]\n");
             return 2;
         }
     }
@@ -438,6 +447,8 @@ int main(int argc, char **argv)
     if (o.mask_above > 0.0)
         fprintf(out, "\n\"masked\": without the pixels where the reference exceeds %g.\n",
                 o.mask_above);
+    if (o.no_highlights)
+        fprintf(out, "\nFast renderer without `brdf` highlights (--no-highlights).\n");
     if (o.ref_max_scatter > 0)
         fprintf(out,
                 "\n\"<= %d\": against a reference of the paths with at most %d medium "
@@ -470,6 +481,12 @@ int main(int argc, char **argv)
         if (s == NULL || len == 0) {
             status = 1;
             continue;
+        }
+        if (o.no_highlights) {
+            for (size_t k = 0; k < s->object_count; k++)
+                s->objects[k].brdf.kind = SCENE_BRDF_NONE;
+            for (size_t k = 0; k < s->surface_count; k++)
+                s->surfaces[k].brdf.kind = SCENE_BRDF_NONE;
         }
         int w = o.width ? o.width : s->camera.width, h = o.height ? o.height : s->camera.height;
         size_t pixels = (size_t)w * h;
