@@ -459,10 +459,11 @@ int main(int argc, char **argv)
             "samples/pixel | light simulation ms | render ms | relative RMSE | "
             "mean fast/ref |%s\n"
             "| --- | --- | --- | --- | --- | --- | --- | --- |%s\n",
-            extra ? " masked RMSE (ref noise) | masked mean fast/ref | <= N: RMSE (ref noise) | "
-                    "<= N: mean fast/ref |"
-                  : "",
-            extra ? " --- | --- | --- | --- |" : "");
+            !extra                   ? ""
+            : o.ref_max_scatter == 0 ? " masked RMSE (ref noise) | masked mean fast/ref |"
+                                     : " masked RMSE (ref noise) | masked mean fast/ref | <= N: "
+                                       "RMSE (ref noise) | <= N: mean fast/ref |",
+            !extra ? "" : o.ref_max_scatter == 0 ? " --- | --- |" : " --- | --- | --- | --- |");
     struct plot_point pts[MAX_SCENES * MAX_SETTINGS];
     int npts = 0;
     struct plot_desc plot = {.title = "Fast renderer against the reference path tracer",
@@ -566,8 +567,10 @@ int main(int argc, char **argv)
                     masked_figures(r.rgba, mean1, var1, pixels, keep, &s_err, &s_noise);
                     s_ratio = mean_ratio(r.rgba, mean1, pixels, keep);
                 }
-                fprintf(out, " %.4f (%.4f) | %.3f | %.4f (%.4f) | %.3f |", m_err, m_noise,
-                        mean_ratio(r.rgba, mean, pixels, keep), s_err, s_noise, s_ratio);
+                fprintf(out, " %.4f (%.4f) | %.3f |", m_err, m_noise,
+                        mean_ratio(r.rgba, mean, pixels, keep));
+                if (o.ref_max_scatter > 0) /* no columns of nan without that reference */
+                    fprintf(out, " %.4f (%.4f) | %.3f |", s_err, s_noise, s_ratio);
             }
             fprintf(out, "\n");
             fflush(out);
