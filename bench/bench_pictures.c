@@ -521,7 +521,10 @@ int main(int argc, char **argv)
         char *dot = strrchr(name, '.');
         if (dot)
             *dot = '\0';
-        plot.series_names[plot.series_count < PLOT_MAX_SERIES ? plot.series_count : 0] = scenes[si];
+        static char series_name[MAX_SCENES][128]; /* the file's stem: paths overflow the legend */
+        snprintf(series_name[si], sizeof series_name[si], "%s", name);
+        plot.series_names[plot.series_count < PLOT_MAX_SERIES ? plot.series_count : 0] =
+            series_name[si];
         int series = plot.series_count < PLOT_MAX_SERIES ? plot.series_count++ : 0;
         char path[1024];
         float *ref_rgba = malloc(pixels * 4 * sizeof *ref_rgba);
