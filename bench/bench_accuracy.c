@@ -786,6 +786,28 @@ static void write_filter_section(FILE *f, const struct bench *b, const struct ov
     write_equal_error(f, b, &grin, "the smooth GRIN cases (Luneburg, fish-eye, mirage, Gaussian)");
 }
 
+/* "Pictures against the reference" (issue 14 item 5): refract-pictures measures it (about
+ * 10 minutes, with references of thousands of samples per pixel), so its text lives in
+ * bench/accuracy_pictures.md and is copied here verbatim, HTML comment included, so that
+ * regenerating the report keeps it. Paths are relative to the working directory (the
+ * repository's root, as for --out). */
+static void write_pictures_section(FILE *f)
+{
+    const char *path = "bench/accuracy_pictures.md";
+    FILE *in = fopen(path, "rb");
+    if (in == NULL) {
+        fprintf(stderr, "refract-accuracy: %s not found (run from the repository's root); "
+                        "the report leaves out \"Pictures against the reference\"\n",
+                path);
+        return;
+    }
+    char buf[4096];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, in)) > 0)
+        fwrite(buf, 1, n, f);
+    fclose(in);
+}
+
 static bool write_report(const struct bench *b, struct gpu *gpu, int argc, char **argv)
 {
     FILE *f = fopen(b->opt.out, "w");
@@ -836,6 +858,7 @@ static bool write_report(const struct bench *b, struct gpu *gpu, int argc, char 
     for (int ci = 0; ci < ACCURACY_CASE_COUNT; ci++)
         write_case_table(f, b, ci);
     bool images_ok = b->opt.no_images || accuracy_image_report(gpu, b->opt.quick, b->opt.images, f);
+    write_pictures_section(f);
     bool features_ok = b->opt.no_features || accuracy_features_report(gpu, b->opt.quick, f);
     fclose(f);
     write_plot(b, "overall", "All cases: worst mean error vs time", o.mean_us, o.worst_dir,
