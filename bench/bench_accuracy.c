@@ -796,8 +796,9 @@ static void write_pictures_section(FILE *f)
     const char *path = "bench/accuracy_pictures.md";
     FILE *in = fopen(path, "rb");
     if (in == NULL) {
-        fprintf(stderr, "refract-accuracy: %s not found (run from the repository's root); "
-                        "the report leaves out \"Pictures against the reference\"\n",
+        fprintf(stderr,
+                "refract-accuracy: %s not found (run from the repository's root); "
+                "the report leaves out \"Pictures against the reference\"\n",
                 path);
         return;
     }

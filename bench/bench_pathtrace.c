@@ -13,7 +13,6 @@
  * image's largest. The time to 2 % follows from the 1 / sqrt(n) law: t (noise / 0.02)^2.
  */
 #include <math.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,30 +20,8 @@
 #include <unistd.h>
 
 #include "core/pathtrace_image.h"
+#include "pathtrace_threads.h"
 #include "scene/scene_pathtrace.h"
-
-struct work {
-    struct pathtrace_image *img;
-    const struct pathtrace_scene *scene;
-    const struct pathtrace_camera *cam;
-    int index, threads, samples;
-};
-
-static void *run(void *arg)
-{
-    struct work *w = arg;
-    for (int p = 0; p < w->samples; p++)
-        for (int r = w->index; r < w->cam->height; r += w->threads)
-            pathtrace_image_pass(w->img, w->scene, w->cam, 1, r, r + 1);
-    return NULL;
-}
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static int cmp(const void *a, const void *b)
 {
@@ -128,16 +105,7 @@ int main(int argc, char **argv)
         struct pathtrace_image img;
         if (samples < 1 || pathtrace_image_init(&img, cam.width, cam.height) != 0)
             return 1;
-        pthread_t tid[64];
-        struct work wk[64];
-        double t0 = now_s();
-        for (int i = 0; i < threads; i++) {
-            wk[i] = (struct work){&img, &pt.scene, &cam, i, threads, samples};
-            pthread_create(&tid[i], NULL, run, &wk[i]);
-        }
-        for (int i = 0; i < threads; i++)
-            pthread_join(tid[i], NULL);
-        report(&img, samples, now_s() - t0);
+        report(&img, samples, bench_pathtrace_threads(&img, &pt.scene, &cam, threads, samples));
         pathtrace_image_fini(&img);
         const char *comma = strchr(p, ',');
         p = comma ? comma + 1 : p + strlen(p);

@@ -44,7 +44,6 @@
  */
 #include <errno.h>
 #include <math.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -53,6 +52,7 @@
 #include <unistd.h>
 
 #include "core/pathtrace_image.h"
+#include "pathtrace_threads.h"
 #include "example_scene.h"
 #include "gpu/queue.h"
 #include "io/io_image.h"
@@ -82,29 +82,6 @@ struct options {
 };
 
 /* ---- the reference --------------------------------------------------------------------- */
-
-struct ref_work {
-    struct pathtrace_image *img;
-    const struct pathtrace_scene *scene;
-    const struct pathtrace_camera *cam;
-    int index, threads, samples;
-};
-
-static void *ref_run(void *arg)
-{
-    struct ref_work *w = arg;
-    for (int p = 0; p < w->samples; p++)
-        for (int r = w->index; r < w->cam->height; r += w->threads)
-            pathtrace_image_pass(w->img, w->scene, w->cam, 1, r, r + 1);
-    return NULL;
-}
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static uint64_t fnv1a(const char *p, size_t n)
 {
@@ -148,16 +125,7 @@ static bool reference(const struct options *o, const char *text, size_t len, str
     struct pathtrace_image img;
     if (pathtrace_image_init(&img, w, h) != 0)
         return false;
-    pthread_t tid[64];
-    struct ref_work wk[64];
-    double t0 = now_s();
-    for (int i = 0; i < o->threads; i++) {
-        wk[i] = (struct ref_work){&img, &pt.scene, &cam, i, o->threads, o->ref_samples};
-        pthread_create(&tid[i], NULL, ref_run, &wk[i]);
-    }
-    for (int i = 0; i < o->threads; i++)
-        pthread_join(tid[i], NULL);
-    *seconds = now_s() - t0;
+    *seconds = bench_pathtrace_threads(&img, &pt.scene, &cam, o->threads, o->ref_samples);
     for (size_t i = 0; i < (size_t)w * h; i++)
         pathtrace_image_pixel(&img, (int64_t)i, mean + 3 * i, var + 3 * i);
     pathtrace_image_fini(&img);
@@ -410,8 +378,10 @@ int main(int argc, char **argv)
                 *at = '\0';
                 scene_samples[scene_count] = atoi(at + 1);
                 if (scene_samples[scene_count] < 1) {
-                    fprintf(stderr, "refract-pictures: %s: after @ comes the reference's "
-                                    "samples per pixel, a whole number >= 1\n", a);
+                    fprintf(stderr,
+                            "refract-pictures: %s: after @ comes the reference's "
+                            "samples per pixel, a whole number >= 1\n",
+                            a);
                     return 2;
                 }
             }
@@ -463,7 +433,9 @@ int main(int argc, char **argv)
             : o.ref_max_scatter == 0 ? " masked RMSE (ref noise) | masked mean fast/ref |"
                                      : " masked RMSE (ref noise) | masked mean fast/ref | <= N: "
                                        "RMSE (ref noise) | <= N: mean fast/ref |",
-            !extra ? "" : o.ref_max_scatter == 0 ? " --- | --- |" : " --- | --- | --- | --- |");
+            !extra                   ? ""
+            : o.ref_max_scatter == 0 ? " --- | --- |"
+                                     : " --- | --- | --- | --- |");
     struct plot_point pts[MAX_SCENES * MAX_SETTINGS];
     int npts = 0;
     struct plot_desc plot = {.title = "Fast renderer against the reference path tracer",
@@ -546,7 +518,8 @@ int main(int argc, char **argv)
             s->lightsim.resolution = o.settings[k].resolution;
             s->render.samples_per_pixel = o.settings[k].spp;
             struct fast_run r = {.scene = s, .id = name, .width = w, .height = h};
-            r.work = (struct gpu_work){.priority = GPU_PRIORITY_BATCH, .run = fast_on_gpu, .user = &r};
+            r.work =
+                (struct gpu_work){.priority = GPU_PRIORITY_BATCH, .run = fast_on_gpu, .user = &r};
             if (gpu_run_sync(gpu, &r.work) != REFRACT_E_OK || r.rgba == NULL) {
                 fprintf(stderr, "refract-pictures: %s at %d:%d: %s\n", name,
                         o.settings[k].resolution, o.settings[k].spp, r.work.err.msg);

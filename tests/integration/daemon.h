@@ -34,8 +34,9 @@ struct test_daemon {
 
 /* Starts refractd with `extra_args` (NULL-terminated, may be NULL) and waits until
  * /v1/health answers. With "--tls-cert CERT" among them the URL is https and the client
- * verifies the daemon with CERT as its CA (a self-signed certificate). On failure returns false with d->why filled. If data_dir is not
- * NULL it is reused (restart tests); otherwise a new temporary directory is made. */
+ * verifies the daemon with CERT as its CA (a self-signed certificate). On failure returns false
+ * with d->why filled. If data_dir is not NULL it is reused (restart tests); otherwise a new
+ * temporary directory is made. */
 bool test_daemon_start_in(struct test_daemon *d, const char *data_dir,
                           const char *const *extra_args);
 bool test_daemon_start(struct test_daemon *d, const char *const *extra_args);
@@ -69,5 +70,11 @@ long test_request(struct test_daemon *d, const char *method, const char *path,
 
 /* True when the body is {"error": {"code": code, "message": contains `needle`}}. */
 bool test_error_is(const char *body, const char *code, const char *needle);
+
+/* CLOCK_MONOTONIC in milliseconds. */
+double test_now_ms(void);
+
+/* Sends all len bytes on a socket (MSG_NOSIGNAL); false when a send fails. */
+bool test_send_all(int fd, const void *data, size_t len);
 
 #endif

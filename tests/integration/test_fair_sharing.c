@@ -44,13 +44,6 @@ static const char scene_json[] =
     "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 32, "
     "\"ior\": {\"shape\": \"sphere\", \"radius\": 0.8, \"inside\": 1.5}}]}";
 
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec / 1e6;
-}
-
 static void sleep_ms(int ms)
 {
     struct timespec ts = {.tv_sec = ms / 1000, .tv_nsec = (long)(ms % 1000) * 1000000L};
@@ -75,19 +68,6 @@ static int connect_from(const struct test_daemon *d, const char *from)
         return -1;
     }
     return fd;
-}
-
-static bool send_all(int fd, const void *data, size_t len)
-{
-    const char *p = data;
-    while (len > 0) {
-        ssize_t n = send(fd, p, len, MSG_NOSIGNAL);
-        if (n <= 0)
-            return false;
-        p += n;
-        len -= (size_t)n;
-    }
-    return true;
 }
 
 /* Reads until the daemon closes (or 30 s pass): a new string, "" when nothing came. */
@@ -128,7 +108,7 @@ static int send_request(const struct test_daemon *d, const char *from, const cha
                      "%s %s HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n"
                      "Content-Type: application/json\r\nContent-Length: %zu\r\n\r\n",
                      method, path, json ? strlen(json) : 0);
-    if (!send_all(fd, head, (size_t)n) || (json && !send_all(fd, json, strlen(json)))) {
+    if (!test_send_all(fd, head, (size_t)n) || (json && !test_send_all(fd, json, strlen(json)))) {
         close(fd);
         return -1;
     }
@@ -201,27 +181,27 @@ static void idle_connections_do_not_starve_others(struct test_daemon *d, const c
     static char zeros[60000];
     int stalled = connect_from(d, "127.0.0.4");
     CHECK(stalled >= 0 &&
-          send_all(stalled, upload_head(id, 100000), strlen(upload_head(id, 100000))) &&
-          send_all(stalled, zeros, sizeof zeros));
-    double t_stalled = now_ms();
+          test_send_all(stalled, upload_head(id, 100000), strlen(upload_head(id, 100000))) &&
+          test_send_all(stalled, zeros, sizeof zeros));
+    double t_stalled = test_now_ms();
     int opened = 0;
     static const char half[] = "GET /v1/health HTTP/1.1\r\nHost: 127.0.0.1\r\n";
     for (int i = 0; i < IDLE_CONNECTIONS; i++) {
         idle[i] = connect_from(d, "127.0.0.1");
-        if (idle[i] >= 0 && send_all(idle[i], half, strlen(half)))
+        if (idle[i] >= 0 && test_send_all(idle[i], half, strlen(half)))
             opened++;
     }
     CHECK_INT(opened, IDLE_CONNECTIONS);
-    double t_opened = now_ms();
+    double t_opened = test_now_ms();
     sleep_ms(200);              /* the daemon has accepted them all */
     CHECK_INT(tmp_files(d), 1); /* the stalled upload is being received */
     /* Another client is served at once, again and again. */
     double worst = 0.0;
     int ok = 0;
     for (int k = 0; k < 10; k++) {
-        double t0 = now_ms();
+        double t0 = test_now_ms();
         char *a = exchange(d, "127.0.0.2", "GET", "/v1/health", NULL);
-        double ms = now_ms() - t0;
+        double ms = test_now_ms() - t0;
         worst = ms > worst ? ms : worst;
         ok += status_of(a) == 200;
         free(a);
@@ -245,7 +225,7 @@ static void idle_connections_do_not_starve_others(struct test_daemon *d, const c
     static const char whole[] = "GET /v1/health HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: "
                                 "close\r\n\r\n";
     for (int i = 0; i < 60; i++) {
-        if (more[i] < 0 || !send_all(more[i], whole, strlen(whole)))
+        if (more[i] < 0 || !test_send_all(more[i], whole, strlen(whole)))
             continue;
         char *b = read_all(more[i]);
         close(more[i]);
@@ -262,7 +242,7 @@ static void idle_connections_do_not_starve_others(struct test_daemon *d, const c
     /* The half-sent requests are closed once --header-timeout has passed. */
     int closed = 0;
     for (int i = 0; i < IDLE_CONNECTIONS; i++) {
-        int left = (int)(t_opened + (HEADER_TIMEOUT_S + 2) * 1000.0 - now_ms());
+        int left = (int)(t_opened + (HEADER_TIMEOUT_S + 2) * 1000.0 - test_now_ms());
         closed += idle[i] >= 0 && closed_by_daemon(idle[i], left > 0 ? left : 0);
         if (idle[i] >= 0)
             close(idle[i]);
@@ -270,10 +250,10 @@ static void idle_connections_do_not_starve_others(struct test_daemon *d, const c
     printf("half-sent requests closed by the daemon within %d s: %d of %d\n", HEADER_TIMEOUT_S + 2,
            closed, opened);
     CHECK_INT(closed, opened);
-    int left = (int)(t_stalled + (HEADER_TIMEOUT_S + 2) * 1000.0 - now_ms());
+    int left = (int)(t_stalled + (HEADER_TIMEOUT_S + 2) * 1000.0 - test_now_ms());
     CHECK(closed_by_daemon(stalled, left > 0 ? left : 0));
-    printf("stalled upload: closed within %.0f ms (--header-timeout %d)\n", now_ms() - t_stalled,
-           HEADER_TIMEOUT_S);
+    printf("stalled upload: closed within %.0f ms (--header-timeout %d)\n",
+           test_now_ms() - t_stalled, HEADER_TIMEOUT_S);
     close(stalled);
     sleep_ms(50);
     CHECK_INT(tmp_files(d), 0);
@@ -295,27 +275,27 @@ static void unfinished_uploads_leave_nothing(struct test_daemon *d, const char *
     const size_t length = 100000; /* 50 x 50 x 10 float32 */
     /* Half-closed after 60 of 100 kB: the temporary file goes at once. */
     int fd = connect_from(d, "127.0.0.4");
-    CHECK(fd >= 0 && send_all(fd, upload_head(id, length), strlen(upload_head(id, length))) &&
-          send_all(fd, zeros, 60000));
+    CHECK(fd >= 0 && test_send_all(fd, upload_head(id, length), strlen(upload_head(id, length))) &&
+          test_send_all(fd, zeros, 60000));
     sleep_ms(200);
     CHECK_INT(tmp_files(d), 1); /* it was being received */
     shutdown(fd, SHUT_WR);
-    double t0 = now_ms();
-    while (tmp_files(d) > 0 && now_ms() - t0 < 1000.0)
+    double t0 = test_now_ms();
+    while (tmp_files(d) > 0 && test_now_ms() - t0 < 1000.0)
         sleep_ms(10);
-    printf("half-closed upload: temporary file gone after %.0f ms\n", now_ms() - t0);
+    printf("half-closed upload: temporary file gone after %.0f ms\n", test_now_ms() - t0);
     CHECK_INT(tmp_files(d), 0);
     close(fd);
     /* An upload still arriving counts against --max-storage-bytes (200000 here): while 120 kB
      * of one are in, another of 100 kB does not fit; once the first is gone, it does. */
     fd = connect_from(d, "127.0.0.4");
-    CHECK(fd >= 0 && send_all(fd, upload_head(id, 150000), strlen(upload_head(id, 150000))) &&
-          send_all(fd, zeros, 120000));
+    CHECK(fd >= 0 && test_send_all(fd, upload_head(id, 150000), strlen(upload_head(id, 150000))) &&
+          test_send_all(fd, zeros, 120000));
     sleep_ms(200);
     int second = connect_from(d, "127.0.0.5");
     CHECK(second >= 0 &&
-          send_all(second, upload_head(id, length), strlen(upload_head(id, length))) &&
-          send_all(second, zeros, length));
+          test_send_all(second, upload_head(id, length), strlen(upload_head(id, length))) &&
+          test_send_all(second, zeros, length));
     char *a = read_all(second);
     close(second);
     CHECK_INT(status_of(a), 507);
@@ -326,8 +306,8 @@ static void unfinished_uploads_leave_nothing(struct test_daemon *d, const char *
     sleep_ms(300);
     second = connect_from(d, "127.0.0.5");
     CHECK(second >= 0 &&
-          send_all(second, upload_head(id, length), strlen(upload_head(id, length))) &&
-          send_all(second, zeros, length));
+          test_send_all(second, upload_head(id, length), strlen(upload_head(id, length))) &&
+          test_send_all(second, zeros, length));
     a = read_all(second);
     close(second);
     CHECK_INT(status_of(a), 201);
@@ -345,7 +325,7 @@ static void *read_pending(void *arg)
 {
     struct pending *p = arg;
     p->answer = read_all(p->fd);
-    p->done_ms = now_ms();
+    p->done_ms = test_now_ms();
     return NULL;
 }
 
@@ -365,13 +345,13 @@ static void small_render_waits_one_tile(struct test_daemon *d, const char *id)
     /* 384 x 288 in tiles of 4096 pixels: 29 tiles of 10 rows. */
     struct pending big = {
         .fd = send_request(d, "127.0.0.2", "POST", path, "{\"width\": 384, \"height\": 288}")};
-    double t0 = now_ms();
+    double t0 = test_now_ms();
     pthread_t th;
     pthread_create(&th, NULL, read_pending, &big);
     sleep_ms(150);
-    double t_small = now_ms();
+    double t_small = test_now_ms();
     char *small = exchange(d, "127.0.0.3", "POST", path, "{\"width\": 32, \"height\": 24}");
-    double small_ms = now_ms() - t_small;
+    double small_ms = test_now_ms() - t_small;
     pthread_join(th, NULL);
     close(big.fd);
     double big_ms = big.done_ms - t0;
@@ -402,12 +382,12 @@ static void large_renders_share_the_pixel_limit(struct test_daemon *d, const cha
     snprintf(path, sizeof path, "/v1/scenes/%s/render", id);
     static const char big[] = "{\"width\": 256, \"height\": 240}";
     struct pending a = {.fd = send_request(d, "127.0.0.2", "POST", path, big)};
-    double t0 = now_ms();
+    double t0 = test_now_ms();
     pthread_t th;
     pthread_create(&th, NULL, read_pending, &a);
     sleep_ms(50);
     char *b = exchange(d, "127.0.0.3", "POST", path, big);
-    double b_done = now_ms();
+    double b_done = test_now_ms();
     pthread_join(th, NULL);
     close(a.fd);
     double a_ms = a.done_ms - t0, a_gpu = header_number(a.answer, "X-Render-Time-Ms");
@@ -430,14 +410,15 @@ static void gone_renders_are_dropped_and_quotas_hold(struct test_daemon *d, cons
     /* The blocker's kernel variant compiled first, outside the timed part: on a fresh
      * machine Mesa's shader cache is empty and the compile alone took seconds, so the
      * renders queued behind the blocker ran out of --request-timeout-ms (seen in CI). */
-    char *warm = exchange(d, "127.0.0.2", "POST", path,
-                          "{\"width\": 8, \"height\": 8, \"step\": 0.02, \"samples_per_pixel\": 4}");
+    char *warm =
+        exchange(d, "127.0.0.2", "POST", path,
+                 "{\"width\": 8, \"height\": 8, \"step\": 0.02, \"samples_per_pixel\": 4}");
     CHECK_INT(status_of(warm), 200);
     free(warm);
     /* One tile of about a second holds the GPU (2304 pixels, a fine step, 4 rays per
      * pixel: about 0.9 s on an idle 2-core machine, 2-3 times that beside another test in
      * CI; the renders behind it must start within --request-timeout-ms, 6000 here). */
-    double t_block = now_ms();
+    double t_block = test_now_ms();
     struct pending blocker = {
         .fd = send_request(
             d, "127.0.0.2", "POST", path,
@@ -487,11 +468,12 @@ static void gone_renders_are_dropped_and_quotas_hold(struct test_daemon *d, cons
     /* The deadline holds for the whole render, not only for its first tile: 384 x 288
      * (within --max-image-pixels) at step 0.03 and 4 rays per pixel takes far longer than
      * --request-timeout-ms (6000 here; about 18 s idle; it stops at the deadline). */
-    double t0 = now_ms();
+    double t0 = test_now_ms();
     char *late =
         exchange(d, "127.0.0.2", "POST", path,
                  "{\"width\": 384, \"height\": 288, \"step\": 0.03, \"samples_per_pixel\": 4}");
-    printf("a render longer than its deadline: %d after %.0f ms\n", status_of(late), now_ms() - t0);
+    printf("a render longer than its deadline: %d after %.0f ms\n", status_of(late),
+           test_now_ms() - t0);
     CHECK_INT(status_of(late), 503);
     CHECK(test_error_is(body_of(late), "timeout", "--request-timeout-ms"));
     free(late);

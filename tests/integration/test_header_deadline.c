@@ -39,13 +39,6 @@ static const char scene_json[] =
     "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 32, "
     "\"ior\": {\"shape\": \"sphere\", \"radius\": 0.8, \"inside\": 1.5}}]}";
 
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec / 1e6;
-}
-
 static void sleep_ms(int ms)
 {
     struct timespec ts = {.tv_sec = ms / 1000, .tv_nsec = (long)(ms % 1000) * 1000000L};
@@ -68,19 +61,6 @@ static int connect_to(const struct test_daemon *d)
     return fd;
 }
 
-static bool send_all(int fd, const void *data, size_t len)
-{
-    const char *p = data;
-    while (len > 0) {
-        ssize_t n = send(fd, p, len, MSG_NOSIGNAL);
-        if (n <= 0)
-            return false;
-        p += n;
-        len -= (size_t)n;
-    }
-    return true;
-}
-
 static int status_of(const char *answer)
 {
     int status = 0;
@@ -91,9 +71,9 @@ static int status_of(const char *answer)
  * error), within timeout_ms. Bytes it sent (an answer) are read and ignored. */
 static bool closed_within(int fd, int timeout_ms)
 {
-    double until = now_ms() + timeout_ms;
+    double until = test_now_ms() + timeout_ms;
     for (;;) {
-        int left = (int)(until - now_ms());
+        int left = (int)(until - test_now_ms());
         struct pollfd p = {.fd = fd, .events = POLLIN};
         if (poll(&p, 1, left > 0 ? left : 0) <= 0)
             return false;
@@ -117,20 +97,20 @@ static void *drip_main(void *arg)
 {
     struct dripper *c = arg;
     int fd = connect_to(c->d);
-    c->start_ms = now_ms();
-    if (fd < 0 || !send_all(fd, c->head, strlen(c->head))) {
+    c->start_ms = test_now_ms();
+    if (fd < 0 || !test_send_all(fd, c->head, strlen(c->head))) {
         if (fd >= 0)
             close(fd);
         return NULL;
     }
     for (size_t i = 0; c->drip[i] != '\0'; i++) {
-        if (!send_all(fd, &c->drip[i], 1)) {
-            c->closed_ms = now_ms();
+        if (!test_send_all(fd, &c->drip[i], 1)) {
+            c->closed_ms = test_now_ms();
             break;
         }
         c->sent++;
         if (closed_within(fd, DRIP_MS)) {
-            c->closed_ms = now_ms();
+            c->closed_ms = test_now_ms();
             break;
         }
     }
@@ -172,11 +152,11 @@ static void *keep_main(void *arg)
     struct keeper *k = arg;
     int fd = connect_to(k->d);
     static const char req[] = "GET /v1/health HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n";
-    double until = now_ms() + k->ms;
-    while (fd >= 0 && now_ms() < until) {
+    double until = test_now_ms() + k->ms;
+    while (fd >= 0 && test_now_ms() < until) {
         k->asked++;
         int status = 0;
-        if (!send_all(fd, req, strlen(req)) || !read_answer(fd, &status))
+        if (!test_send_all(fd, req, strlen(req)) || !read_answer(fd, &status))
             break;
         k->answered += status == 200;
         sleep_ms(DRIP_MS);
@@ -215,12 +195,12 @@ static void *render_main(void *arg)
     struct slow_render *r = arg;
     char path[128], *body = NULL;
     snprintf(path, sizeof path, "/v1/scenes/%s/render", r->scene);
-    double t0 = now_ms();
+    double t0 = test_now_ms();
     r->status = test_request(r->d, "POST", path,
                              "{\"width\": 128, \"height\": 72, \"step\": 0.02, "
                              "\"samples_per_pixel\": 4}",
                              &body);
-    r->ms = now_ms() - t0;
+    r->ms = test_now_ms() - t0;
     free(body);
     return NULL;
 }
@@ -275,9 +255,9 @@ int main(void)
 
     /* An upload whose body takes longer than the deadline is not cut off. */
     int fd = connect_to(&d);
-    double t_up = now_ms();
+    double t_up = test_now_ms();
     static char part[33336];
-    CHECK(fd >= 0 && send_all(fd, upload_whole_head, strlen(upload_whole_head)));
+    CHECK(fd >= 0 && test_send_all(fd, upload_whole_head, strlen(upload_whole_head)));
     sleep_ms(900);
     int receiving = tmp_files(&d); /* the trickled upload's (this one has sent no body yet) */
     CHECK_MSG(receiving >= 1, "%d temporary files while an upload trickles", receiving);
@@ -286,13 +266,13 @@ int main(void)
         if (i > 0)
             sleep_ms(1200);
         size_t n = i < 2 ? sizeof part : 100000 - 2 * sizeof part;
-        CHECK(send_all(fd, part, n));
+        CHECK(test_send_all(fd, part, n));
     }
     char answer[2048] = "";
     ssize_t n = recv(fd, answer, sizeof answer - 1, 0);
     answer[n > 0 ? n : 0] = '\0';
     close(fd);
-    printf("an upload whose body took %.0f ms: %d\n", now_ms() - t_up, status_of(answer));
+    printf("an upload whose body took %.0f ms: %d\n", test_now_ms() - t_up, status_of(answer));
     CHECK_INT(status_of(answer), 201);
 
     for (int i = 0; i < 6; i++)

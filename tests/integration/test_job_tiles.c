@@ -31,13 +31,6 @@ static const char scene_json[] =
     "{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, \"resolution\": 32, "
     "\"ior\": {\"shape\": \"sphere\", \"radius\": 0.8, \"inside\": 1.5}}]}";
 
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec / 1e6;
-}
-
 /* POST .../render with body json: the status; *gpu_ms gets X-Render-Time-Ms. */
 static long render(struct test_daemon *d, const char *id, const char *json, double *gpu_ms)
 {
@@ -152,11 +145,11 @@ static void cancel_and_stop_mid_frame(struct test_daemon *d, double tile_ms)
     wait_running(d, job);
     job_sleep_ms((int)(5.0 * tile_ms) + 50);
     snprintf(path, sizeof path, "/v1/jobs/%s", job);
-    double t0 = now_ms();
+    double t0 = test_now_ms();
     CHECK_INT(test_request(d, "DELETE", path, NULL, NULL), 200);
-    while (log_count(d, dropped) < 1 && now_ms() - t0 < frame_ms)
+    while (log_count(d, dropped) < 1 && test_now_ms() - t0 < frame_ms)
         job_sleep_ms(5);
-    double cancel_ms = now_ms() - t0;
+    double cancel_ms = test_now_ms() - t0;
     printf("a job cancelled during its %d-tile frame (about %.0f ms): the frame dropped after "
            "%.0f ms\n",
            LARGE_TILES, frame_ms, cancel_ms);
@@ -167,9 +160,9 @@ static void cancel_and_stop_mid_frame(struct test_daemon *d, double tile_ms)
     CHECK(job_submit_json(d, large_spec, job));
     wait_running(d, job);
     job_sleep_ms((int)(5.0 * tile_ms) + 50);
-    t0 = now_ms();
+    t0 = test_now_ms();
     CHECK_INT(test_daemon_stop(d), 0);
-    double stop_ms = now_ms() - t0;
+    double stop_ms = test_now_ms() - t0;
     printf("a daemon stopped during a job's %d-tile frame (about %.0f ms): exited after %.0f ms\n",
            LARGE_TILES, frame_ms, stop_ms);
     CHECK_INT(log_count(d, dropped), 2);
@@ -206,18 +199,18 @@ int main(void)
     char spec[1024], job[64];
     job_spec(spec, sizeof spec);
     CHECK(job_submit_json(&d, spec, job));
-    double t_job = now_ms();
+    double t_job = test_now_ms();
     wait_running(&d, job);
     job_sleep_ms((int)(3.0 * tile_ms) + 20); /* a few of its tiles are drawn */
-    double t0 = now_ms();
+    double t0 = test_now_ms();
     CHECK_INT(render(&d, scene, small_json, &small_gpu), 200);
-    double small_ms = now_ms() - t0;
+    double small_ms = test_now_ms() - t0;
     cJSON *st = job_status_get(&d, job);
     int done_then = st ? job_int(st, "frames_done") : -1;
     cJSON_Delete(st);
     size_t tiled_len = 0;
     void *tiled_frame = job_frame(&d, job, &tiled_len);
-    double job_ms = now_ms() - t_job;
+    double job_ms = test_now_ms() - t_job;
     printf("small render during a job's %dx%d frame (%d tiles of about %.1f ms): answered after "
            "%.1f ms (%.1f ms its own), the frame still in progress (frames_done %d); the job took "
            "%.0f ms\n",

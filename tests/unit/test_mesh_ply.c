@@ -146,7 +146,8 @@ static void each_malformed_ascii_ply_gets_its_precise_message(void)
          "list's count is wrong"},
         {HDR_ASCII VTX3 FACE1 "element edge 1\nproperty list uchar int vertex_pair\n"
                               "end_header\n" TRI_VERTS "3 0 1 2\n-2 0 2\n",
-         0, REFRACT_E_INVALID_MESH, "edge 0: a list count of -2 is negative; the list's count is wrong"},
+         0, REFRACT_E_INVALID_MESH,
+         "edge 0: a list count of -2 is negative; the list's count is wrong"},
         {HDR_ASCII VTX3 FACE1 "end_header\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n", 0,
          REFRACT_E_INVALID_MESH,
          "vertex 1: coordinate y is nan, not a finite number; every coordinate must be finite"},

@@ -121,8 +121,7 @@ static void check_framing(const char *file, const struct scene *s)
         for (size_t k = 0; k < s->surface_count; k++) {
             vec3 a, b;
             if (scene_surface_world_bounds(&s->surfaces[k], &a, &b) && isfinite(a.x) &&
-                isfinite(b.x) && isfinite(a.y) && isfinite(b.y) && isfinite(a.z) &&
-                isfinite(b.z)) {
+                isfinite(b.x) && isfinite(a.y) && isfinite(b.y) && isfinite(a.z) && isfinite(b.z)) {
                 lo = vec3_make(fmin(lo.x, a.x), fmin(lo.y, a.y), fmin(lo.z, a.z));
                 hi = vec3_make(fmax(hi.x, b.x), fmax(hi.y, b.y), fmax(hi.z, b.z));
                 found = true;
