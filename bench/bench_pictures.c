@@ -194,7 +194,9 @@ static void fast_on_gpu(struct gpu_work *w, struct gpu *gpu)
                                           .position = l->position,
                                           .direction = l->direction,
                                           .cos_spot = cos(l->spot_angle_deg * M_PI / 180.0),
-                                          .volume = needed ? &vol[k] : NULL};
+                                          .volume = needed ? &vol[k] : NULL,
+                                          .radius = l->kind == SCENE_LIGHT_POINT ? l->radius : 0.0,
+                                          .camera_hidden = !l->camera_visible};
             for (int c = 0; c < 3; c++)
                 rl[k].scale[c] = l->color[c] * l->intensity;
         }

@@ -229,3 +229,36 @@ bool light_receiver(vec3 x, vec3 d, out vec3 L)
     L = albedo / LIGHT_PI * sum + albedo * environment_radiance(vec3(0.0, 1.0, 0.0));
     return true;
 }
+
+// The nearest lamp a ray leaving the scene at x along unit d meets before t_max: true with
+// its radiance scale / (pi r^2), the radiance of the path tracer's spherical emitter of the
+// same far-field intensity (docs/pathtracer.md "Lights"). Point lights whose radius r > 0
+// (grid_size.w: r, or -r when hidden from the camera) only; primary: the ray has met
+// nothing yet, so hidden lamps are skipped (docs/tracing.md "Lamps"). Twin of
+// reftrace_light_emitter.
+bool light_emitter(vec3 x, vec3 d, float t_max, bool primary, out vec3 L)
+{
+    L = vec3(0.0);
+    bool hit = false;
+    for (int j = 0; j < MAX_LIGHTS; j++) {
+        if (j >= lights.count.x)
+            break;
+        light_params lp = lights.lights[j];
+        float rs = lp.grid_size.w, r = abs(rs);
+        if (int(lp.position.w) != LIGHT_KIND_POINT || !(r > 0.0) || (primary && rs < 0.0))
+            continue;
+        vec3 oc = x - lp.position.xyz;
+        float b = dot(oc, d), c = dot(oc, oc) - r * r, disc = b * b - c;
+        if (disc < 0.0)
+            continue;
+        float sq = sqrt(disc), t = -b - sq;
+        if (t < 0.0)
+            t = -b + sq; // x inside the lamp: its far side
+        if (!(t > 0.0) || t >= t_max)
+            continue;
+        t_max = t;
+        L = lp.scale.rgb / (LIGHT_PI * r * r);
+        hit = true;
+    }
+    return hit;
+}

@@ -83,18 +83,25 @@ float march_basic_radiance(float n)
 }
 
 #if MARCH_RADIANCE
-// What a ray leaving the scene at world point x along world direction d sees: the receiver
-// plane where it hits it (MARCH_LIGHTS), else the environment. Reflected rays look it up
+// What a ray leaving the scene at world point x along world direction d sees: a lamp (a
+// point light with a radius) where it meets one first, else the receiver plane where it
+// hits it (both MARCH_LIGHTS), else the environment; primary: the ray has met nothing (the
+// camera does not see hidden lamps). Reflected rays look it up
 // directly (tevs2007 sect. 6.3: they are not cast back through the volume), so the floor
 // shows in a glass's reflection as the sky does (issue 14 item 4; the twin is
 // reftrace.c's seen_from).
-vec3 march_seen(vec3 x, vec3 d)
+vec3 march_seen(vec3 x, vec3 d, bool primary)
 {
     vec3 seen = environment_radiance(d);
 #if MARCH_LIGHTS
-    vec3 plane;
-    if (light_receiver(x, d, plane))
+    vec3 plane, lamp;
+    float t_max = 3.0e38;
+    if (light_receiver(x, d, plane)) {
         seen = plane;
+        t_max = (lights.receiver.x - x.y) / d.y;
+    }
+    if (light_emitter(x, d, t_max, primary, lamp))
+        seen = lamp;
 #endif
     return seen;
 }
@@ -105,7 +112,7 @@ vec3 march_seen(vec3 x, vec3 d)
 void march_add_reflection(inout march_state s, float R, vec3 x_world, vec3 d_world)
 {
 #if MARCH_RADIANCE
-    s.L += s.t_f * exp(-s.alpha) * R * march_seen(x_world, d_world);
+    s.L += s.t_f * exp(-s.alpha) * R * march_seen(x_world, d_world, false);
 #endif
 }
 
@@ -292,7 +299,7 @@ void march_opaque_hit(inout march_state s, int obj, vec3 p, vec4 opaque, float n
     vec3 N = length(g) > 1e-12 ? -normalize(g) : -q; // outward from the embedding
     float R = fresnel_unpolarized(abs(dot(q, N)), n_here, params.objects[obj].atlas_offset.w);
     s.L += s.t_f * exp(-s.alpha) *
-           (R * march_seen(march_point_to_world(obj, p), march_dir_to_world(obj, reflect(q, N))) +
+           (R * march_seen(march_point_to_world(obj, p), march_dir_to_world(obj, reflect(q, N)), false) +
             (1.0 - R) * opaque.rgb);
     march_add_light_reflection(s, obj, p, q, N, R, n_here);
 #endif
@@ -786,7 +793,7 @@ march_state march_ray(vec3 origin, vec3 dir, uint inside)
         s.status = s.crossed ? RAY_STATUS_EXITED : RAY_STATUS_MISSED;
 #if MARCH_RADIANCE
         // The receiver plane where the ray hits it (MARCH_LIGHTS), else the background.
-        s.L += s.t_f * exp(-s.alpha) * march_seen(s.x, s.d);
+        s.L += s.t_f * exp(-s.alpha) * march_seen(s.x, s.d, !s.crossed && s.events == 0);
 #endif
     }
     return s;

@@ -191,7 +191,8 @@ struct light_params {
     vec4 direction; /* xyz: unit, the way light travels (directional, spot); w: cos_spot */
     vec4 scale;    /* rgb: colour * intensity (multiplies the unit-light volume); w: LIGHT_MODE_* */
     vec4 grid_min; /* xyz: world bmin of the light grid; w: voxel edge (world units) */
-    vec4 grid_size; /* xyz: grid extent dims * voxel (world units); w: unused */
+    vec4 grid_size; /* xyz: grid extent dims * voxel (world units); w: point: the lamp's
+                       radius (0: none; negative: hidden from camera rays), light_emitter */
 };
 
 #ifdef REFRACT_HOST_C

@@ -70,14 +70,21 @@ static vec3 environment(const struct march *m, vec3 d_world)
     return vec3_scale(env_procedural(d_world), m->set->env_intensity);
 }
 
-/* What a ray leaving the scene at world x along world d sees: the receiver where it hits
- * it (with lighting), else the environment (ray_march.glsl's march_seen). */
-static vec3 seen_from(const struct march *m, vec3 x, vec3 d)
+/* What a ray leaving the scene at world x along world d sees: a lamp (a point light with
+ * a radius) where it meets one first, else the receiver where it hits it (with lighting),
+ * else the environment (ray_march.glsl's march_seen). primary: the ray has met nothing. */
+static vec3 seen_from(const struct march *m, vec3 x, vec3 d, bool primary)
 {
-    vec3 seen = environment(m, d), plane;
-    if (m->set->lighting != NULL &&
-        reftrace_light_receiver(m->set->lighting, environment(m, (vec3){0, 1, 0}), x, d, &plane))
+    vec3 seen = environment(m, d), plane, lamp;
+    if (m->set->lighting == NULL)
+        return seen;
+    double t_max = INFINITY;
+    if (reftrace_light_receiver(m->set->lighting, environment(m, (vec3){0, 1, 0}), x, d, &plane)) {
         seen = plane;
+        t_max = (m->set->lighting->receiver.height - x.y) / d.y;
+    }
+    if (reftrace_light_emitter(m->set->lighting, x, d, t_max, primary, &lamp))
+        seen = lamp;
     return seen;
 }
 
@@ -87,7 +94,7 @@ static vec3 seen_from(const struct march *m, vec3 x, vec3 d)
 static void add_reflection(struct march *m, double R, vec3 x_world, vec3 d_world)
 {
     vec3 t = vec3_scale(exp_neg(m->alpha), m->t_f * R);
-    m->L = vec3_add(m->L, vec3_mul(t, seen_from(m, x_world, d_world)));
+    m->L = vec3_add(m->L, vec3_mul(t, seen_from(m, x_world, d_world, false)));
 }
 
 /* The lights' reflected radiance at a Fresnel event (the delta(x) R L_r term of tevs2007
@@ -292,7 +299,7 @@ static void opaque_hit(struct march *m, const struct object_frame *fr, vec3 p, v
     vec3 nrm = vec3_length(g) > 1e-12 ? vec3_scale(vec3_normalize(g), -1.0) : vec3_scale(q, -1.0);
     double R = fresnel_unpolarized(fabs(vec3_dot(q, nrm)), n_here, fr->o->opaque_ior);
     vec3 env_r = seen_from(m, xform_point_to_world(&fr->o->xf, p),
-                           xform_dir_to_world(&fr->o->xf, vec3_reflect(q, nrm)));
+                           xform_dir_to_world(&fr->o->xf, vec3_reflect(q, nrm)), false);
     vec3 seen = vec3_add(vec3_scale(env_r, R), vec3_scale(colour, 1.0 - R));
     m->L = vec3_add(m->L, vec3_mul(vec3_scale(exp_neg(m->alpha), m->t_f), seen));
     add_light_reflection(m, fr->o, p, q, nrm, R, n_here);
@@ -675,8 +682,7 @@ int reftrace_next_surface(const struct reftrace_settings *set, vec3 x, vec3 d, d
         double size = geom_surface_size(&sf->geom);
         double tmin = (k == last ? SURFACE_EPS_SAME : SURFACE_EPS_OTHER) * size;
         struct geom_hit h;
-        if (geom_surface_intersect(&sf->geom, x, d, tmin, t_best, k == last ? last_prim : -1,
-                                   &h)) {
+        if (geom_surface_intersect(&sf->geom, x, d, tmin, t_best, k == last ? last_prim : -1, &h)) {
             t_best = h.t;
             *hit = h;
             best = k;
@@ -850,8 +856,8 @@ void reftrace_ray(const struct reftrace_object *objects, int count,
         }
         if (settings->surface_count > 0) {
             struct geom_hit h;
-            int k = reftrace_next_surface(settings, m.x, m.d, INFINITY, last_surface, last_prim,
-                                          &h);
+            int k =
+                reftrace_next_surface(settings, m.x, m.d, INFINITY, last_surface, last_prim, &h);
             if (k >= 0 && (!have_object || h.t <= e.t_world)) {
                 if (m.steps >= settings->max_steps) {
                     stop(&m, RAY_MAX_STEPS);
@@ -885,7 +891,8 @@ void reftrace_ray(const struct reftrace_object *objects, int count,
             /* 5. The receiver where the ray hits it, else the background term of tevs2007
              * eq. 5.10. */
             vec3 t = vec3_scale(exp_neg(m.alpha), m.t_f);
-            m.L = vec3_add(m.L, vec3_mul(t, seen_from(&m, m.x, m.d)));
+            m.L = vec3_add(
+                m.L, vec3_mul(t, seen_from(&m, m.x, m.d, !m.crossed && out->event_count == 0)));
             break;
         }
         const struct reftrace_object *o = &objects[e.index];

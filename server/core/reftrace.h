@@ -77,8 +77,11 @@ struct reftrace_light {
     const float *irradiance;       /* LIGHT_MODE_VOLUME: 4 per voxel (E rgb, -), x fastest */
     const float *direction_volume; /* 4 per voxel (light direction xyz, lit) */
     int dims[3];
-    vec3 bmin;    /* world corner of the grid */
-    double voxel; /* cubic voxel edge, world units */
+    vec3 bmin;          /* world corner of the grid */
+    double voxel;       /* cubic voxel edge, world units */
+    double radius;      /* point: > 0, the lamp's sphere that rays leaving the scene see
+                           (reftrace_light_emitter); 0: a point, never seen */
+    bool camera_hidden; /* the sphere is not seen by camera rays that met nothing */
 };
 
 /* The receiver plane y = height, |x - center[0]|, |z - center[1]| <= half_size

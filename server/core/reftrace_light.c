@@ -144,3 +144,30 @@ bool reftrace_light_receiver(const struct reftrace_lighting *lt, vec3 env_up, ve
     *L = vec3_add(vec3_scale(vec3_mul(albedo, sum), 1.0 / M_PI), vec3_mul(albedo, env_up));
     return true;
 }
+
+bool reftrace_light_emitter(const struct reftrace_lighting *lt, vec3 x, vec3 d, double t_max,
+                            bool primary, vec3 *L)
+{
+    *L = (vec3){0, 0, 0};
+    bool hit = false;
+    for (int j = 0; lt != NULL && j < lt->count && j < MAX_LIGHTS; j++) {
+        const struct reftrace_light *lj = &lt->lights[j];
+        double r = lj->radius;
+        if (lj->kind != LIGHT_KIND_POINT || !(r > 0.0) || (primary && lj->camera_hidden))
+            continue;
+        vec3 oc = vec3_sub(x, lj->position);
+        double b = vec3_dot(oc, d), c = vec3_dot(oc, oc) - r * r, disc = b * b - c;
+        if (disc < 0.0)
+            continue;
+        double sq = sqrt(disc), t = -b - sq;
+        if (t < 0.0)
+            t = -b + sq; /* x inside the lamp: its far side */
+        if (!(t > 0.0) || t >= t_max)
+            continue;
+        t_max = t;
+        double k = 1.0 / (M_PI * r * r);
+        *L = (vec3){lj->scale[0] * k, lj->scale[1] * k, lj->scale[2] * k};
+        hit = true;
+    }
+    return hit;
+}

@@ -42,4 +42,12 @@ double reftrace_light_inscatter_step(const struct reftrace_lighting *lt);
 bool reftrace_light_receiver(const struct reftrace_lighting *lt, vec3 env_up, vec3 x, vec3 d,
                              vec3 *L);
 
+/* The nearest lamp a ray leaving the scene at x along unit d meets before t_max: true with
+ * its radiance scale / (pi r^2), the radiance of the path tracer's spherical emitter of the
+ * same far-field intensity (docs/pathtracer.md "Lights"). Point lights of radius r > 0
+ * only; primary: the ray has met nothing yet, so lamps hidden from the camera are skipped
+ * (docs/tracing.md "Lamps"; lighting.glsl's light_emitter is the twin). */
+bool reftrace_light_emitter(const struct reftrace_lighting *lt, vec3 x, vec3 d, double t_max,
+                            bool primary, vec3 *L);
+
 #endif

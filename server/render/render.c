@@ -290,6 +290,9 @@ static void fill_lights(struct march_lights *ml, const struct scene *s,
             lp->grid_size = (vec4){(float)(g->dims[0] * g->voxel), (float)(g->dims[1] * g->voxel),
                                    (float)(g->dims[2] * g->voxel), 0.0f};
         }
+        /* The lamp's sphere that rays leaving the scene see (lighting.glsl light_emitter):
+         * its radius, negative when camera rays must not see it. */
+        lp->grid_size.w = (float)(l->camera_hidden ? -l->radius : l->radius);
     }
 }
 

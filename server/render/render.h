@@ -63,6 +63,9 @@ struct render_light {
     double cos_spot;                     /* spot: cos of the cone half angle */
     double scale[3];                     /* colour * intensity: multiplies the unit-light volume */
     const struct irradiance_gpu *volume; /* NULL: no irradiance for this light (yet) */
+    double radius;      /* point: > 0, the lamp's sphere is seen by rays leaving the scene
+                           (docs/tracing.md "Lamps"); 0: a point, never seen */
+    bool camera_hidden; /* the sphere is not seen by camera rays that met nothing */
 };
 
 struct render_view_request {

@@ -209,8 +209,9 @@ struct scene_light {
     double color[3];       /* linear RGB, each 0..1e3; default (1, 1, 1) */
     double intensity;      /* directional: irradiance normal to the beam; point/spot:
                               radiant intensity per steradian. 0..1e6, default 1 */
-    /* Point lights in "mode": "reference" only (docs/pathtracer.md "Lights"); the fast
-     * renderer and the light simulator treat the light as the point at its centre. */
+    /* Point lights: the path tracer's spherical emitter (docs/pathtracer.md "Lights"); the
+     * fast renderer shows the sphere to rays leaving the scene (docs/tracing.md "Lamps")
+     * but lights from the point at its centre, as the light simulator does. */
     double radius;       /* > 0: a Lambertian sphere of this radius and the same far-field
                             intensity (radiance intensity / (pi r^2)); 0: a point */
     bool camera_visible; /* the sphere is seen by camera rays (default true); reflections,
@@ -339,8 +340,8 @@ struct scene_limits {
 /* render.samples_per_pixel and its request twins (render and view requests): a square
  * number (k x k equal strata) in 1..lim->max_samples_per_pixel; def when item is NULL. */
 struct cJSON;
-enum refract_code scene_read_samples_per_pixel(const struct cJSON *item, const char *path,
-                                               int def, const struct scene_limits *lim, int *out,
+enum refract_code scene_read_samples_per_pixel(const struct cJSON *item, const char *path, int def,
+                                               const struct scene_limits *lim, int *out,
                                                struct err *e);
 
 /* Defaults: 512, 64M voxels, 8 objects, 64 layers, 1024 points, 64 chars, 4096, 100000,

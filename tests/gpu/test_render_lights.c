@@ -131,7 +131,9 @@ static void render_run(struct gpu_work *w, struct gpu *gpu)
             .direction = l->direction,
             .cos_spot = cos(l->spot_angle_deg * M_PI / 180.0),
             .scale = {light_scale(l, 0), light_scale(l, 1), light_scale(l, 2)},
-            .volume = has_volume ? &vol[j] : NULL};
+            .volume = has_volume ? &vol[j] : NULL,
+            .radius = l->kind == SCENE_LIGHT_POINT ? l->radius : 0.0,
+            .camera_hidden = !l->camera_visible};
     }
     struct render_scene_source src = {.id = c->name, .generation = 1, .scene = c->scene};
     struct render_view_request req = {.camera = c->scene->camera,
@@ -224,7 +226,9 @@ static void compare(struct gpu *gpu, struct lit_case *c)
             .direction_volume = v->direction,
             .dims = {v->grid.dims[0], v->grid.dims[1], v->grid.dims[2]},
             .bmin = v->grid.bmin,
-            .voxel = v->grid.voxel};
+            .voxel = v->grid.voxel,
+            .radius = l->kind == SCENE_LIGHT_POINT ? l->radius : 0.0,
+            .camera_hidden = !l->camera_visible};
     }
     struct reftrace_lighting lt = {
         .lights = rl,
@@ -418,6 +422,47 @@ int main(void)
                                                .color = {1, 1, 1},
                                                .intensity = 200};
         compare(gpu, &multi);
+    }
+    /* 5. Lamps (point lights with a radius, docs/tracing.md "Lamps"): one in view, seen by
+     * camera rays, and one behind the glass sphere hidden from the camera but seen through
+     * the sphere; GGX highlights of both. The centre pixel of the visible lamp shows its
+     * radiance intensity / (pi r^2) exactly. */
+    struct lit_case lamps = {.name = "lamps: seen, and hidden but refracted",
+                             .close_fraction = close,
+                             .mean_bound = software ? 1e-3 : 5e-3};
+    lamps.scene = parse_ok("{" CAMERA_A ", \"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], "
+                           "\"max\": [1, 1, 1]}, \"resolution\": 32, \"smoothing_sigma\": 1, "
+                           "\"ior\": {\"shape\": \"sphere\", \"radius\": 0.8, \"inside\": 1.5}, "
+                           "\"brdf\": {\"type\": \"ggx\", \"roughness\": 0.3}}]}");
+    if (lamps.scene) {
+        lamps.light_count = 2;
+        lamps.lights[0] = (struct scene_light){.kind = SCENE_LIGHT_POINT,
+                                               .position = {-1.1, 0.7, 0.6},
+                                               .color = {1, 0.8, 0.6},
+                                               .intensity = 2,
+                                               .radius = 0.15,
+                                               .camera_visible = true};
+        lamps.lights[1] = (struct scene_light){.kind = SCENE_LIGHT_POINT,
+                                               .position = {-0.2, -0.1, -2.5},
+                                               .color = {1, 1, 1},
+                                               .intensity = 3,
+                                               .radius = 0.4,
+                                               .camera_visible = false};
+        compare(gpu, &lamps);
+        /* The visible lamp's centre, projected: its pixel shows scale / (pi r^2) (the lamp
+         * covers the whole pixel there). */
+        const struct scene_camera *cam = &lamps.scene->camera;
+        vec3 o, dir;
+        int w = cam->width, h = cam->height, hits = 0;
+        for (int row = 0; row < h; row++) {
+            for (int col = 0; col < w; col++) {
+                camera_ray(cam->eye, cam->look_at, cam->up, cam->fov_y_deg, w, h, col, row, &o,
+                           &dir);
+                vec3 to = vec3_normalize(vec3_sub(lamps.lights[0].position, o));
+                hits += vec3_dot(to, dir) > cos(0.5 * M_PI / 180.0);
+            }
+        }
+        CHECK_MSG(hits > 0, "the visible lamp is in view (%d pixels aimed at its centre)", hits);
     }
     /* 5. A glass sphere surface (n = 1.5) filled with a scattering constant medium (sigma_s
      * (0.75, 0.5, 0.25), sigma_a 0.1, g 0.4) in the ramp volume: in-scattering along the

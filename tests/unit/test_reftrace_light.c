@@ -377,8 +377,56 @@ static void receiver_seen_in_a_reflection(void)
     CHECK_NEAR(r.radiance.x, 0.0, 1e-12);
 }
 
+/* Lamps (docs/tracing.md "Lamps"): a point light of radius r is a sphere of radiance
+ * intensity / (pi r^2) to rays leaving the scene, the nearest one first, behind the
+ * receiver where the receiver is nearer, and hidden from camera rays that met nothing
+ * when camera_visible is false. */
+static void lamps_are_seen_by_rays_leaving_the_scene(void)
+{
+    struct reftrace_light l[2] = {
+        {.kind = LIGHT_KIND_POINT, .position = {0, 0, -5}, .scale = {2, 4, 6}, .radius = 0.5},
+        {.kind = LIGHT_KIND_POINT, .position = {0, 0, -9}, .scale = {1, 1, 1}, .radius = 2}};
+    struct reftrace_lighting lt = {.lights = l, .count = 2};
+    vec3 L;
+    const double k = 1.0 / (M_PI * 0.25);
+    CHECK(reftrace_light_emitter(&lt, (vec3){0.1, 0.2, 0}, (vec3){0, 0, -1}, INFINITY, true, &L));
+    CHECK_NEAR(L.x, 2 * k, 1e-12); /* the nearer lamp, though the far one is larger */
+    CHECK_NEAR(L.z, 6 * k, 1e-12);
+    /* past the near lamp's edge: the far one */
+    CHECK(reftrace_light_emitter(&lt, (vec3){0.6, 0, 0}, (vec3){0, 0, -1}, INFINITY, true, &L));
+    CHECK_NEAR(L.x, 1.0 / (M_PI * 4.0), 1e-12);
+    /* a nearer receiver (t_max) hides both; a ray going away sees none */
+    CHECK(!reftrace_light_emitter(&lt, (vec3){0, 0, 0}, (vec3){0, 0, -1}, 4.0, true, &L));
+    CHECK(!reftrace_light_emitter(&lt, (vec3){0, 0, 0}, (vec3){0, 0, 1}, INFINITY, false, &L));
+    /* hidden from the camera: skipped for primary rays only */
+    l[0].camera_hidden = true;
+    CHECK(reftrace_light_emitter(&lt, (vec3){0, 0, 0}, (vec3){0, 0, -1}, INFINITY, true, &L));
+    CHECK_NEAR(L.x, 1.0 / (M_PI * 4.0), 1e-12);
+    CHECK(reftrace_light_emitter(&lt, (vec3){0, 0, 0}, (vec3){0, 0, -1}, INFINITY, false, &L));
+    CHECK_NEAR(L.x, 2 * k, 1e-12);
+    /* a point (radius 0) and other kinds are never seen */
+    l[0].radius = 0.0;
+    l[1].kind = LIGHT_KIND_SPOT;
+    CHECK(!reftrace_light_emitter(&lt, (vec3){0, 0, 0}, (vec3){0, 0, -1}, INFINITY, false, &L));
+    /* Through the tracer: a camera ray that meets nothing sees the lamp; hidden, the
+     * environment (black here). */
+    l[0] = (struct reftrace_light){
+        .kind = LIGHT_KIND_POINT, .position = {0, 0, -5}, .scale = {2, 4, 6}, .radius = 0.5};
+    lt.count = 1;
+    struct reftrace_settings st = settings(REFTRACE_RK4, 0.5);
+    st.env_intensity = 0.0;
+    st.lighting = &lt;
+    struct reftrace_result r;
+    reftrace_ray(NULL, 0, &st, (vec3){0, 0, 0}, (vec3){0, 0, -1}, &r);
+    CHECK_NEAR(r.radiance.y, 4 * k, 1e-9);
+    l[0].camera_hidden = true;
+    reftrace_ray(NULL, 0, &st, (vec3){0, 0, 0}, (vec3){0, 0, -1}, &r);
+    CHECK_NEAR(r.radiance.y, 0.0, 1e-12);
+}
+
 int main(void)
 {
+    lamps_are_seen_by_rays_leaving_the_scene();
     emitting_medium_is_seen_with_basic_radiance();
     slab_single_scattering_matches_the_closed_form();
     faces_reflect_the_direct_light_with_their_brdf();
