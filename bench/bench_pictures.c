@@ -195,7 +195,7 @@ static void fast_on_gpu(struct gpu_work *w, struct gpu *gpu)
                                           .direction = l->direction,
                                           .cos_spot = cos(l->spot_angle_deg * M_PI / 180.0),
                                           .volume = needed ? &vol[k] : NULL,
-                                          .radius = l->kind == SCENE_LIGHT_POINT ? l->radius : 0.0,
+                                          .radius = l->radius,
                                           .camera_hidden = !l->camera_visible};
             for (int c = 0; c < 3; c++)
                 rl[k].scale[c] = l->color[c] * l->intensity;

@@ -574,7 +574,7 @@ const char *irradiance_cache_gather(struct irradiance_cache *c, const struct irr
         rl->cos_spot = cos(l->spot_angle_deg * M_PI / 180.0);
         for (int ch = 0; ch < 3; ch++)
             rl->scale[ch] = l->color[ch] * l->intensity;
-        rl->radius = l->kind == SCENE_LIGHT_POINT ? l->radius : 0.0;
+        rl->radius = l->radius;
         rl->camera_hidden = !l->camera_visible;
         if (!needed)
             continue;

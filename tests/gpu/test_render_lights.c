@@ -132,7 +132,7 @@ static void render_run(struct gpu_work *w, struct gpu *gpu)
             .cos_spot = cos(l->spot_angle_deg * M_PI / 180.0),
             .scale = {light_scale(l, 0), light_scale(l, 1), light_scale(l, 2)},
             .volume = has_volume ? &vol[j] : NULL,
-            .radius = l->kind == SCENE_LIGHT_POINT ? l->radius : 0.0,
+            .radius = l->radius,
             .camera_hidden = !l->camera_visible};
     }
     struct render_scene_source src = {.id = c->name, .generation = 1, .scene = c->scene};
@@ -227,7 +227,7 @@ static void compare(struct gpu *gpu, struct lit_case *c)
             .dims = {v->grid.dims[0], v->grid.dims[1], v->grid.dims[2]},
             .bmin = v->grid.bmin,
             .voxel = v->grid.voxel,
-            .radius = l->kind == SCENE_LIGHT_POINT ? l->radius : 0.0,
+            .radius = l->radius,
             .camera_hidden = !l->camera_visible};
     }
     struct reftrace_lighting lt = {
@@ -425,8 +425,8 @@ int main(void)
     }
     /* 5. Lamps (point lights with a radius, docs/tracing.md "Lamps"): one in view, seen by
      * camera rays, and one behind the glass sphere hidden from the camera but seen through
-     * the sphere; GGX highlights of both. The centre pixel of the visible lamp shows its
-     * radiance intensity / (pi r^2) exactly. */
+     * the sphere; GGX highlights of both. (The lamp's radiance against its closed form is
+     * test_reftrace_light's; here the GPU against the twin.) */
     struct lit_case lamps = {.name = "lamps: seen, and hidden but refracted",
                              .close_fraction = close,
                              .mean_bound = software ? 1e-3 : 5e-3};
@@ -449,8 +449,7 @@ int main(void)
                                                .radius = 0.4,
                                                .camera_visible = false};
         compare(gpu, &lamps);
-        /* The visible lamp's centre, projected: its pixel shows scale / (pi r^2) (the lamp
-         * covers the whole pixel there). */
+        /* The visible lamp is in the picture: some pixel's ray aims at its centre. */
         const struct scene_camera *cam = &lamps.scene->camera;
         vec3 o, dir;
         int w = cam->width, h = cam->height, hits = 0;
