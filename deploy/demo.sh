@@ -54,7 +54,7 @@ echo "==> scenes"
 ./build/refract --url "$URL" scene list
 
 echo "==> waiting for $SCENE's irradiance volumes (the light simulation starts when refractd loads a scene with lights)"
-./build/refract --url "$URL" --timeout 600 irradiance wait "$SCENE"
+./build/refract --url "$URL" --timeout 1800 irradiance wait "$SCENE"
 
 echo "==> rendering $SCENE (the first render of a scene compiles its shader variant)"
 ./build/refract --url "$URL" render "$SCENE" -o "$OUT/demo.png"
