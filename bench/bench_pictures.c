@@ -67,7 +67,8 @@
 #define MAX_SCENES 6
 
 struct setting {
-    int resolution, spp;
+    int resolution, spp; /* resolution 0: photons */
+    int photons;         /* receiver.caustics "photons" with this many (docs/photons.md) */
 };
 
 struct options {
@@ -208,6 +209,8 @@ static void fast_on_gpu(struct gpu_work *w, struct gpu *gpu)
         struct render_view_result out;
         if (render_view(rd, &src, &req, &out, &w->err) == REFRACT_E_OK) {
             r->render_ms = out.gpu_ms;
+            if (s->receiver.enabled && s->receiver.caustics == SCENE_CAUSTICS_PHOTONS)
+                r->sim_ms = out.total_ms - out.gpu_ms; /* the photon map (and the read-back) */
             r->rgba = out.rgba;
         }
     }
@@ -310,13 +313,38 @@ static const char *base_name(const char *path)
     return b ? b + 1 : path;
 }
 
+/* "64" (lightsim.resolution) or "p1M" (photons) for tables and messages. */
+static const char *setting_name(const struct setting *st, char *buf, size_t size)
+{
+    if (st->photons <= 0)
+        snprintf(buf, size, "%d", st->resolution);
+    else if (st->photons % 1048576 == 0)
+        snprintf(buf, size, "p%dM", st->photons / 1048576);
+    else if (st->photons % 1024 == 0)
+        snprintf(buf, size, "p%dk", st->photons / 1024);
+    else
+        snprintf(buf, size, "p%d", st->photons);
+    return buf;
+}
+
 static bool parse_settings(const char *arg, struct options *o)
 {
     o->setting_count = 0;
     for (const char *p = arg; *p && o->setting_count < MAX_SETTINGS;) {
-        struct setting st;
-        if (sscanf(p, "%d:%d", &st.resolution, &st.spp) != 2 || st.resolution < 8 || st.spp < 1)
+        struct setting st = {0};
+        char unit = 0;
+        if (*p == 'p') { /* pN[k|M]:S, photons */
+            int n = sscanf(p + 1, "%d%c:%d", &st.photons, &unit, &st.spp);
+            if (n == 3 && (unit == 'k' || unit == 'M'))
+                st.photons *= unit == 'k' ? 1024 : 1048576;
+            else if (sscanf(p + 1, "%d:%d", &st.photons, &st.spp) != 2)
+                return false;
+            if (st.photons < 1024 || st.photons > SCENE_MAX_PHOTONS || st.spp < 1)
+                return false;
+        } else if (sscanf(p, "%d:%d", &st.resolution, &st.spp) != 2 || st.resolution < 8 ||
+                   st.spp < 1) {
             return false;
+        }
         o->settings[o->setting_count++] = st;
         const char *comma = strchr(p, ',');
         p = comma ? comma + 1 : p + strlen(p);
@@ -427,8 +455,9 @@ int main(int argc, char **argv)
                 "scattering event%s.\n",
                 o.ref_max_scatter, o.ref_max_scatter, o.ref_max_scatter == 1 ? "" : "s");
     fprintf(out,
-            "\n| scene | reference (samples, s, own noise) | lightsim.resolution | "
-            "samples/pixel | light simulation ms | render ms | relative RMSE | "
+            "\n| scene | reference (samples, s, own noise) | caustics (lightsim.resolution or pN "
+            "photons) | "
+            "samples/pixel | light simulation or photon map ms | render ms | relative RMSE | "
             "mean fast/ref |%s\n"
             "| --- | --- | --- | --- | --- | --- | --- | --- |%s\n",
             !extra                   ? ""
@@ -513,18 +542,26 @@ int main(int argc, char **argv)
         double best = INFINITY;
         /* k = -1: a warm-up with the first setting, not reported (shader compiles on first
          * use would otherwise count against it). */
+        char sname[32];
         for (int k = -1; k < o.setting_count; k++) {
             bool warm_up = k < 0;
             if (warm_up)
                 k = 0;
-            s->lightsim.resolution = o.settings[k].resolution;
+            if (o.settings[k].photons > 0) {
+                s->receiver.caustics = SCENE_CAUSTICS_PHOTONS;
+                s->receiver.photons = o.settings[k].photons;
+            } else {
+                s->receiver.caustics = SCENE_CAUSTICS_VOLUME;
+                s->lightsim.resolution = o.settings[k].resolution;
+            }
             s->render.samples_per_pixel = o.settings[k].spp;
             struct fast_run r = {.scene = s, .id = name, .width = w, .height = h};
             r.work =
                 (struct gpu_work){.priority = GPU_PRIORITY_BATCH, .run = fast_on_gpu, .user = &r};
             if (gpu_run_sync(gpu, &r.work) != REFRACT_E_OK || r.rgba == NULL) {
-                fprintf(stderr, "refract-pictures: %s at %d:%d: %s\n", name,
-                        o.settings[k].resolution, o.settings[k].spp, r.work.err.msg);
+                fprintf(stderr, "refract-pictures: %s at %s:%d: %s\n", name,
+                        setting_name(&o.settings[k], sname, sizeof sname), o.settings[k].spp,
+                        r.work.err.msg);
                 status = 1;
                 continue;
             }
@@ -535,9 +572,10 @@ int main(int argc, char **argv)
             }
             double err = relative_rmse(r.rgba, mean, pixels);
             double ratio = mean_ratio(r.rgba, mean, pixels, NULL);
-            fprintf(out, "| %s | %d, %.0f s, %.4f | %d | %d | %.0f | %.1f | %.4f | %.3f |", name,
-                    o.ref_samples, ref_s, noise, o.settings[k].resolution, o.settings[k].spp,
-                    r.sim_ms, r.render_ms, err, ratio);
+            setting_name(&o.settings[k], sname, sizeof sname);
+            fprintf(out, "| %s | %d, %.0f s, %.4f | %s | %d | %.0f | %.1f | %.4f | %.3f |", name,
+                    o.ref_samples, ref_s, noise, sname, o.settings[k].spp, r.sim_ms, r.render_ms,
+                    err, ratio);
             if (extra) {
                 double m_err, m_noise, s_err = NAN, s_noise = NAN, s_ratio = NAN;
                 masked_figures(r.rgba, mean, var, pixels, keep, &m_err, &m_noise);
@@ -552,8 +590,8 @@ int main(int argc, char **argv)
             }
             fprintf(out, "\n");
             fflush(out);
-            fprintf(stderr, "%s %d:%d: %.0f ms + %.1f ms, relative RMSE %.4f\n", name,
-                    o.settings[k].resolution, o.settings[k].spp, r.sim_ms, r.render_ms, err);
+            fprintf(stderr, "%s %s:%d: %.0f ms + %.1f ms, relative RMSE %.4f\n", name, sname,
+                    o.settings[k].spp, r.sim_ms, r.render_ms, err);
             if (npts < MAX_SCENES * MAX_SETTINGS)
                 pts[npts++] = (struct plot_point){r.sim_ms + r.render_ms, err, series, false};
             if (err < best) {

@@ -79,6 +79,11 @@
 #define BIND_SSBO_PT_PARAMS 27 /* pt_params (pathtrace_types.h) */
 #define BIND_SSBO_PT_ACCUM 28  /* vec4 sum, vec4 sum of squares per pixel */
 
+/* ---- caustic photons on the receiver (docs/photons.md, shaders/photons.glsl) ---- */
+#define BIND_SSBO_PHOTONS 29        /* render_view: 2 vec4 per photon, by bucket: (x, z, 0, 0),
+                                       (power rgb, 0) */
+#define BIND_SSBO_PHOTON_BUCKETS 30 /* uint per hash bucket + 1: its photons' first index */
+
 /* ---- texture units (samplers) ---- */
 #define UNIT_IOR_GRAD 0    /* sampler3D atlas: rgb = grad n (object units), a = n */
 #define UNIT_ATTENUATION 1 /* sampler3D atlas: rgb = sigma_a per world unit */

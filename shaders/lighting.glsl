@@ -180,6 +180,12 @@ float light_inscatter_step()
     return 0.5 * voxel;
 }
 
+#if MARCH_SURFACES && MARCH_LIGHTS
+// The "photons" caustics mode (lights.count.z = 1; shaders/photons.glsl, after the surfaces).
+vec3 photon_irradiance(vec2 xz);
+bool photon_light_visible(int j, vec3 at);
+#endif
+
 // The receiver plane y = height, |x - cx|, |z - cz| <= half_size (half_size <= 0: the
 // whole plane; thesis fig. 7.4), seen by a ray that has left the scene at x going d.
 // Returns true with its radiance when hit:
@@ -190,7 +196,10 @@ float light_inscatter_step()
 // deposit kernel there is whole. A light's volume covers the objects' footprint on the
 // plane as that light sees it: at least LIGHT_RECEIVER_INSET voxels inside its grid's x
 // and z faces (the pad and a margin) the volume is read, elsewhere the light's closed
-// form (light_direct), as no object can shade the plane there.
+// form (light_direct), as no object can shade the plane there. In the "photons" caustics
+// mode (lights.count.z = 1, docs/photons.md) each light's unshadowed direct light counts
+// where no optical surface is in the way (photon_light_visible), and the photon map's
+// irradiance photon_irradiance, the cosine already in it, is added once.
 bool light_receiver(vec3 x, vec3 d, out vec3 L)
 {
     L = vec3(0.0);
@@ -214,6 +223,13 @@ bool light_receiver(vec3 x, vec3 d, out vec3 L)
         vec3 E, l;
         bool lit;
         light_params lp = lights.lights[j];
+#if MARCH_SURFACES && MARCH_LIGHTS
+        if (lights.count.z == 1) {
+            if (light_direct(j, at, E, l) && photon_light_visible(j, at))
+                sum += E * max(0.0, -l.y);
+            continue;
+        }
+#endif
         if (int(lp.scale.w) == LIGHT_MODE_VOLUME) {
             vec2 u = (at.xz - lp.grid_min.xz) / lp.grid_min.w;
             vec2 dims = lp.grid_size.xz / lp.grid_min.w;
@@ -226,6 +242,10 @@ bool light_receiver(vec3 x, vec3 d, out vec3 L)
         if (lit)
             sum += E * max(0.0, -l.y);
     }
+#if MARCH_SURFACES && MARCH_LIGHTS
+    if (lights.count.z == 1)
+        sum += photon_irradiance(at.xz);
+#endif
     L = albedo / LIGHT_PI * sum + albedo * environment_radiance(vec3(0.0, 1.0, 0.0));
     return true;
 }

@@ -20,6 +20,9 @@
 #include "geom/kinds.glsl"
 #include "interface.glsl"
 #include "medium_step.glsl"
+#if MARCH_RADIANCE && MARCH_LIGHTS
+#include "photons.glsl"
+#endif
 #endif
 
 const float MARCH_INDEX_EPS = 1e-6;       // |n_field - n_ambient| below this: no interface

@@ -201,10 +201,15 @@ typedef struct light_params light_params;
 
 /* Uniform block BIND_UBO_LIGHTS of render_view.comp. */
 struct march_lights {
-    ivec4 count;                  /* x: lights; y: 1 = receiver enabled */
+    ivec4 count;                  /* x: lights; y: 1 = receiver enabled; z: 1 = the receiver's
+                                     caustics are photons (docs/photons.md): direct light by
+                                     shadow rays, the rest from the photon map */
     vec4 receiver;                /* x: height (world y); y: half size (<= 0: the whole
                                      plane); zw: world x, z of the square's centre */
     vec4 receiver_albedo;         /* rgb: Lambertian reflectance */
+    vec4 photon_grid;             /* x: the hash grid's cell edge; y: the gather radius */
+    ivec4 photon_dims;            /* x: hash buckets (a power of two; 0: no photon landed);
+                                     y: photons */
     vec4 brdf[MAX_OBJECTS + MAX_SURFACES];       /* x: BRDF_*; y: GGX alpha (roughness^2);
                                                     z: Phong exponent. Objects, then surfaces
                                                     (slot MAX_OBJECTS + k) */

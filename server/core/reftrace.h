@@ -93,10 +93,18 @@ struct reftrace_receiver {
     double center[2]; /* world x, z of the square's centre */
 };
 
+struct photon_grid;     /* photon.h */
+struct pathtrace_scene; /* pathtrace.h */
+
 struct reftrace_lighting {
     const struct reftrace_light *lights;
     int count;
     struct reftrace_receiver receiver;
+    /* receiver.caustics "photons" (docs/photons.md; the GPU's lights.count.z = 1): the photon
+     * map, and the scene whose surfaces the direct light's shadow rays test (its lights
+     * indexed as `lights`). NULL: the receiver reads the lights' modes as usual. */
+    const struct photon_grid *photons;
+    const struct pathtrace_scene *photon_scene;
 };
 
 enum reftrace_stepper {

@@ -4,6 +4,8 @@
  */
 #include "reftrace_light.h"
 
+#include "photon.h"
+
 #include <math.h>
 #include <stddef.h>
 
@@ -125,6 +127,12 @@ bool reftrace_light_receiver(const struct reftrace_lighting *lt, vec3 env_up, ve
         const struct reftrace_light *lj = &lt->lights[j];
         vec3 E, l;
         bool lit;
+        if (lt->photons != NULL) { /* docs/photons.md "The receiver" */
+            if (reftrace_light_direct(lj, at, &E, &l) &&
+                photon_light_visible(lt->photon_scene, j, at))
+                sum = vec3_madd(sum, E, fmax(0.0, -l.y));
+            continue;
+        }
         if (lj->mode == LIGHT_MODE_VOLUME) {
             /* LIGHT_RECEIVER_INSET voxels inside the grid's x and z faces the volume
              * (shadows, caustics); elsewhere, where no object can shade the plane, the
@@ -139,6 +147,11 @@ bool reftrace_light_receiver(const struct reftrace_lighting *lt, vec3 env_up, ve
         }
         if (lit)
             sum = vec3_madd(sum, E, fmax(0.0, -l.y));
+    }
+    if (lt->photons != NULL) {
+        double Ep[3];
+        photon_irradiance(lt->photons, at.x, at.z, Ep);
+        sum = vec3_add(sum, (vec3){Ep[0], Ep[1], Ep[2]});
     }
     vec3 albedo = {rc->albedo[0], rc->albedo[1], rc->albedo[2]};
     *L = vec3_add(vec3_scale(vec3_mul(albedo, sum), 1.0 / M_PI), vec3_mul(albedo, env_up));

@@ -52,7 +52,7 @@ _Static_assert(sizeof(struct trace_hit_out) == 64, "trace_hit_out layout");
 _Static_assert(sizeof(struct trace_event_out) == 64, "trace_event_out layout");
 _Static_assert(RENDER_TRACE_MAX_EVENTS == TRACE_MAX_EVENTS, "events per traced ray");
 _Static_assert(sizeof(struct light_params) == 5 * 16, "light_params layout");
-_Static_assert(sizeof(struct march_lights) == 3 * 16 + 2 * (MAX_OBJECTS + MAX_SURFACES) * 16 +
+_Static_assert(sizeof(struct march_lights) == 5 * 16 + 2 * (MAX_OBJECTS + MAX_SURFACES) * 16 +
                                                   MAX_LIGHTS * sizeof(struct light_params),
                "march_lights layout");
 _Static_assert(MAX_LIGHTS == SCENE_MAX_LIGHTS, "one light slot per scene light");
@@ -418,6 +418,11 @@ enum refract_code render_view_rows(struct render *r, const struct render_scene_s
         return rc;
     struct march_lights ml;
     fill_lights(&ml, src->scene, req);
+    rc = photons_gpu_prepare(sg, src, req, &ml, e);
+    if (rc != REFRACT_E_OK) {
+        gpu_buffer_destroy(&image);
+        return rc;
+    }
     unsigned variant = march_variant(r, sg, &req->settings);
     if (ml.count.x > 0 || ml.count.y != 0)
         variant |= GPU_VARIANT_LIGHTS;

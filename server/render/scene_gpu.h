@@ -29,21 +29,21 @@ struct scene_gpu_object {
 struct scene_gpu {
     char id[64];
     uint64_t generation;
-    struct gpu_volume ior_grad;    /* RGBA32F (RGBA16F: render.ior_texture float16): grad n
-                                      (object units), n */
-    struct gpu_volume attenuation; /* RGBA16F or 1x1x1 stand-in */
-    struct gpu_volume emission;    /* RGBA16F or stand-in */
-    struct gpu_volume opaque;      /* RGBA16F or stand-in */
-    struct gpu_volume scattering;  /* RGBA16F: sigma_s rgb per world unit, g; or stand-in (only
-                                      built when some object scatters: OBJECT_HAS_SCATTERING) */
-    struct gpu_volume environment; /* RGBA32F 2D, or 1x1 stand-in */
-    struct gpu_buffer skip_cells;  /* uint per macro cell, 1 = empty (docs/tracing.md "Empty
-                                      space"); built on the CPU from the atlases' data */
-    int skip_cell_voxels;          /* macro cell edge, voxels */
-    int skip_border;               /* texels of sampling footprint the map allowed for
-                                      (MACROCELL_BORDER_*: the scene's index filter) */
-    size_t empty_cells;            /* over all objects: 0 means no skipping to do */
-    struct gpu_buffer surfaces;    /* surface_params per exact surface, by priority */
+    struct gpu_volume ior_grad;         /* RGBA32F (RGBA16F: render.ior_texture float16): grad n
+                                           (object units), n */
+    struct gpu_volume attenuation;      /* RGBA16F or 1x1x1 stand-in */
+    struct gpu_volume emission;         /* RGBA16F or stand-in */
+    struct gpu_volume opaque;           /* RGBA16F or stand-in */
+    struct gpu_volume scattering;       /* RGBA16F: sigma_s rgb per world unit, g; or stand-in (only
+                                           built when some object scatters: OBJECT_HAS_SCATTERING) */
+    struct gpu_volume environment;      /* RGBA32F 2D, or 1x1 stand-in */
+    struct gpu_buffer skip_cells;       /* uint per macro cell, 1 = empty (docs/tracing.md "Empty
+                                           space"); built on the CPU from the atlases' data */
+    int skip_cell_voxels;               /* macro cell edge, voxels */
+    int skip_border;                    /* texels of sampling footprint the map allowed for
+                                           (MACROCELL_BORDER_*: the scene's index filter) */
+    size_t empty_cells;                 /* over all objects: 0 means no skipping to do */
+    struct gpu_buffer surfaces;         /* surface_params per exact surface, by priority */
     struct gpu_buffer surface_profiles; /* the lathes' (r, h) points */
     struct gpu_buffer mesh_nodes;       /* the mesh surfaces' hierarchies, concatenated */
     struct gpu_buffer mesh_tris;        /* ... their triangles (mesh_rt.h records) */
@@ -58,7 +58,26 @@ struct scene_gpu {
     size_t bytes;
     double build_ms;
     int64_t last_used_ms;
+    /* The receiver's photon map (receiver.caustics "photons", photons_gpu.c): built on first
+     * use and again when the lights or the photon settings change (photon_key). */
+    struct gpu_buffer photons;        /* 2 vec4 per photon (photon_grid.gpu); buf 0: none yet */
+    struct gpu_buffer photon_buckets; /* uint per bucket + 1 (photon_grid.start) */
+    uint64_t photon_key;
+    double photon_cell, photon_radius;
+    uint32_t photon_buckets_n;
+    size_t photon_count;
+    double photon_build_ms;
 };
+
+/* photons_gpu.c: makes sure sg holds the photon map for req's lights (a no-op unless the
+ * scene's receiver.caustics is "photons"), binds it and fills the lights block's photon
+ * fields (count.z, photon_grid, photon_dims). CONFLICT from the photon tracer (docs/photons.md
+ * "Not yet"), OUT_OF_MEMORY, or GPU errors. GPU thread. */
+struct march_lights;
+struct render_view_request;
+enum refract_code photons_gpu_prepare(struct scene_gpu *sg, const struct render_scene_source *src,
+                                      const struct render_view_request *req,
+                                      struct march_lights *ml, struct err *e);
 
 /* Builds a new scene_gpu from src. Returns it (destroy with scene_gpu_destroy) or NULL with
  * e filled (CONFLICT for a missing volume or environment, LIMIT_EXCEEDED for atlases
@@ -75,7 +94,7 @@ void scene_gpu_destroy(struct scene_gpu *sg);
  * profile points and the mesh surfaces' arrays (mesh_rt.h) into sg's storage buffers (a
  * stand-in element where empty). CONFLICT for a mesh that was not uploaded,
  * INVALID_MESH for one that cannot bound a medium (open, non-manifold, ...). */
-enum refract_code surfaces_gpu_build(const struct render_scene_source *src,
-                                     struct scene_gpu *sg, struct err *e);
+enum refract_code surfaces_gpu_build(const struct render_scene_source *src, struct scene_gpu *sg,
+                                     struct err *e);
 
 #endif

@@ -219,6 +219,10 @@ struct scene_light {
 };
 
 /* A diffuse plane y = height that receives caustics and shadows (thesis fig. 7.4). */
+enum scene_caustics { SCENE_CAUSTICS_VOLUME = 0, SCENE_CAUSTICS_PHOTONS = 1 };
+extern const char *const scene_caustics_words[];
+#define SCENE_MAX_PHOTONS 67108864 /* receiver.photons at most (2^26: 2.7 GB of photons) */
+
 struct scene_receiver {
     bool enabled;
     double height;    /* world y of the plane */
@@ -226,6 +230,11 @@ struct scene_receiver {
                          half_size; INFINITY: the whole plane ("infinite") */
     double center[2]; /* world x and z of the square's centre; default (0, 0) */
     double albedo[3]; /* Lambertian reflectance, 0..1; default 0.8 */
+    /* How light that went through or off the surfaces reaches the plane (docs/photons.md):
+     * the light simulator's volume (default) or caustic photons with shadow rays. */
+    enum scene_caustics caustics;
+    int photons;          /* caustic photons per map, 1024..SCENE_MAX_PHOTONS; 1048576 */
+    double photon_radius; /* gather radius, world units; 0 (default): the auto rule */
 };
 
 enum scene_lightsim_deposit {

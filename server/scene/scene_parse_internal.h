@@ -62,6 +62,10 @@ enum refract_code scene_parse_surfaces(const cJSON *arr, const struct scene_limi
 /* Refuses, naming `path` (what asks for the light simulator: "receiver",
  * "objects[2].scattering"), a scene whose surfaces include one filled by an object's field
  * (medium "object"): the light simulator's wavefront does not bend inside surfaces yet. */
+/* receiver.caustics "photons" (docs/photons.md "Not yet"): refuses volume objects, surfaces
+ * filled by an object's field, scattering media and unbounded (plane) surfaces whose
+ * medium differs from the ambient one, each with a message that names it. */
+enum refract_code scene_check_photon_surfaces(const struct scene *s, struct err *e);
 enum refract_code scene_check_lightsim_surfaces(const struct scene *s, const char *path,
                                                 struct err *e);
 

@@ -55,9 +55,8 @@ static enum refract_code parse_rgb(const cJSON *o, const char *path, const char 
 }
 
 /* medium.object: the name of a voxel object whose fields fill the solid. */
-static enum refract_code parse_medium_object(const cJSON *mo, const char *p,
-                                             const struct scene *s, struct scene_medium *m,
-                                             struct err *e)
+static enum refract_code parse_medium_object(const cJSON *mo, const char *p, const struct scene *s,
+                                             struct scene_medium *m, struct err *e)
 {
     char got[80];
     const cJSON *name = member(mo, "object");
@@ -86,10 +85,11 @@ static enum refract_code parse_medium_object(const cJSON *mo, const char *p,
     for (size_t k = 0; k < s->object_count && len + 2 < sizeof names; k++)
         len += (size_t)snprintf(names + len, sizeof names - len, "%s\"%s\"", k ? ", " : "",
                                 s->objects[k].name);
-    return err_set(e, REFRACT_E_INVALID_FIELD,
-                   "%s.object: no object named \"%s\"; %s%s", p, name->valuestring,
-                   s->object_count ? "the objects are " : "the scene has no objects: add one to "
-                                                          "\"objects\"",
+    return err_set(e, REFRACT_E_INVALID_FIELD, "%s.object: no object named \"%s\"; %s%s", p,
+                   name->valuestring,
+                   s->object_count ? "the objects are "
+                                   : "the scene has no objects: add one to "
+                                     "\"objects\"",
                    names);
 }
 
@@ -132,11 +132,12 @@ static enum refract_code parse_shape(const cJSON *o, const char *path,
         const char *voxel_only[] = {"text", "bumpy_sphere"};
         for (size_t i = 0; i < 2; i++)
             if (strcmp(shape->valuestring, voxel_only[i]) == 0)
-                return err_set(e, REFRACT_E_INVALID_FIELD,
-                               "%s.shape: \"%s\" has no exact surface; surfaces are sphere, box, "
-                               "rounded_box, cylinder, plane, lathe or mesh (upload a mesh of it), or use "
-                               "the shape in a voxel object's field",
-                               path, shape->valuestring);
+                return err_set(
+                    e, REFRACT_E_INVALID_FIELD,
+                    "%s.shape: \"%s\" has no exact surface; surfaces are sphere, box, "
+                    "rounded_box, cylinder, plane, lathe or mesh (upload a mesh of it), or use "
+                    "the shape in a voxel object's field",
+                    path, shape->valuestring);
     }
     int which;
     enum refract_code rc = jr_enum(o, path, "shape", true, 0, surface_shape_names, &which, e);
@@ -250,7 +251,8 @@ static bool box_covers(const struct scene_object *o, vec3 lo, vec3 hi)
     geom_world_box(&o->world_from_object, o->bounds_min, o->bounds_max, &olo, &ohi);
     for (int k = 0; k < 3; k++) {
         double tol = 1e-9 * fmax(1.0, fmax(fabs(vec3_get(olo, k)), fabs(vec3_get(ohi, k))));
-        if (!(vec3_get(lo, k) >= vec3_get(olo, k) - tol && vec3_get(hi, k) <= vec3_get(ohi, k) + tol))
+        if (!(vec3_get(lo, k) >= vec3_get(olo, k) - tol &&
+              vec3_get(hi, k) <= vec3_get(ohi, k) + tol))
             return false;
     }
     return true;
@@ -396,6 +398,38 @@ static enum refract_code check_rules(const struct scene *s, struct err *e)
             if (rc != REFRACT_E_OK)
                 return rc;
         }
+    return REFRACT_E_OK;
+}
+
+enum refract_code scene_check_photon_surfaces(const struct scene *s, struct err *e)
+{
+    static const char use[] = "set receiver.caustics to \"volume\" (docs/photons.md \"Not yet\")";
+    if (s->object_count > 0)
+        return err_set(e, REFRACT_E_INVALID_FIELD,
+                       "receiver.caustics: \"photons\" traces exact surfaces only, and "
+                       "objects[0] (\"%s\") is a volume object; remove it or %s",
+                       s->objects[0].name, use);
+    for (size_t k = 0; k < s->surface_count; k++) {
+        const struct scene_surface *sf = &s->surfaces[k];
+        const struct scene_medium *m = &sf->medium;
+        if (m->has_object)
+            return err_set(e, REFRACT_E_INVALID_FIELD,
+                           "receiver.caustics: \"photons\" does not trace through a field "
+                           "yet, and surfaces[%d].medium names the object \"%s\"; %s",
+                           sf->document_index, s->objects[m->object].name, use);
+        if (scene_surface_scatters(sf))
+            return err_set(e, REFRACT_E_INVALID_FIELD,
+                           "receiver.caustics: \"photons\" does not scatter photons in media "
+                           "yet, and surfaces[%d].medium.scattering is not 0; %s",
+                           sf->document_index, use);
+        bool optical = m->ior != s->ambient_ior || m->attenuation[0] > 0.0 ||
+                       m->attenuation[1] > 0.0 || m->attenuation[2] > 0.0;
+        if (sf->shape.kind == SCENE_SHAPE_PLANE && optical)
+            return err_set(e, REFRACT_E_INVALID_FIELD,
+                           "receiver.caustics: \"photons\" needs bounded surfaces, and "
+                           "surfaces[%d] (\"%s\") is an infinite plane; use a box or %s",
+                           sf->document_index, sf->name, use);
+    }
     return REFRACT_E_OK;
 }
 

@@ -48,6 +48,23 @@ enum refract_code scene_pathtrace_init(const struct scene *s, scene_volume_looku
         return err_set(e, REFRACT_E_CONFLICT,
                        "mode \"reference\": an image environment is not supported yet; use the "
                        "procedural environment (its intensity 0 is black) or \"mode\": \"fast\"");
+    for (size_t k = 0; k < s->surface_count; k++) {
+        const struct scene_surface *sf = &s->surfaces[k];
+        const double *em = sf->medium.emission;
+        if (em[0] > 0.0 || em[1] > 0.0 || em[2] > 0.0)
+            return err_set(e, REFRACT_E_CONFLICT,
+                           "mode \"reference\": surfaces[%d] (\"%s\") has an emitting medium, "
+                           "which the path tracer does not render yet (docs/pathtracer.md "
+                           "\"Not yet\"); use \"mode\": \"fast\"",
+                           sf->document_index, sf->name);
+    }
+    return scene_pathtrace_geometry(s, lookup, ctx, out, e);
+}
+
+enum refract_code scene_pathtrace_geometry(const struct scene *s, scene_volume_lookup_fn lookup,
+                                           void *ctx, struct scene_pathtrace *out, struct err *e)
+{
+    memset(out, 0, sizeof *out);
     struct pathtrace_scene *p = &out->scene;
     p->ambient.ior = s->ambient_ior;
     for (size_t k = 0; k < s->surface_count; k++) {
@@ -56,13 +73,6 @@ enum refract_code scene_pathtrace_init(const struct scene *s, scene_volume_looku
         if (!scene_surface_geom_lookup(sf, lookup, ctx, &ps->geom))
             return err_set(e, REFRACT_E_CONFLICT,
                            "surfaces[%d] (\"%s\"): its mesh is missing; upload it first",
-                           sf->document_index, sf->name);
-        const double *em = sf->medium.emission;
-        if (em[0] > 0.0 || em[1] > 0.0 || em[2] > 0.0)
-            return err_set(e, REFRACT_E_CONFLICT,
-                           "mode \"reference\": surfaces[%d] (\"%s\") has an emitting medium, "
-                           "which the path tracer does not render yet (docs/pathtracer.md "
-                           "\"Not yet\"); use \"mode\": \"fast\"",
                            sf->document_index, sf->name);
         ps->medium.ior = sf->medium.ior;
         for (int c = 0; c < 3; c++) {

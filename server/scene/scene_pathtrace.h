@@ -28,5 +28,9 @@ struct scene_pathtrace {
  * points into it. */
 enum refract_code scene_pathtrace_init(const struct scene *s, scene_volume_lookup_fn lookup,
                                        void *ctx, struct scene_pathtrace *out, struct err *e);
+/* The same without the environment's check (its light is not used: the photon map,
+ * docs/photons.md, needs the surfaces, the receiver and the lights only). */
+enum refract_code scene_pathtrace_geometry(const struct scene *s, scene_volume_lookup_fn lookup,
+                                           void *ctx, struct scene_pathtrace *out, struct err *e);
 
 #endif

@@ -32,8 +32,8 @@ bool scene_surface_scatters(const struct scene_surface *sf)
 
 bool scene_needs_light_simulation(const struct scene *s)
 {
-    if (s->receiver.enabled)
-        return true;
+    if (s->receiver.enabled && s->receiver.caustics == SCENE_CAUSTICS_VOLUME)
+        return true; /* photons: shadow rays and the photon map (docs/photons.md) */
     for (size_t i = 0; i < s->object_count; i++) {
         if (scene_channel_used(&s->objects[i], SCENE_CH_SCATTERING))
             return true;

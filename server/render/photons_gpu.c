@@ -1,0 +1,139 @@
+/*
+ * photons_gpu.c - the receiver's photon map on the GPU side (scene_gpu.h,
+ * docs/photons.md): the scene's surfaces and the request's lights become a pathtrace
+ * scene, photon_map_build traces and gathers on CPU threads (one per online CPU), and the
+ * grid goes to a storage buffer that shaders/photons.glsl samples. The map is kept with the
+ * scene's GPU data and rebuilt when the lights' poses, colours or the photon settings
+ * change (its key).
+ *
+ * What it is not yet (issue 15 item 3): part of the irradiance cache (asynchronous,
+ * persisted, streamed as it refines); the first render after a light moves waits for it.
+ */
+#include <math.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "../core/log.h"
+#include "../core/photon.h"
+#include "../scene/scene_pathtrace.h"
+#include "scene_gpu.h"
+#define REFRACT_HOST_C
+#include "shared_types.h"
+
+static void mix(uint64_t *h, const void *data, size_t n)
+{
+    const unsigned char *p = data;
+    for (size_t i = 0; i < n; i++) {
+        *h ^= p[i];
+        *h *= 1099511628211ull;
+    }
+}
+
+static void mix_double(uint64_t *h, double v)
+{
+    if (v == 0.0)
+        v = 0.0; /* -0 and 0 alike */
+    mix(h, &v, sizeof v);
+}
+
+/* The request's lights as the photon tracer sees them (the pathtrace lights of
+ * scene_pathtrace.c's convert_light, from the render lights: a point with a radius is the
+ * Lambertian sphere of the same far-field intensity). */
+static void lights_from_request(const struct render_view_request *req, struct pathtrace_scene *p)
+{
+    int n = req->light_count < PATHTRACE_MAX_LIGHTS ? req->light_count : PATHTRACE_MAX_LIGHTS;
+    p->light_count = n > 0 && req->lights ? n : 0;
+    for (int j = 0; j < p->light_count; j++) {
+        const struct render_light *l = &req->lights[j];
+        struct pathtrace_light *q = &p->lights[j];
+        memset(q, 0, sizeof *q);
+        q->position = l->position;
+        q->direction = l->direction;
+        q->cos_spot = l->cos_spot;
+        for (int c = 0; c < 3; c++)
+            q->value[c] = l->scale[c];
+        q->kind = l->kind == SCENE_LIGHT_DIRECTIONAL ? PATHTRACE_LIGHT_DIRECTIONAL
+                  : l->kind == SCENE_LIGHT_SPOT      ? PATHTRACE_LIGHT_SPOT
+                                                     : PATHTRACE_LIGHT_POINT;
+        if (l->kind == SCENE_LIGHT_POINT && l->radius > 0.0) {
+            q->kind = PATHTRACE_LIGHT_SPHERE;
+            q->radius = l->radius;
+            for (int c = 0; c < 3; c++)
+                q->value[c] /= M_PI * l->radius * l->radius;
+        }
+    }
+}
+
+static uint64_t map_key(const struct pathtrace_scene *p, const struct scene_receiver *rc)
+{
+    uint64_t h = 1469598103934665603ull;
+    for (int j = 0; j < p->light_count; j++) {
+        const struct pathtrace_light *l = &p->lights[j];
+        int kind = (int)l->kind;
+        mix(&h, &kind, sizeof kind);
+        const double v[] = {l->position.x,  l->position.y,  l->position.z, l->direction.x,
+                            l->direction.y, l->direction.z, l->cos_spot,   l->radius,
+                            l->value[0],    l->value[1],    l->value[2]};
+        for (size_t i = 0; i < sizeof v / sizeof v[0]; i++)
+            mix_double(&h, v[i]);
+    }
+    mix(&h, &rc->photons, sizeof rc->photons);
+    mix_double(&h, rc->photon_radius);
+    return h;
+}
+
+enum refract_code photons_gpu_prepare(struct scene_gpu *sg, const struct render_scene_source *src,
+                                      const struct render_view_request *req,
+                                      struct march_lights *ml, struct err *e)
+{
+    const struct scene *s = src->scene;
+    if (!s->receiver.enabled || s->receiver.caustics != SCENE_CAUSTICS_PHOTONS)
+        return REFRACT_E_OK;
+    static struct scene_pathtrace sp; /* large; GPU thread only */
+    enum refract_code rc = scene_pathtrace_geometry(s, src->lookup, src->lookup_ctx, &sp, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    lights_from_request(req, &sp.scene);
+    uint64_t key = map_key(&sp.scene, &s->receiver);
+    if (sg->photons.buf == 0 || sg->photon_key != key) {
+        long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+        struct photon_grid g;
+        struct photon_map_stats st;
+        rc = photon_map_build(&sp.scene, s->receiver.photons, s->receiver.photon_radius, 1,
+                              cpus > 0 ? (int)cpus : 1, &g, &st, e);
+        if (rc != REFRACT_E_OK)
+            return rc;
+        static const float zero[8] = {0};
+        static const uint32_t no_bucket[2] = {0, 0};
+        gpu_buffer_destroy(&sg->photons);
+        gpu_buffer_destroy(&sg->photon_buckets);
+        bool any = g.buckets > 0;
+        rc = gpu_buffer_create("photons", any ? g.count * 8 * sizeof(float) : sizeof zero,
+                               any ? (const void *)g.gpu : (const void *)zero, &sg->photons, e);
+        if (rc == REFRACT_E_OK)
+            rc = gpu_buffer_create(
+                "photon buckets",
+                any ? ((size_t)g.buckets + 1) * sizeof(uint32_t) : sizeof no_bucket,
+                any ? (const void *)g.start : (const void *)no_bucket, &sg->photon_buckets, e);
+        sg->photon_cell = g.cell;
+        sg->photon_radius = st.radius;
+        sg->photon_buckets_n = g.buckets;
+        sg->photon_count = g.count;
+        sg->photon_build_ms = st.trace_ms + st.grid_ms;
+        sg->photon_key = rc == REFRACT_E_OK ? key : 0;
+        photon_grid_free(&g);
+        if (rc != REFRACT_E_OK)
+            return rc;
+        log_info("render",
+                 "scene %s: photon map of %ld photons (%zu landed), radius %.4g, %u buckets, "
+                 "traced in %.0f ms, sorted in %.0f ms",
+                 sg->id, st.emitted, st.landed, st.radius, sg->photon_buckets_n, st.trace_ms,
+                 st.grid_ms);
+    }
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_PHOTONS, sg->photons.buf);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_PHOTON_BUCKETS, sg->photon_buckets.buf);
+    ml->count.z = 1;
+    ml->photon_grid = (vec4){(float)sg->photon_cell, (float)sg->photon_radius, 0.0f, 0.0f};
+    ml->photon_dims = (ivec4){(int)sg->photon_buckets_n, (int)sg->photon_count, 0, 0};
+    return REFRACT_E_OK;
+}

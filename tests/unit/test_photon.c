@@ -1,0 +1,275 @@
+/*
+ * test_photon.c - caustic photons on the receiver (core/photon.h, issue 15 item 1) against
+ * closed forms:
+ *   - a glass slab over the floor under a directional light at normal incidence: the
+ *     floor's irradiance under it is the slab's transmittance with its infinite series of
+ *     internal reflections, (1 - R)^2 tau / (1 - R^2 tau^2) (tau = exp(-sigma_a h)), per
+ *     channel, for a diamond-like index where the series differs from (1 - R)^2 tau by 3 %;
+ *   - nothing direct is stored: a floor lit around the slab holds no photon outside it;
+ *   - energy: every emitted photon's power is accounted for, none is lost to the event cap;
+ *   - a glass ball's focus under a directional light: the brightest point on a floor at
+ *     the paraxial focal distance nR / (2 (n - 1)) lies on the axis, many times brighter
+ *     than the light;
+ *   - the hash grid's gather is the brute-force kernel estimate everywhere, far-spread
+ *     photons and shared buckets included;
+ *   - the radius rule and the refusals (a scattering medium, an unbounded surface).
+ * Tolerances: 4 standard errors of the kernel estimate (estimated from the photons
+ * themselves), and never more than 1.5 %.
+ */
+#include <math.h>
+#include <stdlib.h>
+
+#include "core/photon.h"
+#include "pathtrace_test_util.h"
+#include "test.h"
+
+static struct pathtrace_scene slab_scene(struct pathtrace_surface *slab, double n,
+                                         const double sigma[3])
+{
+    struct pathtrace_scene s = pt_scene(0.0);
+    *slab = pt_box(vec3_make(0, 1, 0), vec3_make(4, 0.2, 4), n);
+    for (int c = 0; c < 3; c++)
+        slab->medium.sigma_a[c] = sigma[c];
+    s.surfaces = slab;
+    s.surface_count = 1;
+    s.receiver = (struct pathtrace_receiver){true, 0.0, INFINITY, {0.8, 0.8, 0.8}, {0, 0}};
+    s.lights[0] = (struct pathtrace_light){
+        .kind = PATHTRACE_LIGHT_DIRECTIONAL, .direction = {0, -1, 0}, .value = {1.0, 1.0, 1.0}};
+    s.light_count = 1;
+    return s;
+}
+
+static double slab_series(double n, double tau)
+{
+    double R = ((n - 1.0) / (n + 1.0)) * ((n - 1.0) / (n + 1.0));
+    return (1.0 - R) * (1.0 - R) * tau / (1.0 - R * R * tau * tau);
+}
+
+/* The kernel estimate at (x, z) and its standard error, from the photons themselves
+ * (the sum of squared terms estimates the variance of a sum of independent photons). */
+static void estimate_with_error(const struct photon_list *l, double r, double x, double z,
+                                double E[3], double se[3])
+{
+    double sq[3] = {0};
+    E[0] = E[1] = E[2] = 0.0;
+    for (size_t i = 0; i < l->count; i++) {
+        double dx = l->items[i].x - x, dz = l->items[i].z - z, s2 = dx * dx + dz * dz;
+        if (s2 >= r * r)
+            continue;
+        double k = 2.0 / (M_PI * r * r) * (1.0 - s2 / (r * r));
+        for (int c = 0; c < 3; c++) {
+            E[c] += l->items[i].power[c] * k;
+            sq[c] += l->items[i].power[c] * k * l->items[i].power[c] * k;
+        }
+    }
+    for (int c = 0; c < 3; c++)
+        se[c] = sqrt(sq[c]);
+}
+
+static void slab_transmits_its_series(void)
+{
+    const double sigma[3] = {0.0, 0.5, 2.0}, h = 0.2;
+    const double indices[2] = {2.42, 1.5};
+    for (int k = 0; k < 2; k++) {
+        struct pathtrace_surface slab;
+        struct pathtrace_scene s = slab_scene(&slab, indices[k], sigma);
+        struct photon_list l = {0};
+        struct err e;
+        CHECK_INT(photon_trace(&s, 400000, 7, 0, 1, &l, &e), REFRACT_E_OK);
+        CHECK(l.count > 100000);
+        CHECK_INT((int)l.emitted, 400000);
+        double E[3], se[3];
+        estimate_with_error(&l, 1.0, 0.0, 0.0, E, se);
+        for (int c = 0; c < 3; c++) {
+            double expect = slab_series(indices[k], exp(-sigma[c] * h));
+            CHECK_MSG(fabs(E[c] - expect) <= fmin(4.0 * se[c], 0.015 * expect),
+                      "n %.2f channel %d: E %.5f expect %.5f se %.1e", indices[k], c, E[c], expect,
+                      se[c]);
+            CHECK(l.lost[c] <= 1e-9 * l.landed[c]);
+        }
+        if (k == 0) { /* the series is what is measured, not (1 - R)^2 */
+            double R = (1.42 / 3.42) * (1.42 / 3.42);
+            CHECK_MSG(fabs(E[0] - (1 - R) * (1 - R)) > 4.0 * se[0], "E %.5f", E[0]);
+        }
+        photon_list_free(&l);
+    }
+}
+
+/* Photons that touch no optical surface are the shadow ray's: none lands outside the
+ * slab's shadow, and a slab of air (index and media as the ambient's) stores nothing. */
+static void direct_light_is_not_stored(void)
+{
+    const double zero[3] = {0, 0, 0};
+    struct pathtrace_surface slab;
+    struct pathtrace_scene s = slab_scene(&slab, 1.5, zero);
+    struct photon_list l = {0};
+    struct err e;
+    CHECK_INT(photon_trace(&s, 100000, 3, 0, 1, &l, &e), REFRACT_E_OK);
+    size_t outside = 0;
+    for (size_t i = 0; i < l.count; i++)
+        if (fabs(l.items[i].x) > 2.0 + 1e-9 || fabs(l.items[i].z) > 2.0 + 1e-9)
+            outside++;
+    CHECK_INT((int)outside, 0);
+    CHECK(l.count > 50000);
+    photon_list_free(&l);
+    slab.medium.ior = 1.0;
+    CHECK(!photon_surface_optical(&s, 0));
+    CHECK_INT(photon_trace(&s, 100000, 3, 0, 1, &l, &e), REFRACT_E_OK);
+    CHECK_INT((int)l.count, 0);
+    photon_list_free(&l);
+}
+
+/* Energy: with a floor that catches everything below the slab and no absorption, the
+ * landed power is the disk's power E pi r_target^2 times the fraction that goes down
+ * through the slab: between the slab's series and 1; threads' lists merge to the same. */
+static void threads_split_and_merge_to_the_same_list(void)
+{
+    const double zero[3] = {0, 0, 0};
+    struct pathtrace_surface slab;
+    struct pathtrace_scene s = slab_scene(&slab, 1.5, zero);
+    struct photon_list all = {0}, a = {0}, b = {0};
+    struct err e;
+    CHECK_INT(photon_trace(&s, 20000, 11, 0, 1, &all, &e), REFRACT_E_OK);
+    CHECK_INT(photon_trace(&s, 20000, 11, 0, 2, &a, &e), REFRACT_E_OK);
+    CHECK_INT(photon_trace(&s, 20000, 11, 1, 2, &b, &e), REFRACT_E_OK);
+    CHECK_INT(photon_list_merge(&a, &b, &e), REFRACT_E_OK);
+    CHECK_INT((int)a.count, (int)all.count);
+    CHECK_INT((int)a.emitted, (int)all.emitted);
+    CHECK_NEAR(a.landed[0], all.landed[0], 1e-9 * all.landed[0]);
+    photon_list_free(&all);
+    photon_list_free(&a);
+    photon_list_free(&b);
+}
+
+/* A glass ball R = 1 at the origin, light straight down, floor at the paraxial focus
+ * y = -nR / (2 (n - 1)) = -1.5: the axis is the brightest place and far above 1. */
+static void ball_focuses_on_its_axis(void)
+{
+    struct pathtrace_surface ball = pt_sphere(vec3_make(0, 0, 0), 1.0, 1.5);
+    struct pathtrace_scene s = pt_scene(0.0);
+    s.surfaces = &ball;
+    s.surface_count = 1;
+    s.receiver = (struct pathtrace_receiver){true, -1.5, INFINITY, {0.8, 0.8, 0.8}, {0, 0}};
+    s.lights[0] = (struct pathtrace_light){
+        .kind = PATHTRACE_LIGHT_DIRECTIONAL, .direction = {0, -1, 0}, .value = {1, 1, 1}};
+    s.light_count = 1;
+    struct photon_list l = {0};
+    struct err e;
+    CHECK_INT(photon_trace(&s, 200000, 5, 0, 1, &l, &e), REFRACT_E_OK);
+    double r = 0.02, best = -1.0, best_x = NAN, E[3];
+    for (int i = -40; i <= 40; i++) {
+        double x = 0.01 * i;
+        photon_kernel_estimate(&l, r, x, 0.0, E);
+        if (E[0] > best) {
+            best = E[0];
+            best_x = x;
+        }
+    }
+    CHECK_MSG(fabs(best_x) <= 0.02, "brightest at x = %.3f", best_x);
+    CHECK_MSG(best > 20.0, "peak E %.2f", best);
+    photon_kernel_estimate(&l, r, 0.35, 0.0, E);
+    CHECK_MSG(E[0] < 0.2 * best, "E(0.35) %.2f vs peak %.2f", E[0], best);
+    photon_list_free(&l);
+}
+
+/* The hash grid's gather is the brute-force kernel estimate at every point: in the
+ * caustic, between photons, where a few photons lie kilometres away (an infinite floor's
+ * reflected photons), and with so few buckets that many cells share one (each photon must
+ * still count once). */
+static void hash_grid_gather_is_the_kernel_estimate(void)
+{
+    struct pathtrace_surface ball = pt_sphere(vec3_make(0, 0, 0), 1.0, 1.5);
+    struct pathtrace_scene s = pt_scene(0.0);
+    s.surfaces = &ball;
+    s.surface_count = 1;
+    s.receiver = (struct pathtrace_receiver){true, -1.0, INFINITY, {0.8, 0.8, 0.8}, {0, 0}};
+    s.lights[0] = (struct pathtrace_light){
+        .kind = PATHTRACE_LIGHT_SPHERE, .position = {2, 6, 1}, .radius = 0.1};
+    for (int c = 0; c < 3; c++)
+        s.lights[0].value[c] = pathtrace_sphere_radiance(1000.0, 0.1);
+    s.light_count = 1;
+    struct photon_list l = {0};
+    struct err e;
+    CHECK_INT(photon_trace(&s, 100000, 9, 0, 1, &l, &e), REFRACT_E_OK);
+    double far = 0.0;
+    for (size_t i = 0; i < l.count; i++)
+        far = fmax(far, fmax(fabs(l.items[i].x), fabs(l.items[i].z)));
+    CHECK_MSG(far > 100.0, "farthest photon %.1f", far); /* the case a dense grid cannot hold */
+    for (int pass = 0; pass < 2; pass++) {
+        double r = pass == 0 ? 0.05 : 3.0; /* 3.0: few cells, many photons per bucket */
+        struct photon_grid g;
+        CHECK_INT(photon_grid_build(&l, r, &g, &e), REFRACT_E_OK);
+        CHECK(g.buckets >= 2 * l.count && (g.buckets & (g.buckets - 1)) == 0);
+        CHECK_INT((int)g.start[g.buckets], (int)l.count);
+        int lit = 0;
+        for (int i = 0; i < 400; i++) {
+            /* points over the caustic, the shadow and the far floor; one on a far photon */
+            double x = -0.8 + 0.004 * i, z = -0.4 + 0.0021 * i;
+            if (i % 50 == 49) {
+                x = l.items[(size_t)i * 97 % l.count].x + 0.01;
+                z = l.items[(size_t)i * 97 % l.count].z;
+            }
+            double Eg[3], Ek[3];
+            photon_irradiance(&g, x, z, Eg);
+            photon_kernel_estimate(&l, r, x, z, Ek);
+            for (int c = 0; c < 3; c++)
+                CHECK_NEAR(Eg[c], Ek[c], 1e-9 * (1.0 + Ek[c]));
+            lit += Ek[0] > (pass == 0 ? 1.0 : 0.01);
+        }
+        CHECK_MSG(lit > 20, "points in the caustic: %d", lit);
+        photon_grid_free(&g);
+    }
+    /* no photon: 0 everywhere */
+    struct photon_list empty = {0};
+    struct photon_grid g;
+    double E[3];
+    CHECK_INT(photon_grid_build(&empty, 0.1, &g, &e), REFRACT_E_OK);
+    photon_irradiance(&g, 0.0, 0.0, E);
+    CHECK_NEAR(E[0], 0.0, 0.0);
+    photon_grid_free(&g);
+    photon_list_free(&l);
+}
+
+static void radius_rule_and_refusals(void)
+{
+    struct pathtrace_surface ball = pt_sphere(vec3_make(0, 0, 0), 1.0, 1.5);
+    struct pathtrace_scene s = pt_scene(0.0);
+    s.surfaces = &ball;
+    s.surface_count = 1;
+    s.receiver = (struct pathtrace_receiver){true, -1.0, INFINITY, {0.8, 0.8, 0.8}, {0, 0}};
+    s.lights[0] = (struct pathtrace_light){
+        .kind = PATHTRACE_LIGHT_POINT, .position = {2, 6, 1}, .value = {1, 1, 1}};
+    s.light_count = 1;
+    double bound = sqrt(3.0) * (1.0 + 1e-6) + 1e-12; /* half the box's diagonal */
+    CHECK_NEAR(photon_radius(&s, PHOTON_RADIUS_COUNT, 0.0), PHOTON_RADIUS_SCENE * bound, 1e-12);
+    CHECK_NEAR(photon_radius(&s, 64 * PHOTON_RADIUS_COUNT, 0.0), 0.5 * PHOTON_RADIUS_SCENE * bound,
+               1e-12);
+    CHECK_NEAR(photon_radius(&s, 1000, 0.25), 0.25, 0.0);
+    struct photon_list l = {0};
+    struct err e;
+    ball.medium.sigma_s[1] = 0.5;
+    CHECK_INT(photon_trace(&s, 1000, 1, 0, 1, &l, &e), REFRACT_E_CONFLICT);
+    CHECK_CONTAINS(e.msg, "scatters");
+    ball.medium.sigma_s[1] = 0.0;
+    struct pathtrace_surface plane[2] = {ball, ball};
+    plane[1].geom.kind = GEOM_PLANE;
+    plane[1].geom.center = vec3_make(0, 0.5, 0);
+    plane[1].geom.normal = vec3_make(0.3, 0.9, 0.1);
+    s.surfaces = plane;
+    s.surface_count = 2;
+    CHECK_INT(photon_trace(&s, 1000, 1, 0, 1, &l, &e), REFRACT_E_CONFLICT);
+    CHECK_CONTAINS(e.msg, "unbounded");
+    CHECK_INT((int)l.count, 0);
+    photon_list_free(&l);
+}
+
+int main(void)
+{
+    slab_transmits_its_series();
+    direct_light_is_not_stored();
+    threads_split_and_merge_to_the_same_list();
+    ball_focuses_on_its_axis();
+    hash_grid_gather_is_the_kernel_estimate();
+    radius_rule_and_refusals();
+    return test_summary("test_photon");
+}
