@@ -27,6 +27,12 @@ cJSON *http_irradiance_status(const struct http_app *app, struct store_scene *v)
     cJSON *root = cJSON_CreateObject();
     cJSON_AddStringToObject(root, "scene", v->id);
     cJSON_AddBoolToObject(root, "needed", scene_needs_light_simulation(v->scene));
+    /* Which caustic method the scene's receiver uses (docs/photons.md "Choosing"): "photons"
+     * (photon map and shadow rays, no volume), "volume" (the light simulator's) or "none"
+     * (no receiver). */
+    const struct scene_receiver *rc = &v->scene->receiver;
+    cJSON_AddStringToObject(root, "caustics",
+                            !rc->enabled ? "none" : scene_caustics_words[rc->caustics]);
     add_hex(root, "transport_hash", irradiance_transport_hash(&src));
     cJSON_AddNumberToObject(root, "generation", (double)v->generation);
     cJSON *arr = cJSON_AddArrayToObject(root, "lights");

@@ -281,6 +281,11 @@ static void receiver_defaults_follow_the_objects_world_bounds(void)
         CHECK_NEAR(s->receiver.half_size, 1.5 * 5.0, 1e-12);
         for (int c = 0; c < 3; c++)
             CHECK_NEAR(s->receiver.albedo[c], 0.8, 0);
+        /* docs/photons.md: the light simulator's caustics unless asked for photons */
+        CHECK_INT((int)s->receiver.caustics, SCENE_CAUSTICS_VOLUME);
+        CHECK_INT(s->receiver.photons, 1048576);
+        CHECK_NEAR(s->receiver.photon_radius, 0.0, 0);
+        CHECK(scene_needs_light_simulation(s));
         scene_destroy(s);
     }
     /* The second object's z = -4 now reaches further than the first's x. */
@@ -294,8 +299,15 @@ static void receiver_defaults_follow_the_objects_world_bounds(void)
         CHECK_NEAR(s->receiver.albedo[2], 0.3, 0);
         scene_destroy(s);
     }
-    s = parse_ok(TOP("\"receiver\": {\"height\": -1.5, \"half_size\": 2, \"albedo\": 0.25}"));
+    s = parse_ok("{\"receiver\": {\"height\": -1.5, \"half_size\": 2, \"albedo\": 0.25, "
+                 "\"caustics\": \"photons\", \"photons\": 4096, \"photon_radius\": 0.01}, "
+                 "\"surfaces\": [{\"shape\": \"sphere\", \"radius\": 1, \"medium\": "
+                 "{\"ior\": 1.5}}]}");
     if (s != NULL) {
+        CHECK_INT((int)s->receiver.caustics, SCENE_CAUSTICS_PHOTONS);
+        CHECK_INT(s->receiver.photons, 4096);
+        CHECK_NEAR(s->receiver.photon_radius, 0.01, 0);
+        CHECK(!scene_needs_light_simulation(s)); /* photons and shadow rays: no volume */
         CHECK_NEAR(s->receiver.half_size, 2.0, 0);
         CHECK_NEAR(s->receiver.albedo[1], 0.25, 0);
         scene_destroy(s);
