@@ -80,9 +80,10 @@
 #define BIND_SSBO_PT_ACCUM 28  /* vec4 sum, vec4 sum of squares per pixel */
 
 /* ---- caustic photons on the receiver (docs/photons.md, shaders/photons.glsl) ---- */
-#define BIND_SSBO_PHOTONS 29        /* render_view: 2 vec4 per photon, by bucket: (x, z, 0, 0),
-                                       (power rgb, 0) */
-#define BIND_SSBO_PHOTON_BUCKETS 30 /* uint per hash bucket + 1: its photons' first index */
+#define BIND_SSBO_PHOTONS 29        /* render_view: vec4 E (rgb) per lattice hash slot */
+#define BIND_SSBO_PHOTON_BUCKETS 30 /* ivec2 (i, j) per lattice hash slot */
+#define PHOTON_EMPTY_KEY (-2147483647 - 1) /* = photon.h's: the key of an empty slot */
+#define PHOTON_CELL_MAX 1073741824.0     /* = photon.h's: lattice indices are clamped to it */
 
 /* ---- texture units (samplers) ---- */
 #define UNIT_IOR_GRAD 0    /* sampler3D atlas: rgb = grad n (object units), a = n */

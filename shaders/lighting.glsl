@@ -225,12 +225,10 @@ bool light_receiver(vec3 x, vec3 d, out vec3 L)
         light_params lp = lights.lights[j];
 #if MARCH_SURFACES && MARCH_LIGHTS
         if (lights.count.z == 1) {
-            if (light_direct(j, at, E, l) && photon_light_visible(j, at))
-                sum += E * max(0.0, -l.y);
-            continue;
-        }
+            lit = light_direct(j, at, E, l) && photon_light_visible(j, at);
+        } else
 #endif
-        if (int(lp.scale.w) == LIGHT_MODE_VOLUME) {
+            if (int(lp.scale.w) == LIGHT_MODE_VOLUME) {
             vec2 u = (at.xz - lp.grid_min.xz) / lp.grid_min.w;
             vec2 dims = lp.grid_size.xz / lp.grid_min.w;
             bool in_grid = all(greaterThanEqual(u, vec2(LIGHT_RECEIVER_INSET))) &&

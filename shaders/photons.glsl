@@ -6,56 +6,61 @@
 
 layout(std430, binding = BIND_SSBO_PHOTONS) readonly buffer photons_block
 {
-    vec4 photon_data[]; // 2 per photon: (x, z, 0, 0), (power rgb, 0)
+    vec4 photon_E[]; // per hash slot: the lattice point's E (rgb)
 };
 
-layout(std430, binding = BIND_SSBO_PHOTON_BUCKETS) readonly buffer photon_buckets_block
+layout(std430, binding = BIND_SSBO_PHOTON_BUCKETS) readonly buffer photon_keys_block
 {
-    uint photon_start[]; // bucket b's photons: [photon_start[b], photon_start[b + 1])
+    ivec2 photon_keys[]; // per hash slot: the lattice point (i, j); PHOTON_EMPTY_KEY: empty
 };
 
-// The bucket of cell (i, j) (photon.h's photon_hash: 32-bit unsigned, wrapping).
-uint photon_hash(int i, int j, uint buckets)
+// The slot where the probe for lattice point (i, j) starts (photon.h's photon_hash: 32-bit
+// unsigned, wrapping; lowbias32 mixing).
+uint photon_mix(uint x)
 {
-    return ((uint(i) * 73856093u) ^ (uint(j) * 19349663u)) & (buckets - 1u);
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
 }
 
-int photon_cell_of(float v, float cell)
+uint photon_hash(int i, int j, uint capacity)
 {
-    return int(clamp(floor(v / cell), -1073741824.0, 1073741824.0));
+    return photon_mix(uint(i) ^ photon_mix(uint(j) + 0x9e3779b9u)) & (capacity - 1u);
 }
 
-// E (W / unit^2, rgb) on the plane at world (x, z): the kernel estimate
-// sum phi_p 2 / (pi r^2) (1 - s^2 / r^2) over the photons within the radius, from the
-// distinct buckets of the 3 x 3 cells about the point.
+// E at lattice point (i, j), 0 when it is not stored (no photon within the radius): at most
+// probe_max + 1 slots (photon_lattice_at).
+vec3 photon_lattice_at(int i, int j)
+{
+    uint capacity = uint(lights.photon_dims.x), probe_max = uint(lights.photon_dims.y);
+    uint s = photon_hash(i, j, capacity);
+    for (uint n = 0u; n <= probe_max; n++) {
+        ivec2 key = photon_keys[s];
+        if (key.x == PHOTON_EMPTY_KEY)
+            break;
+        if (key == ivec2(i, j))
+            return photon_E[s].rgb;
+        s = (s + 1u) & (capacity - 1u);
+    }
+    return vec3(0.0);
+}
+
+// E (W / unit^2, rgb) on the plane at world (x, z): bilinear between the four lattice points
+// about it, each holding the kernel estimate sum phi_p 2 / (pi r^2) (1 - s^2 / r^2).
 vec3 photon_irradiance(vec2 xz)
 {
-    uint buckets = uint(lights.photon_dims.x);
-    if (buckets == 0u)
+    if (lights.photon_dims.x == 0)
         return vec3(0.0);
-    float cell = lights.photon_grid.x, r2 = lights.photon_grid.y * lights.photon_grid.y;
-    int ci = photon_cell_of(xz.x, cell), cj = photon_cell_of(xz.y, cell);
-    uint seen[9];
-    int n_seen = 0;
-    vec3 sum = vec3(0.0);
-    for (int dj = -1; dj <= 1; dj++) {
-        for (int di = -1; di <= 1; di++) {
-            uint b = photon_hash(ci + di, cj + dj, buckets);
-            bool dup = false;
-            for (int k = 0; k < n_seen; k++)
-                dup = dup || seen[k] == b;
-            if (dup)
-                continue; // two cells in one bucket: its photons count once
-            seen[n_seen++] = b;
-            for (uint k = photon_start[b]; k < photon_start[b + 1u]; k++) {
-                vec2 d = photon_data[2u * k].xy - xz;
-                float s2 = dot(d, d);
-                if (s2 < r2)
-                    sum += photon_data[2u * k + 1u].rgb * (1.0 - s2 / r2);
-            }
-        }
-    }
-    return sum * (2.0 / (LIGHT_PI * r2));
+    vec2 u = xz / lights.photon_grid.x;
+    vec2 c = clamp(floor(u), vec2(-PHOTON_CELL_MAX), vec2(PHOTON_CELL_MAX));
+    vec2 f = u - floor(u);
+    int i = int(c.x), j = int(c.y);
+    vec3 e00 = photon_lattice_at(i, j), e10 = photon_lattice_at(i + 1, j);
+    vec3 e01 = photon_lattice_at(i, j + 1), e11 = photon_lattice_at(i + 1, j + 1);
+    return mix(mix(e00, e10, f.x), mix(e01, e11, f.x), f.y);
 }
 
 // True when surface k changes light: its medium differs from the ambient one (another

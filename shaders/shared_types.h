@@ -207,9 +207,9 @@ struct march_lights {
     vec4 receiver;                /* x: height (world y); y: half size (<= 0: the whole
                                      plane); zw: world x, z of the square's centre */
     vec4 receiver_albedo;         /* rgb: Lambertian reflectance */
-    vec4 photon_grid;             /* x: the hash grid's cell edge; y: the gather radius */
-    ivec4 photon_dims;            /* x: hash buckets (a power of two; 0: no photon landed);
-                                     y: photons */
+    vec4 photon_grid;             /* x: the lattice spacing; y: the gather radius */
+    ivec4 photon_dims;            /* x: hash slots (a power of two; 0: no photon landed);
+                                     y: the longest probe sequence */
     vec4 brdf[MAX_OBJECTS + MAX_SURFACES];       /* x: BRDF_*; y: GGX alpha (roughness^2);
                                                     z: Phong exponent. Objects, then surfaces
                                                     (slot MAX_OBJECTS + k) */

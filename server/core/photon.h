@@ -1,8 +1,8 @@
 /*
  * photon.h - caustic photons on the receiver plane (issue 15 item 1, docs/photons.md):
  * photons traced from the lights through the exact surfaces and stored where they land on
- * the receiver, then the kernel estimate of their irradiance, gathered from a hash grid of them,
- * that the fast renderer samples (shaders/photons.glsl, the same names).
+ * the receiver, then the kernel estimate of their irradiance on a lattice over the plane,
+ * which the fast renderer samples (shaders/photons.glsl, the same names).
  *
  * The split of the receiver's light (docs/photons.md "Which light is whose"): a surface is
  * *optical* when its medium differs from the ambient one (another index, absorption or
@@ -37,6 +37,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "bindings.h"
 #include "err.h"
 #include "pathtrace.h"
 
@@ -85,40 +86,59 @@ void photon_list_free(struct photon_list *l);
  * (count / PHOTON_RADIUS_COUNT)^(-1/6). */
 double photon_radius(const struct pathtrace_scene *s, long count, double radius_setting);
 
-/* The photons in a hash grid over the plane (Teschner et al. 2003's spatial hash, as GPU
- * photon mappers use it): square cells of edge `cell` (a hair over the radius, so the disk
- * of radius r about any point lies in the 3 x 3 cells about it), cell (i, j) in bucket
- * photon_hash(i, j, buckets); the photons sorted by bucket, bucket b's being
- * [start[b], start[b + 1]). A gather scans the distinct buckets of the 3 x 3 cells and keeps
- * the photons within the radius: the exact kernel estimate at any point of the plane,
- * however far the photons spread (an infinite floor catches reflected photons kilometres
- * away). */
+/* The photons' kernel estimate, evaluated where it is not zero: at the points (i h, j h)
+ * of a lattice over the plane (h = radius / PHOTON_LATTICE_PER_RADIUS) that lie within the
+ * radius of some photon, each holding the exact estimate E(i h, j h), kept in a hash table
+ * (open addressing, linear probing). Between lattice points E is bilinear; a lattice point
+ * that is not in the table has no photon within the radius, so E is exactly 0 there. A
+ * lookup costs four probes of at most `probe_max + 1` slots each, whatever the photon
+ * density: a gather loop over photons is not an option on llvmpipe, which ends a shader's
+ * loops after 65535 iterations in all (LP_MAX_TGSI_LOOP_ITERATIONS; docs/photons.md
+ * "Density estimate"). The landed photons may spread over kilometres (an infinite floor):
+ * only the lattice points near them are stored. */
 struct photon_grid {
-    double cell;      /* cell edge, world units: radius * (1 + PHOTON_CELL_SLACK) */
-    double radius;    /* kernel radius */
-    uint32_t buckets; /* a power of two >= 2 * count (0: no photon landed) */
-    size_t count;
-    uint32_t *start;       /* buckets + 1 */
-    struct photon *sorted; /* count, by bucket */
-    float *gpu;            /* 8 floats per photon (x, z, 0, 0, power rgb, 0): the GPU's layout */
+    double cell;        /* lattice spacing h, world units */
+    double radius;      /* kernel radius */
+    uint32_t capacity;  /* hash slots, a power of two (0: no photon landed) */
+    uint32_t used;      /* lattice points stored */
+    uint32_t probe_max; /* the longest probe sequence of any stored point */
+    int32_t *keys;      /* 2 per slot: i, j; PHOTON_EMPTY_KEY in an empty slot */
+    double *E_double;   /* 3 per slot: E rgb (the CPU reference reads these) */
+    float *E;           /* 4 per slot: E rgb, 0 (the GPU's copy) */
 };
 
-#define PHOTON_CELL_SLACK 1e-3       /* the float gather's cell index may be off at a cell's edge */
-#define PHOTON_CELL_MAX 1073741824.0 /* cell indices are clamped to +-this (far photons share) */
+#define PHOTON_LATTICE_PER_RADIUS 3.0 /* lattice spacing = radius / this */
+#define PHOTON_LATTICE_MAX 8388608u   /* lattice points at most; a coarser spacing beyond */
+/* PHOTON_EMPTY_KEY (the key of an empty slot: indices never reach it) and PHOTON_CELL_MAX
+ * (lattice indices are clamped to +-it) are in shaders/bindings.h, shared with the GLSL. */
 
-/* The bucket of cell (i, j) (the twin of photon_hash in shaders/photons.glsl: 32-bit
- * unsigned arithmetic, wrapping). */
-static inline uint32_t photon_hash(int32_t i, int32_t j, uint32_t buckets)
+/* The slot where the probe for lattice point (i, j) starts (the twin of photon_hash in
+ * shaders/photons.glsl: 32-bit unsigned arithmetic, wrapping). Chris Wellons' lowbias32
+ * mixes the two indices: neighbouring lattice points land in unrelated slots, so linear
+ * probing does not pile them into long runs (a plain multiply-xor hash made runs of 141). */
+static inline uint32_t photon_mix(uint32_t x)
 {
-    return (((uint32_t)i * 73856093u) ^ ((uint32_t)j * 19349663u)) & (buckets - 1u);
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
 }
 
-/* Builds the hash grid of the landed photons for the kernel radius. */
+static inline uint32_t photon_hash(int32_t i, int32_t j, uint32_t capacity)
+{
+    return photon_mix((uint32_t)i ^ photon_mix((uint32_t)j + 0x9e3779b9u)) & (capacity - 1u);
+}
+
+/* Builds the lattice of the landed photons' kernel estimate for the radius. */
 enum refract_code photon_grid_build(const struct photon_list *l, double radius,
                                     struct photon_grid *g, struct err *e);
-/* E at world (x, z) (the twin of photon_irradiance in shaders/photons.glsl): the kernel
- * estimate over the photons within the radius. */
+/* E at world (x, z): bilinear between the four lattice points about it (the twin of
+ * photon_irradiance in shaders/photons.glsl). */
 void photon_irradiance(const struct photon_grid *g, double x, double z, double E[3]);
+/* E at lattice point (i, j) as stored (0 when absent). */
+void photon_lattice_at(const struct photon_grid *g, int32_t i, int32_t j, double E[3]);
 /* The same over the whole list by brute force (no grid): what the grid is tested against. */
 void photon_kernel_estimate(const struct photon_list *l, double radius, double x, double z,
                             double E[3]);

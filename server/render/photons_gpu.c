@@ -103,37 +103,39 @@ enum refract_code photons_gpu_prepare(struct scene_gpu *sg, const struct render_
                               cpus > 0 ? (int)cpus : 1, &g, &st, e);
         if (rc != REFRACT_E_OK)
             return rc;
-        static const float zero[8] = {0};
-        static const uint32_t no_bucket[2] = {0, 0};
+        static const float zero[4] = {0};
+        static const int32_t no_key[2] = {PHOTON_EMPTY_KEY, PHOTON_EMPTY_KEY};
         gpu_buffer_destroy(&sg->photons);
-        gpu_buffer_destroy(&sg->photon_buckets);
-        bool any = g.buckets > 0;
-        rc = gpu_buffer_create("photons", any ? g.count * 8 * sizeof(float) : sizeof zero,
-                               any ? (const void *)g.gpu : (const void *)zero, &sg->photons, e);
+        gpu_buffer_destroy(&sg->photon_keys);
+        bool any = g.capacity > 0;
+        rc = gpu_buffer_create("photon lattice",
+                               any ? (size_t)g.capacity * 4 * sizeof(float) : sizeof zero,
+                               any ? (const void *)g.E : (const void *)zero, &sg->photons, e);
         if (rc == REFRACT_E_OK)
-            rc = gpu_buffer_create(
-                "photon buckets",
-                any ? ((size_t)g.buckets + 1) * sizeof(uint32_t) : sizeof no_bucket,
-                any ? (const void *)g.start : (const void *)no_bucket, &sg->photon_buckets, e);
+            rc = gpu_buffer_create("photon lattice keys",
+                                   any ? (size_t)g.capacity * 2 * sizeof(int32_t) : sizeof no_key,
+                                   any ? (const void *)g.keys : (const void *)no_key,
+                                   &sg->photon_keys, e);
         sg->photon_cell = g.cell;
         sg->photon_radius = st.radius;
-        sg->photon_buckets_n = g.buckets;
-        sg->photon_count = g.count;
+        sg->photon_capacity = g.capacity;
+        sg->photon_probe_max = g.probe_max;
         sg->photon_build_ms = st.trace_ms + st.grid_ms;
         sg->photon_key = rc == REFRACT_E_OK ? key : 0;
+        uint32_t used = g.used;
         photon_grid_free(&g);
         if (rc != REFRACT_E_OK)
             return rc;
         log_info("render",
-                 "scene %s: photon map of %ld photons (%zu landed), radius %.4g, %u buckets, "
-                 "traced in %.0f ms, sorted in %.0f ms",
-                 sg->id, st.emitted, st.landed, st.radius, sg->photon_buckets_n, st.trace_ms,
+                 "scene %s: photon map of %ld photons (%zu landed), radius %.4g, %u lattice "
+                 "points (longest probe %u), traced in %.0f ms, gathered in %.0f ms",
+                 sg->id, st.emitted, st.landed, st.radius, used, sg->photon_probe_max, st.trace_ms,
                  st.grid_ms);
     }
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_PHOTONS, sg->photons.buf);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_PHOTON_BUCKETS, sg->photon_buckets.buf);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_PHOTON_BUCKETS, sg->photon_keys.buf);
     ml->count.z = 1;
     ml->photon_grid = (vec4){(float)sg->photon_cell, (float)sg->photon_radius, 0.0f, 0.0f};
-    ml->photon_dims = (ivec4){(int)sg->photon_buckets_n, (int)sg->photon_count, 0, 0};
+    ml->photon_dims = (ivec4){(int)sg->photon_capacity, (int)sg->photon_probe_max, 0, 0};
     return REFRACT_E_OK;
 }

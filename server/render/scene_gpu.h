@@ -60,12 +60,11 @@ struct scene_gpu {
     int64_t last_used_ms;
     /* The receiver's photon map (receiver.caustics "photons", photons_gpu.c): built on first
      * use and again when the lights or the photon settings change (photon_key). */
-    struct gpu_buffer photons;        /* 2 vec4 per photon (photon_grid.gpu); buf 0: none yet */
-    struct gpu_buffer photon_buckets; /* uint per bucket + 1 (photon_grid.start) */
+    struct gpu_buffer photons;     /* vec4 E per lattice hash slot (photon_grid.E); 0: none yet */
+    struct gpu_buffer photon_keys; /* ivec2 per slot (photon_grid.keys) */
     uint64_t photon_key;
     double photon_cell, photon_radius;
-    uint32_t photon_buckets_n;
-    size_t photon_count;
+    uint32_t photon_capacity, photon_probe_max;
     double photon_build_ms;
 };
 

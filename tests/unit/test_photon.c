@@ -10,8 +10,8 @@
  *   - a glass ball's focus under a directional light: the brightest point on a floor at
  *     the paraxial focal distance nR / (2 (n - 1)) lies on the axis, many times brighter
  *     than the light;
- *   - the hash grid's gather is the brute-force kernel estimate everywhere, far-spread
- *     photons and shared buckets included;
+ *   - the lattice holds the brute-force kernel estimate at its points (far-spread photons
+ *     and a growing table included) and interpolates it between them;
  *   - the radius rule and the refusals (a scattering medium, an unbounded surface).
  * Tolerances: 4 standard errors of the kernel estimate (estimated from the photons
  * themselves), and never more than 1.5 %.
@@ -172,11 +172,12 @@ static void ball_focuses_on_its_axis(void)
     photon_list_free(&l);
 }
 
-/* The hash grid's gather is the brute-force kernel estimate at every point: in the
- * caustic, between photons, where a few photons lie kilometres away (an infinite floor's
- * reflected photons), and with so few buckets that many cells share one (each photon must
- * still count once). */
-static void hash_grid_gather_is_the_kernel_estimate(void)
+/* The lattice holds the brute-force kernel estimate at its points: in the caustic, in the
+ * shadow, where a few photons lie kilometres away (an infinite floor's reflected photons),
+ * and with a radius so large that the table must grow; points not stored read 0 and have
+ * no photon within the radius; between points the estimate is bilinear and close to the
+ * kernel estimate there. */
+static void lattice_holds_the_kernel_estimate(void)
 {
     struct pathtrace_surface ball = pt_sphere(vec3_make(0, 0, 0), 1.0, 1.5);
     struct pathtrace_scene s = pt_scene(0.0);
@@ -194,29 +195,46 @@ static void hash_grid_gather_is_the_kernel_estimate(void)
     double far = 0.0;
     for (size_t i = 0; i < l.count; i++)
         far = fmax(far, fmax(fabs(l.items[i].x), fabs(l.items[i].z)));
-    CHECK_MSG(far > 100.0, "farthest photon %.1f", far); /* the case a dense grid cannot hold */
+    CHECK_MSG(far > 100.0, "farthest photon %.1f", far); /* what a dense grid cannot hold */
     for (int pass = 0; pass < 2; pass++) {
-        double r = pass == 0 ? 0.05 : 3.0; /* 3.0: few cells, many photons per bucket */
+        double r = pass == 0 ? 0.05 : 0.6;
         struct photon_grid g;
         CHECK_INT(photon_grid_build(&l, r, &g, &e), REFRACT_E_OK);
-        CHECK(g.buckets >= 2 * l.count && (g.buckets & (g.buckets - 1)) == 0);
-        CHECK_INT((int)g.start[g.buckets], (int)l.count);
-        int lit = 0;
-        for (int i = 0; i < 400; i++) {
-            /* points over the caustic, the shadow and the far floor; one on a far photon */
-            double x = -0.8 + 0.004 * i, z = -0.4 + 0.0021 * i;
-            if (i % 50 == 49) {
-                x = l.items[(size_t)i * 97 % l.count].x + 0.01;
-                z = l.items[(size_t)i * 97 % l.count].z;
+        CHECK_NEAR(g.cell, r / PHOTON_LATTICE_PER_RADIUS, 1e-15);
+        CHECK(g.capacity >= 4 * g.used && (g.capacity & (g.capacity - 1)) == 0);
+        CHECK_MSG(g.probe_max < 40, "longest probe %u", g.probe_max);
+        int lit = 0, stored = 0, absent = 0;
+        double diff = 0.0, ref = 0.0;
+        for (int k = 0; k < 600; k++) {
+            /* lattice points over the caustic and the shadow, and next to far photons */
+            int32_t i = (int32_t)floor((-0.8 + 0.004 * (k % 300)) / g.cell),
+                    j = (int32_t)floor((-0.4 + 0.0021 * (k % 300)) / g.cell) + (k >= 300);
+            if (k % 50 == 49) {
+                const struct photon *p = &l.items[(size_t)k * 97 % l.count];
+                i = (int32_t)floor(p->x / g.cell);
+                j = (int32_t)floor(p->z / g.cell);
             }
-            double Eg[3], Ek[3];
-            photon_irradiance(&g, x, z, Eg);
-            photon_kernel_estimate(&l, r, x, z, Ek);
+            double El[3], Ek[3];
+            photon_lattice_at(&g, i, j, El);
+            photon_kernel_estimate(&l, r, i * g.cell, j * g.cell, Ek);
             for (int c = 0; c < 3; c++)
-                CHECK_NEAR(Eg[c], Ek[c], 1e-9 * (1.0 + Ek[c]));
-            lit += Ek[0] > (pass == 0 ? 1.0 : 0.01);
+                CHECK_NEAR(El[c], Ek[c], 1e-9 * (1.0 + Ek[c]));
+            stored += Ek[0] > 0.0;
+            absent += Ek[0] == 0.0;
+            lit += Ek[0] > (pass == 0 ? 1.0 : 0.05);
+            /* a point between lattice points */
+            double x = (i + 0.37) * g.cell, z = (j + 0.61) * g.cell, Eb[3];
+            photon_irradiance(&g, x, z, Eb);
+            photon_kernel_estimate(&l, r, x, z, Ek);
+            diff += fabs(Eb[1] - Ek[1]);
+            ref += Ek[1];
         }
-        CHECK_MSG(lit > 20, "points in the caustic: %d", lit);
+        printf("radius %.2f: %u lattice points, longest probe %u; between points the bilinear "
+               "estimate is off by %.2f %% of the kernel estimate\n",
+               r, g.used, g.probe_max, 100.0 * diff / ref);
+        CHECK_MSG(lit > 20 && stored > 100 && (pass == 1 || absent > 10),
+                  "lit %d stored %d absent %d", lit, stored, absent);
+        CHECK_MSG(diff <= 0.08 * ref, "bilinear vs kernel between points: %.4f of %.4f", diff, ref);
         photon_grid_free(&g);
     }
     /* no photon: 0 everywhere */
@@ -269,7 +287,7 @@ int main(void)
     direct_light_is_not_stored();
     threads_split_and_merge_to_the_same_list();
     ball_focuses_on_its_axis();
-    hash_grid_gather_is_the_kernel_estimate();
+    lattice_holds_the_kernel_estimate();
     radius_rule_and_refusals();
     return test_summary("test_photon");
 }
