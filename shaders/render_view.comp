@@ -4,7 +4,12 @@
 // bottom (row 0 = top). One dispatch renders the tile of rows [params.image.z,
 // params.image.w) into image_out, whose row 0 is the tile's first row: a pixel's value
 // depends only on its place in the whole image (its rays' jitter too), so a render made of
-// tiles is the same, bit for bit, as one made at once.
+// tiles is the same, bit for bit, as one made at once. The host dispatches a pixel's rays
+// one at a time (settings_f2.z: which, .w: how many), each dispatch adding its share to
+// image_out: llvmpipe ends a shader invocation's loops after 65535 iterations counted over
+// all of them (LP_MAX_TGSI_LOOP_ITERATIONS in Mesa's gallivm), so an invocation that
+// marched all of a pixel's rays could silently lose the later ones (docs/tracing.md
+// "Anti-aliasing").
 #define MARCH_RADIANCE 1
 #include "march_bindings.glsl"
 #include "fresnel.glsl"
@@ -18,7 +23,7 @@
 
 layout(local_size_x = RENDER_LOCAL_X, local_size_y = RENDER_LOCAL_Y) in;
 
-layout(std430, binding = BIND_SSBO_IMAGE_OUT) writeonly buffer image_out_block
+layout(std430, binding = BIND_SSBO_IMAGE_OUT) buffer image_out_block
 {
     vec4 image_out[];
 };
@@ -30,8 +35,11 @@ void main()
         return;
     // Anti-aliasing: n jittered rays in k x k strata, averaged (a box filter).
     uint n = uint(max(params.settings_f2.y, 1.0));
+    uint first = uint(params.settings_f2.z), count = uint(params.settings_f2.w);
+    if (count == 0u)
+        count = n;
     vec3 sum = vec3(0.0);
-    for (uint i = 0u; i < n; i++) {
+    for (uint i = first; i < first + count && i < n; i++) {
         vec2 o = pixel_sample(uint(px.x), uint(px.y), i, n);
         vec3 dir = camera_ray_direction(params.forward.xyz, params.right.xyz, params.up.xyz,
                                         params.eye.w, params.forward.w, float(px.x) + o.x - 0.5,
@@ -40,5 +48,7 @@ void main()
         march_state s = march_ray(params.eye.xyz, dir, uint(params.surfaces.y));
         sum += s.L;
     }
-    image_out[(px.y - params.image.z) * params.image.x + px.x] = vec4(sum / float(n), 1.0);
+    uint at = uint((px.y - params.image.z) * params.image.x + px.x);
+    vec4 part = vec4(sum / float(n), 1.0);
+    image_out[at] = first == 0u ? part : image_out[at] + vec4(part.rgb, 0.0);
 }

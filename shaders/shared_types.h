@@ -61,7 +61,8 @@ struct march_params {
                          z: ambient n; w: environment intensity */
     vec4 env;         /* x: environment rotation about +y (degrees) */
     vec4 settings_f2; /* x: adaptive stepper's tolerance per step (voxels); y: view rays per
-                         pixel (render_view.comp; a square number, as a float) */
+                         pixel (render_view.comp; a square number, as a float); z: the first
+                         of them this dispatch traces; w: how many (0: all) */
     object_params objects[MAX_OBJECTS];
     /* Only what a scene needs (docs/tracing.md "Empty space"); appended to keep the
      * members above where they were. */

@@ -410,6 +410,8 @@ enum refract_code render_view_rows(struct render *r, const struct render_scene_s
     fill_camera(&mp, &req->camera);
     mp.image.z = row0;
     mp.image.w = row0 + rows;
+    mp.settings_f2.z = 0.0f; /* the first ray of each pixel; one per dispatch (below) */
+    mp.settings_f2.w = 1.0f;
     mp.surfaces.y =
         (int)scene_surfaces_inside(src->scene, src->lookup, src->lookup_ctx, req->camera.eye);
     struct gpu_buffer image;
@@ -436,7 +438,17 @@ enum refract_code render_view_rows(struct render *r, const struct render_scene_s
     glUseProgram(prog);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BIND_SSBO_IMAGE_OUT, image.buf);
     double t_dispatch = gpu_time_ms();
-    glDispatchCompute(gpu_groups(w, RENDER_LOCAL_X), gpu_groups(rows, RENDER_LOCAL_Y), 1);
+    /* One ray per pixel per dispatch, each adding its share (render_view.comp: llvmpipe's
+     * limit on a shader invocation's loop iterations). */
+    int spp = (int)mp.settings_f2.y;
+    for (int first = 0; first < (spp > 1 ? spp : 1); first++) {
+        if (first > 0) {
+            mp.settings_f2.z = (float)first;
+            glNamedBufferSubData(r->params_ubo.buf, 0, sizeof mp, &mp);
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        }
+        glDispatchCompute(gpu_groups(w, RENDER_LOCAL_X), gpu_groups(rows, RENDER_LOCAL_Y), 1);
+    }
     glFinish();
     out->gpu_ms += gpu_time_ms() - t_dispatch;
     rc = gpu_check("rendering", e);
