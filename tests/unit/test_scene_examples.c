@@ -393,7 +393,8 @@ static void light_examples_hold_what_their_names_promise(const char *dir)
         CHECK(s->receiver.enabled);
         /* The table is at the glass's foot. */
         CHECK_NEAR(s->receiver.height, -1.25, 0);
-        CHECK(scene_needs_light_simulation(s));
+        CHECK_INT((int)s->receiver.caustics, SCENE_CAUSTICS_PHOTONS); /* docs/photons.md */
+        CHECK(!scene_needs_light_simulation(s));
         scene_destroy(s);
     }
     /* The scenes from before lights existed need no light simulation. */
