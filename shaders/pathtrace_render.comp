@@ -30,40 +30,10 @@ layout(std430, binding = BIND_SSBO_PT_ACCUM) buffer pt_accum_block
     vec4 accum[]; // 2 per pixel: sum, sum of squares
 };
 
-#define PT_PI 3.14159265358979
 #define PT_RR_DEPTH 4
 #define PT_MAX_DEPTH 1024
+#include "pathtrace_common.glsl"
 
-// ---- random numbers: PCG-RXS-M-XS 32 (O'Neill 2014) as a state chain ----
-uint rng_state;
-float rng_uniform()
-{
-    rng_state = rng_state * 747796405u + 2891336453u;
-    uint w = ((rng_state >> ((rng_state >> 28u) + 4u)) ^ rng_state) * 277803737u;
-    w = (w >> 22u) ^ w;
-    return float(w >> 8) * (1.0 / 16777216.0);
-}
-uint hash_u(uint x)
-{
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
-}
-
-// ---- directions (pathtrace_sample.c) ----
-vec3 around(vec3 axis, float cos_t, float phi)
-{
-    float sgn = axis.z >= 0.0 ? 1.0 : -1.0;
-    float a = -1.0 / (sgn + axis.z);
-    float b = axis.x * axis.y * a;
-    vec3 t = vec3(1.0 + sgn * axis.x * axis.x * a, sgn * b, -sgn * axis.x);
-    vec3 bb = vec3(b, sgn + axis.y * axis.y * a, -axis.y);
-    float sin_t = sqrt(max(0.0, 1.0 - cos_t * cos_t));
-    return normalize(axis * cos_t + t * (sin_t * cos(phi)) + bb * (sin_t * sin(phi)));
-}
 vec3 sample_cosine(vec3 n)
 {
     float u1 = rng_uniform(), u2 = rng_uniform();

@@ -18,7 +18,8 @@ typedef struct pt_medium pt_medium;
 
 /* core/pathtrace.h struct pathtrace_light */
 struct pt_light {
-    ivec4 kind;     /* x: PATHTRACE_LIGHT_*; y: 1 = seen by camera rays */
+    ivec4 kind;     /* x: PATHTRACE_LIGHT_*; y: 1 = seen by camera rays; z: photon_trace.comp:
+                       the inside set where its photons start */
     vec4 position;  /* xyz; w: sphere radius */
     vec4 direction; /* xyz: unit, the way light travels; w: cos of the spot's half angle */
     vec4 value;     /* rgb: I, E or L_e */

@@ -142,6 +142,10 @@ void photon_lattice_at(const struct photon_grid *g, int32_t i, int32_t j, double
 /* The same over the whole list by brute force (no grid): what the grid is tested against. */
 void photon_kernel_estimate(const struct photon_list *l, double radius, double x, double z,
                             double E[3]);
+/* The same with its standard error per channel (the square root of the sum of the squared
+ * terms: the photons are independent), for tests that compare two photon sets. */
+void photon_kernel_estimate_se(const struct photon_list *l, double radius, double x, double z,
+                               double E[3], double se[3]);
 void photon_grid_free(struct photon_grid *g);
 
 /* ---- photon_receiver.c: the receiver's light in the "photons" mode ---- */

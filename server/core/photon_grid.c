@@ -20,15 +20,26 @@ static double kernel(double s2, double r2)
 void photon_kernel_estimate(const struct photon_list *l, double radius, double x, double z,
                             double E[3])
 {
+    photon_kernel_estimate_se(l, radius, x, z, E, NULL);
+}
+
+void photon_kernel_estimate_se(const struct photon_list *l, double radius, double x, double z,
+                               double E[3], double se[3])
+{
+    double sq[3] = {0.0, 0.0, 0.0};
     E[0] = E[1] = E[2] = 0.0;
     double r2 = radius * radius;
     for (size_t i = 0; i < l->count; i++) {
         const struct photon *p = &l->items[i];
         double dx = p->x - x, dz = p->z - z;
         double k = kernel(dx * dx + dz * dz, r2);
-        for (int c = 0; k > 0.0 && c < 3; c++)
+        for (int c = 0; k > 0.0 && c < 3; c++) {
             E[c] += p->power[c] * k;
+            sq[c] += p->power[c] * k * p->power[c] * k;
+        }
     }
+    for (int c = 0; se != NULL && c < 3; c++)
+        se[c] = sqrt(sq[c]);
 }
 
 /* The lattice index of coordinate v: round(v / h) clamped to +-PHOTON_CELL_MAX. */

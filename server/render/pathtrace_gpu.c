@@ -36,20 +36,22 @@ static vec4 rgb4(const double c[3], double w)
     return (vec4){(float)c[0], (float)c[1], (float)c[2], (float)w};
 }
 
-static void pack_params(const struct pathtrace_scene *s, const struct pathtrace_camera *cam,
-                        uint32_t seed, struct pt_params *p)
+void pathtrace_gpu_pack_params(const struct pathtrace_scene *s, const struct pathtrace_camera *cam,
+                               uint32_t seed, struct pt_params *p)
 {
     memset(p, 0, sizeof *p);
-    vec3 f = vec3_normalize(vec3_sub(cam->look_at, cam->eye));
-    vec3 r = vec3_normalize(vec3_cross(f, cam->up));
-    vec3 u = vec3_cross(r, f);
-    p->eye = v4(cam->eye, tan(0.5 * cam->fov_y_deg * M_PI / 180.0));
-    p->forward = v4(f, (double)cam->width / cam->height);
-    p->right = v4(r, 0.0);
-    p->up = v4(u, 0.0);
-    p->image = (ivec4){cam->width, cam->height, 0, 0};
+    if (cam != NULL) {
+        vec3 f = vec3_normalize(vec3_sub(cam->look_at, cam->eye));
+        vec3 r = vec3_normalize(vec3_cross(f, cam->up));
+        vec3 u = vec3_cross(r, f);
+        p->eye = v4(cam->eye, tan(0.5 * cam->fov_y_deg * M_PI / 180.0));
+        p->forward = v4(f, (double)cam->width / cam->height);
+        p->right = v4(r, 0.0);
+        p->up = v4(u, 0.0);
+        p->image = (ivec4){cam->width, cam->height, 0, 0};
+    }
     p->counts = (ivec4){s->surface_count, s->light_count, (int)seed,
-                        (int)pathtrace_inside_set(s, cam->eye)};
+                        cam != NULL ? (int)pathtrace_inside_set(s, cam->eye) : 0};
     const struct pathtrace_receiver *rc = &s->receiver;
     p->receiver = (vec4){rc->enabled ? 1.0f : 0.0f, (float)rc->height,
                          isinf(rc->half_size) ? -1.0f : (float)rc->half_size, (float)rc->center[0]};
@@ -71,8 +73,8 @@ static void pack_params(const struct pathtrace_scene *s, const struct pathtrace_
 
 /* The surfaces' records and the lathes' profile points (at least one, so the buffer
  * exists). Returns new arrays the caller frees. */
-static bool pack_surfaces(const struct pathtrace_scene *s, struct surface_params **sp, float **pts,
-                          size_t *npts)
+bool pathtrace_gpu_pack_surfaces(const struct pathtrace_scene *s, struct surface_params **sp,
+                                 float **pts, size_t *npts)
 {
     size_t n = 1;
     for (int k = 0; k < s->surface_count; k++)
@@ -159,11 +161,11 @@ enum refract_code pathtrace_gpu_render(const struct pathtrace_scene *s,
     float *pts = NULL, *accum = NULL;
     size_t npts = 0, n = (size_t)cam->width * (size_t)cam->height;
     enum refract_code rc = REFRACT_E_OK;
-    if (p == NULL || !pack_surfaces(s, &sp, &pts, &npts) ||
+    if (p == NULL || !pathtrace_gpu_pack_surfaces(s, &sp, &pts, &npts) ||
         (accum = calloc(n * 8, sizeof *accum)) == NULL)
         rc = err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for the GPU path tracer");
     if (rc == REFRACT_E_OK) {
-        pack_params(s, cam, seed, p);
+        pathtrace_gpu_pack_params(s, cam, seed, p);
         size_t nsp = s->surface_count > 0 ? (size_t)s->surface_count : 1;
         rc = run(prog, p, sp, nsp, pts, npts, first_sample, samples, accum, e);
     }

@@ -22,4 +22,14 @@ enum refract_code pathtrace_gpu_render(const struct pathtrace_scene *s,
                                        int first_sample, int samples, struct pathtrace_image *img,
                                        struct err *e);
 
+/* What photon_trace_gpu.c shares: the scene's parameters (pathtrace_types.h pt_params;
+ * cam may be NULL: no camera) and the surfaces' records with the lathes' profile points
+ * (new arrays the caller frees; false when out of memory). */
+struct pt_params;
+struct surface_params;
+void pathtrace_gpu_pack_params(const struct pathtrace_scene *s, const struct pathtrace_camera *cam,
+                               uint32_t seed, struct pt_params *p);
+bool pathtrace_gpu_pack_surfaces(const struct pathtrace_scene *s, struct surface_params **sp,
+                                 float **pts, size_t *npts);
+
 #endif

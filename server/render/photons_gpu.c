@@ -1,8 +1,9 @@
 /*
  * photons_gpu.c - the receiver's photon map on the GPU side (scene_gpu.h,
  * docs/photons.md): the scene's surfaces and the request's lights become a pathtrace
- * scene, photon_map_build traces and gathers on CPU threads (one per online CPU), and the
- * grid goes to a storage buffer that shaders/photons.glsl samples. The map is kept with the
+ * scene, its photons are traced on the GPU (photon_trace_gpu; on CPU threads, one per online
+ * CPU, for mesh surfaces or when render_desc.photons_on_cpu), gathered on the CPU, and the
+ * lattice goes to two storage buffers that shaders/photons.glsl reads. The map is kept with the
  * scene's GPU data and rebuilt when the lights' poses, colours or the photon settings
  * change (its key).
  *
@@ -13,9 +14,11 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "../core/geom/geom.h"
 #include "../core/log.h"
 #include "../core/photon.h"
 #include "../scene/scene_pathtrace.h"
+#include "photon_trace_gpu.h"
 #include "scene_gpu.h"
 #define REFRACT_HOST_C
 #include "shared_types.h"
@@ -82,8 +85,42 @@ static uint64_t map_key(const struct pathtrace_scene *p, const struct scene_rece
     return h;
 }
 
+/* The map's photons traced on the GPU (photon_trace.comp) when asked and possible, else on
+ * CPU threads; then the lattice on the CPU. *where says which traced them. */
+static enum refract_code build_map(const struct pathtrace_scene *ps,
+                                   const struct scene_receiver *rc, bool on_gpu,
+                                   struct photon_grid *g, struct photon_map_stats *st,
+                                   const char **where, struct err *e)
+{
+    bool meshes = false;
+    for (int k = 0; k < ps->surface_count; k++)
+        meshes = meshes || ps->surfaces[k].geom.kind == GEOM_MESH;
+    if (!on_gpu || meshes) {
+        long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+        *where = "CPU";
+        return photon_map_build(ps, rc->photons, rc->photon_radius, 1, cpus > 0 ? (int)cpus : 1, g,
+                                st, e);
+    }
+    *where = "GPU";
+    memset(st, 0, sizeof *st);
+    struct photon_list l = {0};
+    double t0 = gpu_time_ms();
+    enum refract_code r = photon_trace_gpu(ps, rc->photons, 1, &l, e);
+    st->trace_ms = gpu_time_ms() - t0;
+    st->emitted = l.emitted;
+    st->landed = l.count;
+    st->radius = photon_radius(ps, rc->photons, rc->photon_radius);
+    if (r == REFRACT_E_OK) {
+        double t1 = gpu_time_ms();
+        r = photon_grid_build(&l, st->radius, g, e);
+        st->grid_ms = gpu_time_ms() - t1;
+    }
+    photon_list_free(&l);
+    return r;
+}
+
 enum refract_code photons_gpu_prepare(struct scene_gpu *sg, const struct render_scene_source *src,
-                                      const struct render_view_request *req,
+                                      const struct render_view_request *req, bool trace_on_gpu,
                                       struct march_lights *ml, struct err *e)
 {
     const struct scene *s = src->scene;
@@ -96,11 +133,10 @@ enum refract_code photons_gpu_prepare(struct scene_gpu *sg, const struct render_
     lights_from_request(req, &sp.scene);
     uint64_t key = map_key(&sp.scene, &s->receiver);
     if (sg->photons.buf == 0 || sg->photon_key != key) {
-        long cpus = sysconf(_SC_NPROCESSORS_ONLN);
         struct photon_grid g;
         struct photon_map_stats st;
-        rc = photon_map_build(&sp.scene, s->receiver.photons, s->receiver.photon_radius, 1,
-                              cpus > 0 ? (int)cpus : 1, &g, &st, e);
+        const char *where;
+        rc = build_map(&sp.scene, &s->receiver, trace_on_gpu, &g, &st, &where, e);
         if (rc != REFRACT_E_OK)
             return rc;
         static const float zero[4] = {0};

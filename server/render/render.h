@@ -36,6 +36,9 @@ struct render_desc {
     bool all_variant_bits; /* compile every optional channel and the lights into the march
                               whatever the scene uses (the "all-features path") */
     int skip_cell_voxels;  /* macro cell edge of the empty-space maps; 0: the default */
+    bool photons_on_cpu;   /* trace caustic photons on CPU threads even on a hardware GPU
+                              (tests that compare with the CPU double twin's very map; on
+                              Mesa's software device the CPU always traces them: faster) */
 };
 
 /* Everything needed to build a scene's GPU data; borrowed for the call. */

@@ -69,13 +69,14 @@ struct scene_gpu {
 };
 
 /* photons_gpu.c: makes sure sg holds the photon map for req's lights (a no-op unless the
- * scene's receiver.caustics is "photons"), binds it and fills the lights block's photon
+ * scene's receiver.caustics is "photons"; photons traced on the GPU when trace_on_gpu and the
+ * scene has no mesh surface, else on CPU threads), binds it and fills the lights block's photon
  * fields (count.z, photon_grid, photon_dims). CONFLICT from the photon tracer (docs/photons.md
  * "Not yet"), OUT_OF_MEMORY, or GPU errors. GPU thread. */
 struct march_lights;
 struct render_view_request;
 enum refract_code photons_gpu_prepare(struct scene_gpu *sg, const struct render_scene_source *src,
-                                      const struct render_view_request *req,
+                                      const struct render_view_request *req, bool trace_on_gpu,
                                       struct march_lights *ml, struct err *e);
 
 /* Builds a new scene_gpu from src. Returns it (destroy with scene_gpu_destroy) or NULL with

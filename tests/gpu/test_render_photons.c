@@ -43,7 +43,7 @@ static void render_run(struct gpu_work *w, struct gpu *gpu)
 {
     struct photon_work *pw = w->user;
     const struct scene *s = pw->scene;
-    struct render_desc desc = {0};
+    struct render_desc desc = {.photons_on_cpu = true}; /* the CPU twin's very map */
     struct render *r = render_create(gpu, &desc, &w->err);
     if (r == NULL)
         return;

@@ -45,27 +45,6 @@ static double slab_series(double n, double tau)
     return (1.0 - R) * (1.0 - R) * tau / (1.0 - R * R * tau * tau);
 }
 
-/* The kernel estimate at (x, z) and its standard error, from the photons themselves
- * (the sum of squared terms estimates the variance of a sum of independent photons). */
-static void estimate_with_error(const struct photon_list *l, double r, double x, double z,
-                                double E[3], double se[3])
-{
-    double sq[3] = {0};
-    E[0] = E[1] = E[2] = 0.0;
-    for (size_t i = 0; i < l->count; i++) {
-        double dx = l->items[i].x - x, dz = l->items[i].z - z, s2 = dx * dx + dz * dz;
-        if (s2 >= r * r)
-            continue;
-        double k = 2.0 / (M_PI * r * r) * (1.0 - s2 / (r * r));
-        for (int c = 0; c < 3; c++) {
-            E[c] += l->items[i].power[c] * k;
-            sq[c] += l->items[i].power[c] * k * l->items[i].power[c] * k;
-        }
-    }
-    for (int c = 0; c < 3; c++)
-        se[c] = sqrt(sq[c]);
-}
-
 static void slab_transmits_its_series(void)
 {
     const double sigma[3] = {0.0, 0.5, 2.0}, h = 0.2;
@@ -79,7 +58,7 @@ static void slab_transmits_its_series(void)
         CHECK(l.count > 100000);
         CHECK_INT((int)l.emitted, 400000);
         double E[3], se[3];
-        estimate_with_error(&l, 1.0, 0.0, 0.0, E, se);
+        photon_kernel_estimate_se(&l, 1.0, 0.0, 0.0, E, se);
         for (int c = 0; c < 3; c++) {
             double expect = slab_series(indices[k], exp(-sigma[c] * h));
             CHECK_MSG(fabs(E[c] - expect) <= fmin(4.0 * se[c], 0.015 * expect),
