@@ -2,6 +2,8 @@
 // the path tracer; photon_trace.comp, the caustic photons): a 32-bit random number chain
 // and the direction samplers of server/core/pathtrace_sample.c.
 
+#include "pixel_sample.glsl" // pixel_hash: lowbias32, the one integer hash of the kernels
+
 #define PT_PI 3.14159265358979
 
 // ---- random numbers: PCG-RXS-M-XS 32 (O'Neill 2014) as a state chain ----
@@ -12,15 +14,6 @@ float rng_uniform()
     uint w = ((rng_state >> ((rng_state >> 28u) + 4u)) ^ rng_state) * 277803737u;
     w = (w >> 22u) ^ w;
     return float(w >> 8) * (1.0 / 16777216.0);
-}
-uint hash_u(uint x)
-{
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
 }
 
 // ---- directions (pathtrace_sample.c) ----

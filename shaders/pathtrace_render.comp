@@ -328,7 +328,7 @@ void main()
     vec4 sum = vec4(0.0), sq = vec4(0.0);
     for (int s = 0; s < P.image.z; s++) {
         uint sample_index = uint(P.image.w + s);
-        rng_state = hash_u(uint(i) ^ hash_u(sample_index ^ hash_u(uint(P.counts.z))));
+        rng_state = pixel_hash(uint(i) ^ pixel_hash(sample_index ^ pixel_hash(uint(P.counts.z))));
         float x = float(col) + rng_uniform(), y = float(row) + rng_uniform();
         float sx = (2.0 * x / float(w) - 1.0) * P.eye.w * P.forward.w;
         float sy = (1.0 - 2.0 * y / float(h)) * P.eye.w;

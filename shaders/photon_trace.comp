@@ -121,7 +121,7 @@ void main()
     if (g >= per_light * lights || 2u * slot + 1u >= uint(photon_out.length()))
         return;
     uint j = g / per_light, k = g % per_light;
-    rng_state = hash_u(k ^ hash_u(j ^ hash_u(uint(P.counts.z))));
+    rng_state = pixel_hash(k ^ pixel_hash(j ^ pixel_hash(uint(P.counts.z))));
     vec3 o, d, power;
     emit(P.lights[j], float(per_light), o, d, power);
     vec4 head = vec4(0.0);

@@ -15,20 +15,11 @@ layout(std430, binding = BIND_SSBO_PHOTON_BUCKETS) readonly buffer photon_keys_b
 };
 
 // The slot where the probe for lattice point (i, j) starts (photon.h's photon_hash: 32-bit
-// unsigned, wrapping; lowbias32 mixing).
-uint photon_mix(uint x)
-{
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
-}
-
+// unsigned, wrapping; pixel_hash is lowbias32, from pixel_sample.glsl, which render_view.comp
+// includes first).
 uint photon_hash(int i, int j, uint capacity)
 {
-    return photon_mix(uint(i) ^ photon_mix(uint(j) + 0x9e3779b9u)) & (capacity - 1u);
+    return pixel_hash(uint(i) ^ pixel_hash(uint(j) + 0x9e3779b9u)) & (capacity - 1u);
 }
 
 // E at lattice point (i, j), 0 when it is not stored (no photon within the radius): at most

@@ -60,8 +60,8 @@ uint32_t pathtrace_inside_set(const struct pathtrace_scene *s, vec3 p)
     return set;
 }
 
-static bool receiver_hit(const struct pathtrace_receiver *r, vec3 o, vec3 d, double tmin,
-                         double tmax, double *t)
+bool pathtrace_receiver_hit(const struct pathtrace_receiver *r, vec3 o, vec3 d, double tmin,
+                            double tmax, double *t)
 {
     if (!r->enabled || d.y == 0.0)
         return false;
@@ -89,7 +89,7 @@ static struct pt_hit nearest(const struct pathtrace_scene *s, vec3 o, vec3 d, do
         }
     }
     double t;
-    if (receiver_hit(&s->receiver, o, d, tmin, h.t, &t))
+    if (pathtrace_receiver_hit(&s->receiver, o, d, tmin, h.t, &t))
         h = (struct pt_hit){HIT_RECEIVER, 0, t, vec3_make(0.0, 1.0, 0.0), 0};
     for (int k = 0; lights && k < s->light_count; k++) {
         if (camera && !s->lights[k].visible)

@@ -118,6 +118,11 @@ struct pathtrace_scene {
  * intensity phi / (4 pi) (docs/pathtracer.md "Lights"). */
 double pathtrace_sphere_radiance(double phi_w, double radius);
 
+/* The receiver's hit of the ray o + t d with t in (tmin, tmax): true with *t (the photon
+ * tracer uses it too). */
+bool pathtrace_receiver_hit(const struct pathtrace_receiver *r, vec3 o, vec3 d, double tmin,
+                            double tmax, double *t);
+
 /* The set of surfaces whose solids contain p (bit k for surface k): the camera's start. */
 uint32_t pathtrace_inside_set(const struct pathtrace_scene *s, vec3 p);
 

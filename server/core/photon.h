@@ -40,6 +40,7 @@
 #include "bindings.h"
 #include "err.h"
 #include "pathtrace.h"
+#include "pixel_sample.h"
 
 #define PHOTON_MAX_EVENTS 128        /* interface events of one photon at most */
 #define PHOTON_RADIUS_SCENE 0.02     /* auto radius: this times the optical surfaces' */
@@ -113,22 +114,13 @@ struct photon_grid {
  * (lattice indices are clamped to +-it) are in shaders/bindings.h, shared with the GLSL. */
 
 /* The slot where the probe for lattice point (i, j) starts (the twin of photon_hash in
- * shaders/photons.glsl: 32-bit unsigned arithmetic, wrapping). Chris Wellons' lowbias32
- * mixes the two indices: neighbouring lattice points land in unrelated slots, so linear
- * probing does not pile them into long runs (a plain multiply-xor hash made runs of 141). */
-static inline uint32_t photon_mix(uint32_t x)
-{
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
-}
-
+ * shaders/photons.glsl: 32-bit unsigned arithmetic, wrapping). pixel_hash (Chris Wellons'
+ * lowbias32) mixes the two indices: neighbouring lattice points land in unrelated slots, so
+ * linear probing does not pile them into long runs (a plain multiply-xor hash made runs of
+ * 141). */
 static inline uint32_t photon_hash(int32_t i, int32_t j, uint32_t capacity)
 {
-    return photon_mix((uint32_t)i ^ photon_mix((uint32_t)j + 0x9e3779b9u)) & (capacity - 1u);
+    return pixel_hash((uint32_t)i ^ pixel_hash((uint32_t)j + 0x9e3779b9u)) & (capacity - 1u);
 }
 
 /* Builds the lattice of the landed photons' kernel estimate for the radius. */

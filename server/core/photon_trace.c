@@ -150,21 +150,6 @@ static void emit(const struct pathtrace_light *l, long n_l, vec3 c, double r,
         st->power[ch] = l->value[ch] * w / (double)n_l;
 }
 
-static bool receiver_hit(const struct pathtrace_receiver *r, vec3 o, vec3 d, double tmin,
-                         double tmax, double *t)
-{
-    if (!r->enabled || d.y == 0.0)
-        return false;
-    double tt = (r->height - o.y) / d.y;
-    if (!(tt > tmin && tt < tmax))
-        return false;
-    vec3 p = vec3_madd(o, d, tt);
-    if (fabs(p.x - r->center[0]) > r->half_size || fabs(p.z - r->center[1]) > r->half_size)
-        return false;
-    *t = tt;
-    return true;
-}
-
 static enum refract_code store(struct photon_list *out, vec3 p, const double power[3],
                                struct err *e)
 {
@@ -207,7 +192,7 @@ static enum refract_code follow(const struct pathtrace_scene *s, struct ph_state
             }
         }
         double t_recv;
-        bool lands = receiver_hit(&s->receiver, st->o, st->d, tmin, t_best, &t_recv);
+        bool lands = pathtrace_receiver_hit(&s->receiver, st->o, st->d, tmin, t_best, &t_recv);
         double seg = lands ? t_recv : t_best;
         if (isfinite(seg)) {
             double tr[3] = {1.0, 1.0, 1.0};

@@ -80,16 +80,8 @@ static void slab_transmits_its_series(struct gpu *gpu)
 
 static void scene_a_agrees_with_the_cpu(struct gpu *gpu)
 {
-    struct pathtrace_surface ball = pt_sphere(vec3_make(0, 0, 0), 1.0, 1.5);
-    struct pathtrace_scene s = pt_scene(0.0);
-    s.surfaces = &ball;
-    s.surface_count = 1;
-    s.receiver = (struct pathtrace_receiver){true, -1.0, INFINITY, {0.8, 0.8, 0.8}, {0, 0}};
-    s.lights[0] = (struct pathtrace_light){
-        .kind = PATHTRACE_LIGHT_SPHERE, .position = {2, 6, 1}, .radius = 0.1};
-    for (int c = 0; c < 3; c++)
-        s.lights[0].value[c] = pathtrace_sphere_radiance(1000.0, 0.1);
-    s.light_count = 1;
+    struct pathtrace_surface ball;
+    struct pathtrace_scene s = pt_scene_a(&ball);
     const long count = 1048576;
     struct photon_list g, c = {0};
     struct err e;

@@ -46,6 +46,24 @@ static inline struct pathtrace_scene pt_scene(double env)
     return s;
 }
 
+/* Scene A of ../shared/peer-scenes/SCENES.md: the glass ball (radius 1, n = 1.5, stored in
+ * *ball) on the infinite floor y = -1 (albedo 0.8) under the spherical lamp of radius 0.1
+ * and 1000 W at (2, 6, 1), black sky. */
+static inline struct pathtrace_scene pt_scene_a(struct pathtrace_surface *ball)
+{
+    *ball = pt_sphere(vec3_make(0, 0, 0), 1.0, 1.5);
+    struct pathtrace_scene s = pt_scene(0.0);
+    s.surfaces = ball;
+    s.surface_count = 1;
+    s.receiver = (struct pathtrace_receiver){true, -1.0, INFINITY, {0.8, 0.8, 0.8}, {0, 0}};
+    s.lights[0] = (struct pathtrace_light){
+        .kind = PATHTRACE_LIGHT_SPHERE, .position = {2, 6, 1}, .radius = 0.1, .visible = false};
+    for (int c = 0; c < 3; c++)
+        s.lights[0].value[c] = pathtrace_sphere_radiance(1000.0, 0.1);
+    s.light_count = 1;
+    return s;
+}
+
 /* Mean and standard error of n samples of the ray o + t d, per channel. */
 struct pt_estimate {
     double mean[3], stderr_[3];

@@ -158,16 +158,8 @@ static void ball_focuses_on_its_axis(void)
  * kernel estimate there. */
 static void lattice_holds_the_kernel_estimate(void)
 {
-    struct pathtrace_surface ball = pt_sphere(vec3_make(0, 0, 0), 1.0, 1.5);
-    struct pathtrace_scene s = pt_scene(0.0);
-    s.surfaces = &ball;
-    s.surface_count = 1;
-    s.receiver = (struct pathtrace_receiver){true, -1.0, INFINITY, {0.8, 0.8, 0.8}, {0, 0}};
-    s.lights[0] = (struct pathtrace_light){
-        .kind = PATHTRACE_LIGHT_SPHERE, .position = {2, 6, 1}, .radius = 0.1};
-    for (int c = 0; c < 3; c++)
-        s.lights[0].value[c] = pathtrace_sphere_radiance(1000.0, 0.1);
-    s.light_count = 1;
+    struct pathtrace_surface ball;
+    struct pathtrace_scene s = pt_scene_a(&ball);
     struct photon_list l = {0};
     struct err e;
     CHECK_INT(photon_trace(&s, 100000, 9, 0, 1, &l, &e), REFRACT_E_OK);
