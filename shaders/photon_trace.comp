@@ -41,8 +41,9 @@ pt_medium medium_of(uint inside)
     return P.media[k < 0 ? P.counts.x : k];
 }
 
-// photon_surface_optical: surface k's medium differs from the ambient one.
-bool optical(int k)
+// Surface k changes light: its medium differs from the ambient one (photon.h's
+// photon_surface_optical, here on the path tracer's records).
+bool photon_surface_optical(int k)
 {
     pt_medium m = P.media[k], a = P.media[P.counts.x];
     return m.sigma_a.w != a.sigma_a.w || any(notEqual(m.sigma_a.rgb, a.sigma_a.rgb)) ||
@@ -160,7 +161,7 @@ void main()
             o += d * best.t;
             uint next = inside ^ (1u << uint(hit));
             float n_i = medium_of(inside).sigma_a.w, n_t = medium_of(next).sigma_a.w;
-            if (optical(hit))
+            if (photon_surface_optical(hit))
                 caustic = true;
             last_surface = hit;
             if (n_i == n_t) {
