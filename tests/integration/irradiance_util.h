@@ -196,4 +196,25 @@ static inline cJSON *irr_wait_ready(const struct test_daemon *d, const char *id,
     }
 }
 
+/* irr_wait_ready, then polls until light `name` says it was read back from disk: after a
+ * restart an entry of the disk index is "ready" as soon as it is known, and its file is
+ * read a moment later (under ASan and load that moment was seen in a status poll). Returns
+ * the last status (caller deletes), failing the test on a timeout. */
+static inline cJSON *irr_wait_loaded(const struct test_daemon *d, const char *id, const char *name,
+                                     double timeout_s)
+{
+    cJSON *st = irr_wait_ready(d, id, timeout_s);
+    for (int i = 0; i < (int)(timeout_s / 0.02); i++) {
+        if (cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(irr_light(st, name), "loaded_from_disk")))
+            return st;
+        cJSON_Delete(st);
+        struct timespec pause = {0, 20 * 1000 * 1000};
+        nanosleep(&pause, NULL);
+        st = irr_status(d, id);
+    }
+    CHECK_MSG(false, "light %s of scene %s was not read back from disk in %.0f s", name, id,
+              timeout_s);
+    return st;
+}
+
 #endif

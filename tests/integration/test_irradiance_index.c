@@ -179,7 +179,7 @@ int main(void)
     CHECK_INT(db_rows(data_dir, row_key, &row_bytes), 1);
     CHECK_STR(row_key, keys[0]);
     CHECK_INT(row_bytes, file_bytes);
-    cJSON *st = irr_wait_ready(&d, id, 30);
+    cJSON *st = irr_wait_loaded(&d, id, "sun", 30);
     CHECK(cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(irr_light(st, "sun"), "loaded_from_disk")));
     CHECK_NEAR(irr_counter(st, "computed"), 0, 0);
     cJSON_Delete(st);

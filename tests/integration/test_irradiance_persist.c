@@ -109,7 +109,7 @@ int main(void)
         test_daemon_cleanup(&d);
         test_setup_failed("test_irradiance_persist (restart)", d2.why);
     }
-    st = irr_wait_ready(&d2, id, 30);
+    st = irr_wait_loaded(&d2, id, "sun", 30);
     sun = irr_light(st, "sun");
     CHECK(cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(sun, "loaded_from_disk")));
     CHECK_NEAR(irr_num(sun, "compute_ms"), first_ms, 1e-6 * first_ms);
