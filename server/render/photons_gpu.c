@@ -39,31 +39,15 @@ static void mix_double(uint64_t *h, double v)
     mix(h, &v, sizeof v);
 }
 
-/* The request's lights as the photon tracer sees them (the pathtrace lights of
- * scene_pathtrace.c's convert_light, from the render lights: a point with a radius is the
- * Lambertian sphere of the same far-field intensity). */
+/* The request's lights as the photon tracer sees them (scene_pathtrace_light). */
 static void lights_from_request(const struct render_view_request *req, struct pathtrace_scene *p)
 {
     int n = req->light_count < PATHTRACE_MAX_LIGHTS ? req->light_count : PATHTRACE_MAX_LIGHTS;
     p->light_count = n > 0 && req->lights ? n : 0;
     for (int j = 0; j < p->light_count; j++) {
         const struct render_light *l = &req->lights[j];
-        struct pathtrace_light *q = &p->lights[j];
-        memset(q, 0, sizeof *q);
-        q->position = l->position;
-        q->direction = l->direction;
-        q->cos_spot = l->cos_spot;
-        for (int c = 0; c < 3; c++)
-            q->value[c] = l->scale[c];
-        q->kind = l->kind == SCENE_LIGHT_DIRECTIONAL ? PATHTRACE_LIGHT_DIRECTIONAL
-                  : l->kind == SCENE_LIGHT_SPOT      ? PATHTRACE_LIGHT_SPOT
-                                                     : PATHTRACE_LIGHT_POINT;
-        if (l->kind == SCENE_LIGHT_POINT && l->radius > 0.0) {
-            q->kind = PATHTRACE_LIGHT_SPHERE;
-            q->radius = l->radius;
-            for (int c = 0; c < 3; c++)
-                q->value[c] /= M_PI * l->radius * l->radius;
-        }
+        scene_pathtrace_light(l->kind, l->position, l->direction, l->cos_spot, l->scale, l->radius,
+                              !l->camera_hidden, &p->lights[j]);
     }
 }
 

@@ -6,32 +6,43 @@
 #include <math.h>
 #include <string.h>
 
-static void convert_light(const struct scene_light *l, struct pathtrace_light *p)
+void scene_pathtrace_light(enum scene_light_kind kind, vec3 position, vec3 direction,
+                           double cos_spot, const double intensity[3], double radius, bool visible,
+                           struct pathtrace_light *p)
 {
     memset(p, 0, sizeof *p);
-    p->position = l->position;
-    p->direction = l->direction;
+    p->position = position;
+    p->direction = direction;
     for (int c = 0; c < 3; c++)
-        p->value[c] = l->color[c] * l->intensity;
-    switch (l->kind) {
+        p->value[c] = intensity[c];
+    switch (kind) {
     case SCENE_LIGHT_DIRECTIONAL:
         p->kind = PATHTRACE_LIGHT_DIRECTIONAL;
         break;
     case SCENE_LIGHT_POINT:
         p->kind = PATHTRACE_LIGHT_POINT;
-        if (l->radius > 0.0) { /* the same far-field intensity I: L_e = I / (pi r^2) */
+        if (radius > 0.0) { /* the same far-field intensity I: L_e = I / (pi r^2) */
             p->kind = PATHTRACE_LIGHT_SPHERE;
-            p->radius = l->radius;
-            p->visible = l->camera_visible;
+            p->radius = radius;
+            p->visible = visible;
             for (int c = 0; c < 3; c++)
-                p->value[c] /= M_PI * l->radius * l->radius;
+                p->value[c] /= M_PI * radius * radius;
         }
         break;
     case SCENE_LIGHT_SPOT:
         p->kind = PATHTRACE_LIGHT_SPOT;
-        p->cos_spot = cos(l->spot_angle_deg * M_PI / 180.0);
+        p->cos_spot = cos_spot;
         break;
     }
+}
+
+static void convert_light(const struct scene_light *l, struct pathtrace_light *p)
+{
+    double I[3];
+    for (int c = 0; c < 3; c++)
+        I[c] = l->color[c] * l->intensity;
+    scene_pathtrace_light(l->kind, l->position, l->direction, cos(l->spot_angle_deg * M_PI / 180.0),
+                          I, l->radius, l->camera_visible, p);
 }
 
 enum refract_code scene_pathtrace_init(const struct scene *s, scene_volume_lookup_fn lookup,

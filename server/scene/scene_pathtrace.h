@@ -28,6 +28,14 @@ struct scene_pathtrace {
  * points into it. */
 enum refract_code scene_pathtrace_init(const struct scene *s, scene_volume_lookup_fn lookup,
                                        void *ctx, struct scene_pathtrace *out, struct err *e);
+/* One light as the path tracer sees it: intensity (colour * intensity) I per channel; a
+ * point light with radius > 0 becomes the Lambertian sphere of the same far-field intensity
+ * (L_e = I / (pi r^2), docs/pathtracer.md "Lights"); cos_spot for spots. scene lights and
+ * the render requests' lights (render/photons_gpu.c) both go through it. */
+void scene_pathtrace_light(enum scene_light_kind kind, vec3 position, vec3 direction,
+                           double cos_spot, const double intensity[3], double radius, bool visible,
+                           struct pathtrace_light *p);
+
 /* The same without the environment's check (its light is not used: the photon map,
  * docs/photons.md, needs the surfaces, the receiver and the lights only). */
 enum refract_code scene_pathtrace_geometry(const struct scene *s, scene_volume_lookup_fn lookup,
