@@ -149,6 +149,8 @@
 #define LIGHT_MODE_OFF 0         /* the light contributes nothing (no volume yet) */
 #define LIGHT_MODE_VOLUME 1      /* E, l from the light's irradiance and direction volumes */
 #define LIGHT_MODE_DIRECT 2      /* unshadowed direct light (scenes without light simulation) */
+#define LIGHT_MODE_WALTER 3      /* in-scattering by walter2009's exact paths through the
+                                    sphere of march_lights.walter_sphere; elsewhere direct */
 /* The receiver reads a light's volume where it lies at least this many voxels inside the
  * light grid's x and z faces (the 2 pad voxels and LIGHTSIM_RECEIVER_MARGIN more), and the
  * light's closed form (light_direct) elsewhere (docs/lightsim.md "Domain"). */

@@ -17,6 +17,8 @@ float phase_hg(float g, float cos_theta)
     return (1.0 - g * g) / (4.0 * LIGHT_PI * d * sqrt(d));
 }
 
+#include "walter.glsl"
+
 // Smith's separable masking term G1 for GGX with a2 = alpha^2 at cosine c (brdf.c's twin).
 float brdf_smith_g1(float a2, float c)
 {
@@ -123,7 +125,8 @@ bool light_at(int j, vec3 x, out vec3 E, out vec3 l)
         E = light_sample_irradiance(j, u).rgb * lp.scale.rgb;
         return true;
     }
-    // Unshadowed direct light (scenes without light simulation).
+    // Unshadowed direct light (scenes without light simulation; LIGHT_MODE_WALTER outside
+    // its in-scattering).
     return light_direct(j, x, E, l);
 }
 
@@ -151,12 +154,37 @@ vec3 light_reflected(int obj, vec3 x, vec3 d, vec3 N, float R)
 
 // In-scattered radiance per unit length at x for view direction d (eq. 5.5 without the
 // transmittance): sigma_s sum_j p_HG(g, dot(l_j, -d)) E_j(x).
+// LIGHT_MODE_WALTER (lights.count.w = 1): the light reaches x, inside the sphere
+// lights.walter_sphere, by the exact refracted paths of walter2009 (walter.glsl); a light
+// inside the sphere shines on x straight, attenuated over the distance.
 vec3 light_inscatter(vec3 x, vec3 d, vec3 sigma_s, float g)
 {
     vec3 sum = vec3(0.0);
     for (int j = 0; j < MAX_LIGHTS; j++) {
         if (j >= lights.count.x)
             break;
+        light_params lp = lights.lights[j];
+        if (int(lp.scale.w) == LIGHT_MODE_WALTER) {
+            int kind = int(lp.position.w);
+            bool at_infinity = kind == LIGHT_KIND_DIRECTIONAL;
+            vec3 c = lights.walter_sphere.xyz;
+            float R = lights.walter_sphere.w;
+            vec3 sigma_t = lights.walter_medium.rgb;
+            if (!at_infinity && length(lp.position.xyz - c) < R) {
+                vec3 E, l;
+                if (light_direct(j, x, E, l))
+                    sum += phase_hg(g, dot(l, -d)) * E *
+                           exp(-sigma_t * length(x - lp.position.xyz));
+                continue;
+            }
+            float cos_spot = kind == LIGHT_KIND_SPOT ? lp.direction.w : -2.0;
+            sum += lp.scale.rgb *
+                   walter_sphere_inscatter(c, R, lights.walter_medium.w,
+                                           at_infinity ? lp.direction.xyz : lp.position.xyz,
+                                           at_infinity, x, d, g, sigma_t, lp.direction.xyz,
+                                           cos_spot);
+            continue;
+        }
         vec3 E, l;
         if (light_at(j, x, E, l))
             sum += phase_hg(g, dot(l, -d)) * E;

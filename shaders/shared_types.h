@@ -204,13 +204,17 @@ typedef struct light_params light_params;
 struct march_lights {
     ivec4 count;                  /* x: lights; y: 1 = receiver enabled; z: 1 = the receiver's
                                      caustics are photons (docs/photons.md): direct light by
-                                     shadow rays, the rest from the photon map */
+                                     shadow rays, the rest from the photon map; w: 1 = single
+                                     scattering by exact paths (LIGHT_MODE_WALTER) */
     vec4 receiver;                /* x: height (world y); y: half size (<= 0: the whole
                                      plane); zw: world x, z of the square's centre */
     vec4 receiver_albedo;         /* rgb: Lambertian reflectance */
     vec4 photon_grid;             /* x: the lattice spacing; y: the gather radius */
     ivec4 photon_dims;            /* x: hash slots (a power of two; 0: no photon landed);
                                      y: the longest probe sequence */
+    vec4 walter_sphere;           /* count.w = 1 (scene_walter_sphere): xyz the world centre,
+                                     w the radius of the sphere of LIGHT_MODE_WALTER */
+    vec4 walter_medium;           /* rgb: its sigma_t; w: its index over the ambient one */
     vec4 brdf[MAX_OBJECTS + MAX_SURFACES];       /* x: BRDF_*; y: GGX alpha (roughness^2);
                                                     z: Phong exponent. Objects, then surfaces
                                                     (slot MAX_OBJECTS + k) */

@@ -70,7 +70,7 @@ struct reftrace_object {
  * light_params, independent of the light simulator. */
 struct reftrace_light {
     int kind;                      /* LIGHT_KIND_* (shaders/bindings.h) */
-    int mode;                      /* LIGHT_MODE_OFF, _VOLUME, _DIRECT */
+    int mode;                      /* LIGHT_MODE_OFF, _VOLUME, _DIRECT, _WALTER */
     vec3 position, direction;      /* world; direction unit, the way light travels */
     double cos_spot;               /* spot: cos of the cone half angle */
     double scale[3];               /* colour * intensity */
@@ -105,6 +105,15 @@ struct reftrace_lighting {
      * indexed as `lights`). NULL: the receiver reads the lights' modes as usual. */
     const struct photon_grid *photons;
     const struct pathtrace_scene *photon_scene;
+    /* The sphere of the lights in LIGHT_MODE_WALTER (docs/walter.md; the GPU's
+     * lights.walter_sphere and walter_medium): in-scattering inside it by walter2009's exact
+     * refracted paths. */
+    struct reftrace_walter {
+        bool enabled;
+        vec3 center;
+        double radius, eta; /* eta: the medium's index over the ambient one */
+        double sigma_t[3];
+    } walter;
 };
 
 enum reftrace_stepper {

@@ -12,6 +12,7 @@
 #include "bindings.h"
 #include "phase.h"
 #include "smooth.h"
+#include "walter.h"
 
 bool reftrace_light_direct(const struct reftrace_light *l, vec3 x, vec3 *E, vec3 *dir)
 {
@@ -59,7 +60,8 @@ bool reftrace_light_at(const struct reftrace_light *l, vec3 x, vec3 *E, vec3 *di
         *E = vec3_mul((vec3){e[0], e[1], e[2]}, scale);
         return true;
     }
-    /* Unshadowed direct light (scenes without light simulation). */
+    /* Unshadowed direct light (scenes without light simulation; LIGHT_MODE_WALTER outside
+     * its in-scattering). */
     return reftrace_light_direct(l, x, E, dir);
 }
 
@@ -84,12 +86,51 @@ vec3 reftrace_light_reflected(const struct reftrace_lighting *lt, const struct b
     return vec3_scale(sum, R);
 }
 
+/* LIGHT_MODE_WALTER: sum over walter2009's exact paths through the sphere of p_HG E, E the
+ * path's irradiance (walter.h); a light inside the sphere shines on x straight, attenuated
+ * over the distance (lighting.glsl light_inscatter, walter.glsl). */
+static vec3 walter_inscatter(const struct reftrace_walter *w, const struct reftrace_light *l,
+                             vec3 x, vec3 toward_eye, double g)
+{
+    vec3 sum = {0, 0, 0};
+    bool at_infinity = l->kind == LIGHT_KIND_DIRECTIONAL;
+    vec3 scale = {l->scale[0], l->scale[1], l->scale[2]};
+    if (!at_infinity && vec3_length(vec3_sub(l->position, w->center)) < w->radius) {
+        vec3 E, dir;
+        if (reftrace_light_direct(l, x, &E, &dir)) {
+            double r = vec3_length(vec3_sub(x, l->position)),
+                   ph = phase_hg(g, vec3_dot(dir, toward_eye));
+            for (int c = 0; c < 3; c++)
+                vec3_set(&sum, c, ph * vec3_get(E, c) * exp(-w->sigma_t[c] * r));
+        }
+        return sum;
+    }
+    struct walter_path p[WALTER_MAX_PATHS];
+    int n =
+        walter_sphere_paths(w->center, w->radius, w->eta, at_infinity ? l->direction : l->position,
+                            at_infinity, x, p, WALTER_MAX_PATHS);
+    for (int k = 0; k < n; k++) {
+        if (l->kind == LIGHT_KIND_SPOT &&
+            vec3_dot(vec3_scale(p[k].omega_L, -1.0), l->direction) < l->cos_spot)
+            continue;
+        double ph = phase_hg(g, vec3_dot(p[k].omega_V, toward_eye)) * p[k].gain;
+        for (int c = 0; c < 3; c++)
+            vec3_set(&sum, c,
+                     vec3_get(sum, c) + ph * vec3_get(scale, c) * exp(-w->sigma_t[c] * p[k].d_V));
+    }
+    return sum;
+}
+
 vec3 reftrace_light_inscatter(const struct reftrace_lighting *lt, vec3 x, vec3 d, vec3 sigma_s,
                               double g)
 {
     vec3 sum = {0, 0, 0};
     vec3 toward_eye = vec3_scale(d, -1.0);
     for (int j = 0; j < lt->count && j < MAX_LIGHTS; j++) {
+        if (lt->lights[j].mode == LIGHT_MODE_WALTER && lt->walter.enabled) {
+            sum = vec3_add(sum, walter_inscatter(&lt->walter, &lt->lights[j], x, toward_eye, g));
+            continue;
+        }
         vec3 E, l;
         if (reftrace_light_at(&lt->lights[j], x, &E, &l))
             sum = vec3_madd(sum, E, phase_hg(g, vec3_dot(l, toward_eye)));

@@ -53,7 +53,7 @@ _Static_assert(sizeof(struct trace_hit_out) == 64, "trace_hit_out layout");
 _Static_assert(sizeof(struct trace_event_out) == 64, "trace_event_out layout");
 _Static_assert(RENDER_TRACE_MAX_EVENTS == TRACE_MAX_EVENTS, "events per traced ray");
 _Static_assert(sizeof(struct light_params) == 5 * 16, "light_params layout");
-_Static_assert(sizeof(struct march_lights) == 5 * 16 + 2 * (MAX_OBJECTS + MAX_SURFACES) * 16 +
+_Static_assert(sizeof(struct march_lights) == 7 * 16 + 2 * (MAX_OBJECTS + MAX_SURFACES) * 16 +
                                                   MAX_LIGHTS * sizeof(struct light_params),
                "march_lights layout");
 _Static_assert(MAX_LIGHTS == SCENE_MAX_LIGHTS, "one light slot per scene light");
@@ -76,8 +76,7 @@ struct render *render_create(struct gpu *gpu, const struct render_desc *desc, st
     r->all_variant_bits = desc->all_variant_bits;
     /* On Mesa's software device the CPU threads trace photons faster than llvmpipe's compute
      * shader (scene A, 2^20 photons: 0.25 s against 0.72 s; docs/photons.md). */
-    r->photons_on_cpu =
-        desc->photons_on_cpu || strcmp(gpu_info(gpu)->device_kind, "software") == 0;
+    r->photons_on_cpu = desc->photons_on_cpu || strcmp(gpu_info(gpu)->device_kind, "software") == 0;
     r->skip_cell_voxels = desc->skip_cell_voxels;
     r->budget_bytes = desc->scene_budget_bytes ? desc->scene_budget_bytes : (size_t)2 << 30;
     if (gpu_buffer_create("march params", sizeof(struct march_params), NULL, &r->params_ubo, e) !=
@@ -261,10 +260,17 @@ static void fill_lights(struct march_lights *ml, const struct scene *s,
 {
     memset(ml, 0, sizeof *ml);
     bool needs_sim = scene_needs_light_simulation(s);
+    struct scene_walter wa;
+    bool walter = scene_walter_sphere(s, &wa);
     int count = req->light_count < MAX_LIGHTS ? req->light_count : MAX_LIGHTS;
     if (count < 0 || req->lights == NULL)
         count = 0;
-    ml->count = (ivec4){count, s->receiver.enabled ? 1 : 0, 0, 0};
+    ml->count = (ivec4){count, s->receiver.enabled ? 1 : 0, 0, walter ? 1 : 0};
+    if (walter) { /* docs/walter.md */
+        ml->walter_sphere = v4(wa.center, wa.radius);
+        ml->walter_medium =
+            (vec4){(float)wa.sigma_t[0], (float)wa.sigma_t[1], (float)wa.sigma_t[2], (float)wa.eta};
+    }
     const struct scene_receiver *rc = &s->receiver;
     ml->receiver = (vec4){(float)rc->height, isinf(rc->half_size) ? -1.0f : (float)rc->half_size,
                           (float)rc->center[0], (float)rc->center[1]};
@@ -285,7 +291,10 @@ static void fill_lights(struct march_lights *ml, const struct scene *s,
     for (int j = 0; j < count; j++) {
         const struct render_light *l = &req->lights[j];
         struct light_params *lp = &ml->lights[j];
-        int mode = l->volume ? LIGHT_MODE_VOLUME : needs_sim ? LIGHT_MODE_OFF : LIGHT_MODE_DIRECT;
+        int mode = l->volume   ? LIGHT_MODE_VOLUME
+                   : walter    ? LIGHT_MODE_WALTER
+                   : needs_sim ? LIGHT_MODE_OFF
+                               : LIGHT_MODE_DIRECT;
         lp->position = v4(l->position, (double)l->kind);
         lp->direction = v4(l->direction, l->cos_spot);
         lp->scale = (vec4){(float)l->scale[0], (float)l->scale[1], (float)l->scale[2], (float)mode};

@@ -312,12 +312,27 @@ struct scene {
 bool scene_surface_scatters(const struct scene_surface *sf);
 
 /* True when some object scatters (a SCENE_CH_SCATTERING field), some surface's medium
- * scatters (scene_surface_scatters) or a receiver is enabled:
+ * scatters (scene_surface_scatters; not when scene_walter_sphere holds) or a receiver with
+ * "volume" caustics is enabled:
  * only then does the scene need irradiance volumes (tevs2007 sect. 1.2: model only what a
  * scene needs). Defined by the scene's transport alone, not by its lights: a scene that
  * needs light simulation but has no lights simply has nothing to simulate yet (lights
  * come and go with PUT .../lights without changing the answer). */
 bool scene_needs_light_simulation(const struct scene *s);
+
+/* The sphere whose medium's single scattering comes from exact refracted paths (walter2009,
+ * core/walter.h; docs/walter.md "When"): a scene of one exact sphere whose constant medium
+ * scatters, no voxel object and no receiver. Then every light reaches the medium through
+ * that one boundary only, the fast renderer's lights use LIGHT_MODE_WALTER and no light
+ * simulation is needed. Returns false otherwise; w may be NULL. */
+struct scene_walter {
+    int surface;       /* index into scene.surfaces */
+    vec3 center;       /* world */
+    double radius;     /* world */
+    double eta;        /* the medium's index over the ambient one */
+    double sigma_t[3]; /* sigma_a + sigma_s per world unit */
+};
+bool scene_walter_sphere(const struct scene *s, struct scene_walter *w);
 
 /* FNV-1a 64 over everything that affects light transport (docs/lightsim.md, the irradiance
  * cache key): ambient_ior, each object's bounds, resolution, transform, smoothing, opaque_ior

@@ -34,6 +34,8 @@ bool scene_needs_light_simulation(const struct scene *s)
 {
     if (s->receiver.enabled && s->receiver.caustics == SCENE_CAUSTICS_VOLUME)
         return true; /* photons: shadow rays and the photon map (docs/photons.md) */
+    if (scene_walter_sphere(s, NULL))
+        return false; /* exact single-scattering paths (docs/walter.md) */
     for (size_t i = 0; i < s->object_count; i++) {
         if (scene_channel_used(&s->objects[i], SCENE_CH_SCATTERING))
             return true;

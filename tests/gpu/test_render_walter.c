@@ -1,0 +1,178 @@
+/*
+ * test_render_walter.c - single scattering by walter2009's exact paths (docs/walter.md) in
+ * the view renderer (LIGHT_MODE_WALTER: shaders/walter.glsl in lighting.glsl's
+ * light_inscatter) against the CPU double reference (reftrace with
+ * reftrace_lighting.walter: core/walter.c), pixel by pixel:
+ *   1. peer scene B at 80 x 60: a scattering glass ball lit from behind by a point light;
+ *   2. an air bubble (index 1 in water of 1.33, eta < 1) holding a forward-scattering
+ *      mist (g 0.6), under a spot light and a directional light;
+ *   3. a light inside the ball (straight, attenuated light; no boundary to cross).
+ * The scenes need no light simulation, and the in-scattered light must matter (the image
+ * without it, lights off, is darker).
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/env.h"
+#include "core/reftrace_light.h"
+#include "gpu/queue.h"
+#include "render/render.h"
+#include "scene/scene.h"
+#include "scene/scene_reference.h"
+#include "gpu_test_util.h"
+#include "unit/scene_test_util.h"
+#include "test.h"
+
+struct walter_work {
+    struct gpu_work work;
+    const struct scene *scene;
+    struct render_view_result out;
+};
+
+static void render_run(struct gpu_work *w, struct gpu *gpu)
+{
+    struct walter_work *ww = w->user;
+    const struct scene *s = ww->scene;
+    struct render_desc desc = {0};
+    struct render *r = render_create(gpu, &desc, &w->err);
+    if (r == NULL)
+        return;
+    struct render_light rl[SCENE_MAX_LIGHTS];
+    for (size_t j = 0; j < s->light_count; j++) {
+        const struct scene_light *l = &s->lights[j];
+        rl[j] =
+            (struct render_light){.kind = l->kind,
+                                  .position = l->position,
+                                  .direction = l->direction,
+                                  .cos_spot = cos(l->spot_angle_deg * M_PI / 180.0),
+                                  .scale = {l->color[0] * l->intensity, l->color[1] * l->intensity,
+                                            l->color[2] * l->intensity},
+                                  .radius = l->radius,
+                                  .camera_hidden = !l->camera_visible};
+    }
+    struct render_scene_source src = {.id = "walter", .generation = 1, .scene = s};
+    struct render_view_request req = {.camera = s->camera,
+                                      .settings = s->render,
+                                      .lights = rl,
+                                      .light_count = (int)s->light_count};
+    render_view(r, &src, &req, &ww->out, &w->err);
+    render_destroy(r);
+}
+
+static void compare(struct gpu *gpu, const char *name, const char *doc)
+{
+    struct scene *s = parse_ok(doc);
+    struct scene_walter wa;
+    CHECK(scene_walter_sphere(s, &wa));
+    CHECK(!scene_needs_light_simulation(s));
+    struct walter_work ww = {.scene = s};
+    ww.work =
+        (struct gpu_work){.priority = GPU_PRIORITY_INTERACTIVE, .run = render_run, .user = &ww};
+    CHECK_INT(gpu_run_sync(gpu, &ww.work), REFRACT_E_OK);
+    if (ww.out.rgba == NULL) {
+        fprintf(stderr, "%s: no image: %s\n", name, ww.work.err.msg);
+        CHECK(false);
+        scene_destroy(s);
+        return;
+    }
+    struct scene_reference ref;
+    struct err e = {0};
+    CHECK_INT(scene_reference_build(s, SCENE_REFERENCE_VOXELS, NULL, NULL, &ref, &e), REFRACT_E_OK);
+    struct reftrace_light rl[SCENE_MAX_LIGHTS];
+    for (size_t j = 0; j < s->light_count; j++) {
+        const struct scene_light *l = &s->lights[j];
+        rl[j] = (struct reftrace_light){.kind = (int)l->kind,
+                                        .mode = LIGHT_MODE_WALTER,
+                                        .position = l->position,
+                                        .direction = l->direction,
+                                        .cos_spot = cos(l->spot_angle_deg * M_PI / 180.0),
+                                        .scale = {l->color[0] * l->intensity,
+                                                  l->color[1] * l->intensity,
+                                                  l->color[2] * l->intensity},
+                                        .radius = l->radius,
+                                        .camera_hidden = !l->camera_visible};
+    }
+    struct reftrace_lighting lt = {
+        .lights = rl,
+        .count = (int)s->light_count,
+        .walter = {
+            true, wa.center, wa.radius, wa.eta, {wa.sigma_t[0], wa.sigma_t[1], wa.sigma_t[2]}}};
+    struct reftrace_lighting dark = {0};
+    struct reftrace_settings unlit = ref.settings;
+    ref.settings.lighting = &lt;
+    unlit.lighting = &dark;
+    const struct scene_camera *cam = &s->camera;
+    int w = ww.out.width, h = ww.out.height, total = w * h, close = 0;
+    double sum_diff = 0.0, sum_ref = 0.0, sum_unlit = 0.0;
+    for (int row = 0; row < h; row++) {
+        for (int col = 0; col < w; col++) {
+            vec3 o, dir;
+            camera_ray(cam->eye, cam->look_at, cam->up, cam->fov_y_deg, w, h, col, row, &o, &dir);
+            struct reftrace_result r, r0;
+            reftrace_ray(ref.objects, ref.count, &ref.settings, o, dir, &r);
+            reftrace_ray(ref.objects, ref.count, &unlit, o, dir, &r0);
+            const float *g = &ww.out.rgba[(row * w + col) * 4];
+            double want[3] = {r.radiance.x, r.radiance.y, r.radiance.z};
+            double base[3] = {r0.radiance.x, r0.radiance.y, r0.radiance.z};
+            bool ok = true;
+            for (int k = 0; k < 3; k++) {
+                double diff = fabs(g[k] - want[k]);
+                sum_diff += diff;
+                sum_ref += fabs(want[k]);
+                sum_unlit += fabs(base[k]);
+                ok = ok && diff <= 2e-3 * (1e-3 + fabs(want[k]));
+            }
+            close += ok;
+            if (!ok && getenv("REFRACT_TEST_VERBOSE"))
+                fprintf(stderr, "  %s (%d,%d): gpu %.6f %.6f %.6f ref %.6f %.6f %.6f\n", name, col,
+                        row, g[0], g[1], g[2], want[0], want[1], want[2]);
+        }
+    }
+    printf("%-26s %dx%d: %5.1f%% of pixels within 2e-3 relative; mean |diff| %.2e of mean "
+           "radiance %.4f (%.4f without the lights' in-scattering)\n",
+           name, w, h, 100.0 * close / total, sum_diff / (3.0 * total), sum_ref / (3.0 * total),
+           sum_unlit / (3.0 * total));
+    CHECK_MSG(sum_ref > 1.5 * sum_unlit + 1e-6, "%s: the in-scattering adds too little (%g, %g)",
+              name, sum_ref, sum_unlit);
+    CHECK_MSG(close >= 0.97 * total, "%s: only %d of %d pixels within 2e-3", name, close, total);
+    CHECK_MSG(sum_diff < 1e-3 * sum_ref, "%s: mean difference %g of %g", name, sum_diff, sum_ref);
+    scene_reference_free(&ref);
+    free(ww.out.rgba);
+    scene_destroy(s);
+}
+
+int main(void)
+{
+    struct gpu *gpu = test_gpu_create("test_render_walter");
+    compare(gpu, "peer scene B",
+            "{\"camera\": {\"eye\": [0, 2.5, 7], \"look_at\": [0, -0.5, 0], \"fov_y_deg\": 35, "
+            "\"width\": 80, \"height\": 60}, \"environment\": {\"intensity\": 0}, "
+            "\"lights\": [{\"type\": \"point\", \"position\": [0, 1, -5], \"intensity\": 79.5775, "
+            "\"radius\": 0.1, \"camera_visible\": false}], "
+            "\"surfaces\": [{\"shape\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 1, "
+            "\"medium\": {\"ior\": 1.5, \"attenuation\": [0.05, 0.05, 0.05], "
+            "\"scattering\": [0.5, 0.5, 0.5], \"anisotropy\": 0}}]}");
+    compare(
+        gpu, "air bubble in water",
+        "{\"ambient_ior\": 1.33, \"camera\": {\"eye\": [0.5, 0.8, 3], \"look_at\": [0, 0, 0], "
+        "\"fov_y_deg\": 40, \"width\": 64, \"height\": 48}, "
+        "\"environment\": {\"intensity\": 0.005}, "
+        "\"lights\": [{\"type\": \"spot\", \"position\": [1.5, 2.5, 0.5], "
+        "\"direction\": [-0.5, -1, -0.2], \"angle_deg\": 25, \"intensity\": 12, "
+        "\"color\": [1, 0.8, 0.6]}, {\"type\": \"directional\", \"direction\": [0.3, -0.2, -1], "
+        "\"intensity\": 0.7}], "
+        "\"surfaces\": [{\"shape\": \"sphere\", \"center\": [0.1, 0, -0.2], \"radius\": 0.7, "
+        "\"medium\": {\"ior\": 1.0, \"attenuation\": [0.1, 0.2, 0.3], "
+        "\"scattering\": [0.8, 0.6, 0.4], \"anisotropy\": 0.6}}]}");
+    compare(gpu, "lamp inside the ball",
+            "{\"camera\": {\"eye\": [0, 1, 4], \"look_at\": [0, 0, 0], \"fov_y_deg\": 40, "
+            "\"width\": 48, \"height\": 36}, \"environment\": {\"intensity\": 0}, "
+            "\"lights\": [{\"type\": \"point\", \"position\": [0.2, 0.1, 0], \"intensity\": 3}], "
+            "\"surfaces\": [{\"shape\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 1, "
+            "\"medium\": {\"ior\": 1.5, \"attenuation\": [0.2, 0.2, 0.2], "
+            "\"scattering\": [0.6, 0.6, 0.6], \"anisotropy\": -0.3}}]}");
+    gpu_destroy(gpu, NULL);
+    return test_summary("render_walter");
+}
