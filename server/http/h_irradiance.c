@@ -33,6 +33,9 @@ cJSON *http_irradiance_status(const struct http_app *app, struct store_scene *v)
     const struct scene_receiver *rc = &v->scene->receiver;
     cJSON_AddStringToObject(root, "caustics",
                             !rc->enabled ? "none" : scene_caustics_words[rc->caustics]);
+    /* How scattering media get light (docs/walter.md "When"): "walter" (exact paths through
+     * the sphere, no volume), "volume" or "none" (nothing scatters). */
+    cJSON_AddStringToObject(root, "single_scattering", scene_single_scattering_method(v->scene));
     add_hex(root, "transport_hash", irradiance_transport_hash(&src));
     cJSON_AddNumberToObject(root, "generation", (double)v->generation);
     cJSON *arr = cJSON_AddArrayToObject(root, "lights");

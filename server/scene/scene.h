@@ -334,6 +334,11 @@ struct scene_walter {
 };
 bool scene_walter_sphere(const struct scene *s, struct scene_walter *w);
 
+/* How the scene's scattering media get their single scattering, for the scene status:
+ * "walter" (scene_walter_sphere), "volume" (the light simulator's irradiance volumes) or
+ * "none" (nothing scatters). */
+const char *scene_single_scattering_method(const struct scene *s);
+
 /* FNV-1a 64 over everything that affects light transport (docs/lightsim.md, the irradiance
  * cache key): ambient_ior, each object's bounds, resolution, transform, smoothing, opaque_ior
  * and its ior, attenuation, scattering and opaque layers (uploaded volumes by name, scale and

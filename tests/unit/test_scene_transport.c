@@ -267,10 +267,21 @@ static void needs_light_simulation_for_scattering_or_a_receiver(void)
          "\"scattering\": {\"shape\": \"box\", \"size\": [0.1, 0.1, 0.1], \"inside\": 0}}]}",
          true},
         /* a surface's constant medium that scatters (docs/tracing.md "Scattering inside
-         * surfaces"); one that only absorbs does not */
-        {"{\"surfaces\": [{\"shape\": \"sphere\", \"radius\": 1, \"medium\": {\"ior\": 1.5, "
+         * surfaces"); one that only absorbs does not; a lone scattering sphere gets exact
+         * single scattering instead (docs/walter.md "When") */
+        {"{\"surfaces\": [{\"shape\": \"box\", \"size\": [1, 1, 1], \"medium\": {\"ior\": 1.5, "
          "\"scattering\": [0, 0.5, 0]}}]}",
          true},
+        {"{\"surfaces\": [{\"shape\": \"sphere\", \"radius\": 1, \"medium\": {\"ior\": 1.5, "
+         "\"scattering\": [0, 0.5, 0]}}]}",
+         false},
+        {"{\"surfaces\": [{\"shape\": \"sphere\", \"radius\": 1, \"medium\": {\"ior\": 1.5, "
+         "\"scattering\": [0, 0.5, 0]}}, {\"shape\": \"sphere\", \"center\": [3, 0, 0], "
+         "\"radius\": 1, \"medium\": {\"ior\": 1.5}}]}",
+         true},
+        {"{\"receiver\": {\"height\": -2, \"caustics\": \"photons\"}, \"surfaces\": [{\"shape\": "
+         "\"sphere\", \"radius\": 1, \"medium\": {\"ior\": 1.5}}]}",
+         false},
         {"{\"surfaces\": [{\"shape\": \"sphere\", \"radius\": 1, \"medium\": {\"ior\": 1.5, "
          "\"attenuation\": [1, 1, 1], \"anisotropy\": 0.5}}]}",
          false},
