@@ -3,6 +3,8 @@
  *   - the spread D against the paper's closed forms on a flat interface (normal incidence
  *     (d_V + eta d_L)^2, oblique eq. 18) and against a ray bundle traced through the
  *     exact sphere with Snell's law (finite differences), for point and directional lights;
+ *   - the irradiance eta^2 T / D with extinction against the fluence of a ray bundle traced
+ *     by Snell's law and Fresnel alone (track lengths in a small ball);
  *   - the sphere's 1D search finds what a dense scan of the same circle finds, on random
  *     point pairs (eta 1.5 and an air bubble's 1 / 1.33);
  *   - the guarantee on a bumpy sphere (walter2009 fig. 7's model, position-normal
@@ -151,6 +153,80 @@ static void sphere_spread_matches_ray_bundle(void)
         }
     }
     CHECK(checked > 300);
+}
+
+/* ---- the radiometry against a ray bundle's fluence ---- */
+
+/* The fluence (scalar irradiance) at V, a point light's rays refracted into the sphere,
+ * by the track-length estimator: rays from L, stratified over the cone that holds the
+ * sphere, carry power I domega T exp(-sigma_t s) into the medium; the mean chord length
+ * inside a small ball of radius eps around V over its volume is the fluence. Nothing of
+ * walter.c is used: Snell by snell_refract, Fresnel by fresnel_unpolarized. */
+static double bundle_fluence(vec3 c, double R, double eta, double sigma_t, vec3 L, vec3 V,
+                             double eps, int n_side)
+{
+    vec3 axis = vec3_normalize(vec3_sub(c, L));
+    double dl = vec3_length(vec3_sub(c, L)), cos_max = sqrt(1.0 - R * R / (dl * dl));
+    vec3 e1, e2;
+    vec3 a = fabs(axis.x) < 0.6 ? vec3_make(1, 0, 0) : vec3_make(0, 1, 0);
+    e1 = vec3_normalize(vec3_madd(a, axis, -vec3_dot(a, axis)));
+    e2 = vec3_cross(axis, e1);
+    double omega = 2.0 * M_PI * (1.0 - cos_max), dw = omega / ((double)n_side * n_side);
+    double sum = 0.0;
+    uint64_t s = 77;
+    for (int i = 0; i < n_side; i++)
+        for (int j = 0; j < n_side; j++) {
+            double u = (i + rnd(&s)) / n_side, v = (j + rnd(&s)) / n_side;
+            double ct = 1.0 - u * (1.0 - cos_max), st = sqrt(fmax(0.0, 1.0 - ct * ct));
+            double ph = 2.0 * M_PI * v;
+            vec3 d = vec3_add(vec3_scale(axis, ct),
+                              vec3_add(vec3_scale(e1, st * cos(ph)), vec3_scale(e2, st * sin(ph))));
+            vec3 o = vec3_sub(L, c);
+            double b = vec3_dot(o, d), cc = vec3_dot(o, o) - R * R, disc = b * b - cc;
+            if (disc <= 0.0)
+                continue;
+            double t = -b - sqrt(disc);
+            vec3 P = vec3_madd(L, d, t), N = vec3_scale(vec3_sub(P, c), 1.0 / R), w;
+            double T = 1.0 - fresnel_unpolarized(fabs(vec3_dot(d, N)), 1.0, eta);
+            if (!snell_refract(d, N, 1.0, eta, &w))
+                continue;
+            /* the chord of the small ball around V along P + s w */
+            vec3 q = vec3_sub(P, V);
+            double qb = vec3_dot(q, w), qc = vec3_dot(q, q) - eps * eps, qd = qb * qb - qc;
+            if (qd <= 0.0)
+                continue;
+            double s0 = -qb - sqrt(qd), s1 = -qb + sqrt(qd);
+            if (s0 < 0.0)
+                continue; /* V's ball must lie ahead, inside the medium */
+            /* power I dw T; extinction exp(-sigma_t s) integrated over the chord */
+            double track = (exp(-sigma_t * s0) - exp(-sigma_t * s1)) / sigma_t;
+            sum += dw * T * track;
+        }
+    return sum / (4.0 / 3.0 * M_PI * eps * eps * eps);
+}
+
+static void sphere_fluence_matches_ray_bundle(void)
+{
+    const vec3 c = {0, 0, 0};
+    const double R = 1.0, sigma_t = 0.55;
+    const vec3 L = {0, 1, -5};
+    const vec3 Vs[4] = {{0, 0, 0}, {0.3, -0.2, 0.5}, {-0.2, 0.3, -0.4}, {-0.1, -0.35, 0.6}};
+    const double etas[2] = {1.5, 1.0 / 1.33};
+    int n_side = test_sanitized() ? 600 : 2000;
+    for (int k = 0; k < 2; k++)
+        for (int i = 0; i < 4; i++) {
+            struct walter_path p[WALTER_MAX_PATHS];
+            int n = walter_sphere_paths(c, R, etas[k], L, false, Vs[i], p, WALTER_MAX_PATHS);
+            double phi = 0.0;
+            for (int j = 0; j < n; j++)
+                phi += p[j].gain * exp(-sigma_t * p[j].d_V);
+            double b = bundle_fluence(c, R, etas[k], sigma_t, L, Vs[i], 0.02, n_side);
+            printf("fluence at (%g, %g, %g), eta %.3f: %d paths %.6f, ray bundle %.6f (%+.2f%%)\n",
+                   Vs[i].x, Vs[i].y, Vs[i].z, etas[k], n, phi, b, 100.0 * (b / phi - 1.0));
+            CHECK(n >= 1);
+            CHECK_MSG(fabs(b / phi - 1.0) < (test_sanitized() ? 0.08 : 0.03),
+                      "fluence %.6f by the paths, %.6f by the bundle", phi, b);
+        }
 }
 
 /* ---- the sphere's search against a dense scan ---- */
@@ -401,6 +477,7 @@ int main(void)
 {
     timed("flat", flat_spread_matches_closed_forms);
     timed("bundle", sphere_spread_matches_ray_bundle);
+    timed("fluence", sphere_fluence_matches_ray_bundle);
     timed("sphere search", sphere_search_finds_every_path);
     timed("tessellated", tessellated_sphere_matches_exact);
     timed("bumpy", bumpy_sphere_guarantee);
