@@ -32,6 +32,10 @@
  * writes the best setting's picture as linear floats (image_accuracy_<scene>_fast.rgba32f:
  * width x height RGBA, rows top down, host byte order) for analyses of one's own.
  *
+ * --ref-plain makes the references without walter2009's exact connections in the path
+ * tracer (pathtrace_scene.walter, docs/walter.md "In the path tracer"), the plain
+ * unidirectional estimator; references made with them are cached under a "-w" name.
+ *
  * --no-highlights sets every object's and surface's `brdf` to "none" in the fast renderer:
  * its highlights of the `lights` (tevs2007 eq. 5.6) have no counterpart in the reference,
  * which treats a smooth interface as the perfect mirror it is (a point light's reflection
@@ -76,6 +80,7 @@ struct options {
     int ref_max_scatter; /* > 0: a second reference with at most this many scatterings */
     double mask_above;   /* > 0: the extra figures leave out pixels brighter in the reference */
     bool raw;            /* also write the best picture as linear floats */
+    bool ref_plain;      /* references without walter2009's exact connections */
     bool no_highlights;  /* every object's and surface's brdf "none" in the fast renderer */
     const char *cache, *out, *images;
     struct setting settings[MAX_SETTINGS];
@@ -99,8 +104,13 @@ static bool reference(const struct options *o, const char *text, size_t len, str
 {
     char path[1024];
     char limit[32] = "";
+    struct scene_walter wa;
+    bool walter = !o->ref_plain && scene_walter_sphere(s, &wa);
+    /* "-w": made with the exact connections (pathtrace_scene.walter); "-sN": N scatterings */
     if (max_scatter > 0)
-        snprintf(limit, sizeof limit, "-s%d", max_scatter);
+        snprintf(limit, sizeof limit, "%s-s%d", walter ? "-w" : "", max_scatter);
+    else if (walter)
+        snprintf(limit, sizeof limit, "-w");
     snprintf(path, sizeof path, "%s/%016llx-%dx%d-%d%s.ref", o->cache,
              (unsigned long long)fnv1a(text, len), w, h, o->ref_samples, limit);
     size_t n = (size_t)w * h * 3;
@@ -121,6 +131,8 @@ static bool reference(const struct options *o, const char *text, size_t len, str
         return false;
     }
     pt.scene.max_scatter = max_scatter;
+    if (o->ref_plain)
+        pt.scene.walter.enabled = false;
     const struct scene_camera *c = &s->camera;
     struct pathtrace_camera cam = {c->eye, c->look_at, c->up, c->fov_y_deg, w, h};
     struct pathtrace_image img;
@@ -384,6 +396,8 @@ int main(int argc, char **argv)
         } else if (!strcmp(a, "--ref-max-scatter") && v) {
             o.ref_max_scatter = atoi(v);
             i++;
+        } else if (!strcmp(a, "--ref-plain")) {
+            o.ref_plain = true;
         } else if (!strcmp(a, "--raw")) {
             o.raw = true;
         } else if (!strcmp(a, "--no-highlights")) {

@@ -573,6 +573,17 @@ void march_through_object(inout march_state s, int obj, vec3 p, vec3 q)
 #if MARCH_SURFACES
 // ---- exact surfaces (docs/tracing.md "Surfaces"); twin: server/core/reftrace.c ----
 
+// The view ray's first internal reflection in a walter scene's scattering medium
+// (docs/walter.md "The view ray's reflection"; reftrace.c struct march_deferred): recorded
+// by march_surface_event when march_defer_ok, traced by the caller as a second ray from
+// march_start_surface's primitive march_start_prim, its radiance times march_defer_w.
+bool march_defer_ok = false;
+bool march_deferred = false;
+vec3 march_defer_x, march_defer_d, march_defer_w;
+uint march_defer_inside;
+int march_defer_surface, march_defer_prim;
+int march_start_surface = -1, march_start_prim = -1;
+
 // A hit this close (relative to a surface's size) on a surface other than the one just
 // left is a real crossing; the one just left is searched from surfaces[k].medium.z on.
 const float MARCH_SURFACE_EPS_OTHER = 1e-7;
@@ -680,7 +691,21 @@ void march_surface_event(inout march_state s, inout uint inside, int k, geom_hit
         s.d = ev.reflected;
         return;
     }
-    march_add_reflection(s, ev.R, s.x, ev.reflected);
+#if MARCH_RADIANCE && MARCH_LIGHTS && MARCH_SCATTERING
+    if (march_defer_ok && !march_deferred && lights.count.w == 1 && from >= 0 && ev.R > 0.0 &&
+        any(greaterThan(surfaces[from].scattering.rgb, vec3(0.0)))) {
+        // Leaving a walter scene's scattering medium: the reflected ray runs back through
+        // it, gathering in-scattered light.
+        march_deferred = true;
+        march_defer_x = s.x;
+        march_defer_d = ev.reflected;
+        march_defer_w = s.t_f * exp(-s.alpha) * ev.R;
+        march_defer_inside = inside;
+        march_defer_surface = k;
+        march_defer_prim = h.prim;
+    } else
+#endif
+        march_add_reflection(s, ev.R, s.x, ev.reflected);
 #if MARCH_RADIANCE && MARCH_LIGHTS
     // The lights' reflected radiance (eq. 5.6/5.8) with the surface's BRDF, in its slot
     // after the objects' (render.c fill_lights).
@@ -718,7 +743,7 @@ march_state march_ray(vec3 origin, vec3 dir, uint inside)
     int max_passes = 4 * MAX_OBJECTS + 64;
 #if MARCH_SURFACES
     max_passes += params.settings_i.y; // a surface event counts as a step
-    int last_surface = -1, last_prim = -1;
+    int last_surface = march_start_surface, last_prim = march_start_prim;
     float min_throughput = params.settings_f3.x;
 #endif
     for (int pass = 0; pass < max_passes && s.status == RAY_STATUS_RUNNING; pass++) {

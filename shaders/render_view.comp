@@ -45,8 +45,23 @@ void main()
                                         params.eye.w, params.forward.w, float(px.x) + o.x - 0.5,
                                         float(px.y) + o.y - 0.5, float(params.image.x),
                                         float(params.image.y));
+#if MARCH_SURFACES
+        march_defer_ok = true;
+        march_deferred = false;
+#endif
         march_state s = march_ray(params.eye.xyz, dir, uint(params.surfaces.y));
         sum += s.L;
+#if MARCH_SURFACES
+        if (march_deferred) { // the internal reflection (docs/walter.md)
+            march_defer_ok = false;
+            march_start_surface = march_defer_surface;
+            march_start_prim = march_defer_prim;
+            march_state r = march_ray(march_defer_x, march_defer_d, march_defer_inside);
+            sum += march_defer_w * r.L;
+            march_start_surface = -1;
+            march_start_prim = -1;
+        }
+#endif
     }
     uint at = uint((px.y - params.image.z) * params.image.x + px.x);
     vec4 part = vec4(sum / float(n), 1.0);

@@ -15,6 +15,7 @@
 #include "env.h"
 #include "interface.h"
 #include "phase.h"
+#include "walter.h"
 
 enum hit_kind { HIT_NONE = 0, HIT_SURFACE, HIT_RECEIVER, HIT_LIGHT };
 
@@ -38,6 +39,9 @@ struct pt_state {
     int last_surface; /* the surface o lies on (-1: none), for mesh self-hits */
     int64_t last_prim;
     int scatters; /* medium scattering events so far (pathtrace_scene.max_scatter) */
+    int walter;   /* 1: the last event scattered in the walter medium (exact connections
+                     made there); 2: then refracted out of it: a small light met now was
+                     counted by those connections (pathtrace_scene.walter) */
 };
 
 static double eps_at(vec3 p)
@@ -161,6 +165,52 @@ static void next_event(const struct pathtrace_scene *s, const struct pt_state *s
     }
 }
 
+bool pathtrace_walter_light(const struct pathtrace_scene *s, int k)
+{
+    const struct pathtrace_light *l = &s->lights[k];
+    if (!s->walter.enabled)
+        return false;
+    if (l->kind == PATHTRACE_LIGHT_DIRECTIONAL)
+        return true;
+    double d = vec3_length(vec3_sub(l->position, s->walter.center));
+    if (d <= s->walter.radius)
+        return false; /* inside: shadow rays reach the medium */
+    return l->kind != PATHTRACE_LIGHT_SPHERE || l->radius <= 0.02 * d;
+}
+
+/* Exact connections from the walter medium's vertex p to every small light (walter.h):
+ * per path the irradiance I T eta^2 / D exp(-sigma_t d_V), divided by eta^2 since path
+ * radiance here is not scaled by n^2 across interfaces (camera and lights outside: the
+ * factors cancel), times the phase function toward the camera path. */
+static void walter_next_event(const struct pathtrace_scene *s, const struct pt_state *st, vec3 p,
+                              double g, double L[3])
+{
+    const struct pathtrace_walter *w = &s->walter;
+    const struct pathtrace_medium *m = &s->surfaces[w->surface].medium;
+    for (int k = 0; k < s->light_count; k++) {
+        if (!pathtrace_walter_light(s, k))
+            continue;
+        const struct pathtrace_light *l = &s->lights[k];
+        bool inf = l->kind == PATHTRACE_LIGHT_DIRECTIONAL;
+        double I[3];
+        for (int c = 0; c < 3; c++) /* a sphere lamp's far field: L_e pi r^2 */
+            I[c] = l->kind == PATHTRACE_LIGHT_SPHERE ? l->value[c] * M_PI * l->radius * l->radius
+                                                     : l->value[c];
+        struct walter_path wp[WALTER_MAX_PATHS];
+        int n = walter_sphere_paths(w->center, w->radius, w->eta, inf ? l->direction : l->position,
+                                    inf, p, wp, WALTER_MAX_PATHS);
+        for (int j = 0; j < n; j++) {
+            if (l->kind == PATHTRACE_LIGHT_SPOT &&
+                vec3_dot(vec3_scale(wp[j].omega_L, -1.0), l->direction) < l->cos_spot)
+                continue;
+            double f = phase_hg(g, vec3_dot(st->d, vec3_scale(wp[j].omega_V, -1.0)));
+            double e = f * wp[j].gain / (w->eta * w->eta);
+            for (int c = 0; c < 3; c++)
+                L[c] += st->beta[c] * I[c] * e * exp(-(m->sigma_a[c] + m->sigma_s[c]) * wp[j].d_V);
+        }
+    }
+}
+
 static vec3 environment(const struct pathtrace_scene *s, vec3 d)
 {
     if (s->env_kind == PATHTRACE_ENV_PROCEDURAL)
@@ -207,6 +257,11 @@ static void scatter_medium(const struct pathtrace_scene *s, struct pt_state *st,
     double g = medium_of(s, st->inside)->g;
     st->last_surface = -1;
     next_event(s, st, p, vec3_make(0.0, 1.0, 0.0), one, g, rng, L);
+    st->walter = 0;
+    if (s->walter.enabled && st->inside == 1u << s->walter.surface) {
+        walter_next_event(s, st, p, g, L);
+        st->walter = 1;
+    }
     vec3 nd = pathtrace_sample_hg(st->d, g, rng);
     st->last_pdf = phase_hg(g, vec3_dot(st->d, nd));
     st->last_p = p;
@@ -220,6 +275,7 @@ static void bounce_receiver(const struct pathtrace_scene *s, struct pt_state *st
 {
     vec3 n = vec3_make(0.0, st->d.y < 0.0 ? 1.0 : -1.0, 0.0);
     st->last_surface = -1;
+    st->walter = 0;
     next_event(s, st, p, n, s->receiver.albedo, NAN, rng, L);
     vec3 nd = pathtrace_sample_cosine(n, rng);
     for (int c = 0; c < 3; c++)
@@ -248,9 +304,12 @@ static bool cross_surface(const struct pathtrace_scene *s, struct pt_state *st,
     struct interface_event ev = interface_cross(st->d, h->shading, n_i, n_t);
     if (ev.tir || pathtrace_rng_uniform(rng) < ev.R) {
         st->d = ev.reflected;
+        st->walter = 0;
     } else {
         st->d = ev.refracted;
         st->inside = next;
+        /* out of the walter medium straight after scattering in it */
+        st->walter = st->walter == 1 && h->index == s->walter.surface && next == 0 ? 2 : 0;
     }
     st->specular = true;
     return true;
@@ -286,7 +345,8 @@ void pathtrace_radiance(const struct pathtrace_scene *s, vec3 origin, vec3 dir, 
             return;
         }
         if (h.kind == HIT_LIGHT) {
-            add_emitter(s, &st, h.index, L);
+            if (!(st.walter == 2 && pathtrace_walter_light(s, h.index)))
+                add_emitter(s, &st, h.index, L); /* else made by walter_next_event */
             return;
         }
         vec3 p = vec3_madd(st.o, st.d, h.t);

@@ -111,7 +111,26 @@ struct pathtrace_scene {
      * (refract-pictures --ref-max-scatter; CPU only, the GPU path tracer has no such
      * limit). */
     int max_scatter;
+    /* walter2009's exact connections (docs/walter.md "In the path tracer"): in the medium of
+     * surface `surface`, a sphere (centre, radius; its index over the ambient one eta) that
+     * is the only way light reaches that medium, a medium vertex connects to each small
+     * light outside by every refracted path through the sphere (the point-light NEE a
+     * shadow ray cannot make through glass), and a path that scatters there, refracts out
+     * and meets such a light does not count it again. Off (enabled false) by default;
+     * scene_pathtrace sets it for scene_walter_sphere scenes. */
+    struct pathtrace_walter {
+        bool enabled;
+        int surface;
+        vec3 center;
+        double radius, eta;
+    } walter;
 };
+
+/* True when light k is small enough for the exact connections (pathtrace_scene.walter):
+ * a point, spot or directional light, or a sphere lamp whose radius is at most 2 % of its
+ * distance to the walter sphere's centre (treated as a point at its centre; the error is
+ * of the order of that ratio squared). */
+bool pathtrace_walter_light(const struct pathtrace_scene *s, int k);
 
 /* The converted spherical light of total flux phi_w (W, per channel) and radius r: a
  * Lambertian sphere of radiance L_e = phi / (4 pi^2 r^2), whose far field is a point of

@@ -766,6 +766,11 @@ static void record_event(struct reftrace_result *out, enum reftrace_event_kind k
     out->event_count++;
 }
 
+static bool surface_scatters(const struct reftrace_surface *sf)
+{
+    return sf->scattering[0] > 0.0 || sf->scattering[1] > 0.0 || sf->scattering[2] > 0.0;
+}
+
 /* The crossing of surface k at the march's position (interface.h): toggles k in *inside;
  * where the medium changes, the Fresnel event of interface_cross with the environment's
  * reflection gathered (as at a bounds face) or total internal reflection. */
@@ -796,8 +801,17 @@ static void surface_event(struct march *m, uint32_t *inside, int k, const struct
         m->d = ev.reflected;
         return;
     }
-    if (ev.R > 0.0)
+    const struct reftrace_lighting *lt = m->set->lighting;
+    if (m->defer != NULL && !m->defer->set && lt != NULL && lt->walter.enabled && from >= 0 &&
+        ev.R > 0.0 && surface_scatters(&m->set->surfaces[from])) {
+        /* Leaving a walter scene's scattering medium: the reflected ray runs back through
+         * it, gathering in-scattered light (docs/walter.md "The view ray's reflection"). */
+        *m->defer = (struct march_deferred){
+            true,    m->x, ev.reflected, vec3_scale(exp_neg(m->alpha), m->t_f * ev.R),
+            *inside, k,    h->prim};
+    } else if (ev.R > 0.0) {
         add_reflection(m, ev.R, m->x, ev.reflected);
+    }
     if (m->set->lighting != NULL && m->set->lighting->count > 0) {
         /* The lights' reflected radiance (eq. 5.6/5.8) with the surface's BRDF. */
         vec3 Lr = reftrace_light_reflected(m->set->lighting, &m->set->surfaces[k].brdf, m->x, m->d,
@@ -810,24 +824,22 @@ static void surface_event(struct march *m, uint32_t *inside, int k, const struct
     *inside = next;
 }
 
-void reftrace_ray(const struct reftrace_object *objects, int count,
-                  const struct reftrace_settings *settings, vec3 origin, vec3 dir,
+/* One view ray from origin (inside the solids of `inside`, on surface last_surface's
+ * primitive last_prim or -1) with the deferral record `defer` (NULL: none). */
+static void trace(const struct reftrace_object *objects, int count,
+                  const struct reftrace_settings *settings, vec3 origin, vec3 dir, uint32_t inside,
+                  int last_surface, int64_t last_prim, struct march_deferred *defer,
                   struct reftrace_result *out)
 {
-    assert(settings->step_voxels > 0.0);
-    assert(settings->stepper != REFTRACE_ADAPTIVE || settings->tolerance > 0.0);
-    assert(settings->stepper != REFTRACE_BS23 || settings->tolerance_voxels > 0.0);
     struct march m = {
         .set = settings,
+        .defer = defer,
         .x = origin,
         .d = vec3_normalize(dir),
         .t_f = 1.0,
         .running = true,
     };
     out->event_count = 0;
-    uint32_t inside = reftrace_inside_set(settings->surfaces, settings->surface_count, origin);
-    int last_surface = -1;
-    int64_t last_prim = -1;
     for (int pass = 0; m.running; pass++) {
         /* A surface event counts as a step (as on the GPU, where the pass cap grows by
          * max_steps only in the surfaces variant). */
@@ -927,4 +939,23 @@ void reftrace_ray(const struct reftrace_object *objects, int count,
     out->optical_path_length = m.opl;
     out->steps = m.steps;
     out->radiance = m.L;
+}
+
+void reftrace_ray(const struct reftrace_object *objects, int count,
+                  const struct reftrace_settings *settings, vec3 origin, vec3 dir,
+                  struct reftrace_result *out)
+{
+    assert(settings->step_voxels > 0.0);
+    assert(settings->stepper != REFTRACE_ADAPTIVE || settings->tolerance > 0.0);
+    assert(settings->stepper != REFTRACE_BS23 || settings->tolerance_voxels > 0.0);
+    struct march_deferred defer = {0};
+    uint32_t inside = reftrace_inside_set(settings->surfaces, settings->surface_count, origin);
+    trace(objects, count, settings, origin, dir, inside, -1, -1, &defer, out);
+    if (defer.set) {
+        /* The radiance only: events, status and transmittance stay the first ray's. */
+        static _Thread_local struct reftrace_result r;
+        trace(objects, count, settings, defer.x, defer.d, defer.inside, defer.surface, defer.prim,
+              NULL, &r);
+        out->radiance = vec3_add(out->radiance, vec3_mul(defer.w, r.radiance));
+    }
 }

@@ -12,14 +12,26 @@
 #include "reftrace.h"
 
 /* The state of docs/tracing.md "The march". */
+/* The view ray's first internal reflection in a walter scene's scattering medium
+ * (docs/walter.md "The view ray's reflection"): traced as a second ray after the first
+ * one, its radiance weighted by w. */
+struct march_deferred {
+    bool set;
+    vec3 x, d, w;
+    uint32_t inside;
+    int surface;
+    int64_t prim;
+};
+
 struct march {
     const struct reftrace_settings *set;
-    vec3 x, d;  /* world position and unit direction */
-    double t_f; /* Fresnel throughput */
-    vec3 alpha; /* optical depth per channel (tevs2007 eq. 5.9) */
-    vec3 L;     /* radiance gathered along the view ray */
-    double opl; /* optical path length, world units */
-    int steps;  /* integration steps over the whole ray */
+    struct march_deferred *defer; /* NULL: no deferral (the deferred ray itself, traces) */
+    vec3 x, d;                    /* world position and unit direction */
+    double t_f;                   /* Fresnel throughput */
+    vec3 alpha;                   /* optical depth per channel (tevs2007 eq. 5.9) */
+    vec3 L;                       /* radiance gathered along the view ray */
+    double opl;                   /* optical path length, world units */
+    int steps;                    /* integration steps over the whole ray */
     bool running;
     enum ray_status status;
     bool crossed; /* met at least one object */
