@@ -35,6 +35,9 @@
  * --ref-plain makes the references without walter2009's exact connections in the path
  * tracer (pathtrace_scene.walter, docs/walter.md "In the path tracer"), the plain
  * unidirectional estimator; references made with them are cached under a "-w" name.
+ * --ref-walter-only counts, after a vertex in the walter medium, no lamp hit at all: the
+ * image of exactly the connected paths (light that reached the vertex through one
+ * crossing of the boundary), what the fast renderer's single scattering models ("-wc").
  *
  * --no-highlights sets every object's and surface's `brdf` to "none" in the fast renderer:
  * its highlights of the `lights` (tevs2007 eq. 5.6) have no counterpart in the reference,
@@ -81,6 +84,7 @@ struct options {
     double mask_above;   /* > 0: the extra figures leave out pixels brighter in the reference */
     bool raw;            /* also write the best picture as linear floats */
     bool ref_plain;      /* references without walter2009's exact connections */
+    bool ref_connected;  /* the exact connections only (pathtrace_walter.connected_only) */
     bool no_highlights;  /* every object's and surface's brdf "none" in the fast renderer */
     const char *cache, *out, *images;
     struct setting settings[MAX_SETTINGS];
@@ -107,10 +111,11 @@ static bool reference(const struct options *o, const char *text, size_t len, str
     struct scene_walter wa;
     bool walter = !o->ref_plain && scene_walter_sphere(s, &wa);
     /* "-w": made with the exact connections (pathtrace_scene.walter); "-sN": N scatterings */
+    const char *wtag = !walter ? "" : o->ref_connected ? "-wc" : "-w";
     if (max_scatter > 0)
-        snprintf(limit, sizeof limit, "%s-s%d", walter ? "-w" : "", max_scatter);
-    else if (walter)
-        snprintf(limit, sizeof limit, "-w");
+        snprintf(limit, sizeof limit, "%s-s%d", wtag, max_scatter);
+    else
+        snprintf(limit, sizeof limit, "%s", wtag);
     snprintf(path, sizeof path, "%s/%016llx-%dx%d-%d%s.ref", o->cache,
              (unsigned long long)fnv1a(text, len), w, h, o->ref_samples, limit);
     size_t n = (size_t)w * h * 3;
@@ -133,6 +138,7 @@ static bool reference(const struct options *o, const char *text, size_t len, str
     pt.scene.max_scatter = max_scatter;
     if (o->ref_plain)
         pt.scene.walter.enabled = false;
+    pt.scene.walter.connected_only = o->ref_connected;
     const struct scene_camera *c = &s->camera;
     struct pathtrace_camera cam = {c->eye, c->look_at, c->up, c->fov_y_deg, w, h};
     struct pathtrace_image img;
@@ -398,6 +404,8 @@ int main(int argc, char **argv)
             i++;
         } else if (!strcmp(a, "--ref-plain")) {
             o.ref_plain = true;
+        } else if (!strcmp(a, "--ref-walter-only")) {
+            o.ref_connected = true;
         } else if (!strcmp(a, "--raw")) {
             o.raw = true;
         } else if (!strcmp(a, "--no-highlights")) {

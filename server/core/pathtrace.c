@@ -302,14 +302,17 @@ static bool cross_surface(const struct pathtrace_scene *s, struct pt_state *st,
         return false;
     }
     struct interface_event ev = interface_cross(st->d, h->shading, n_i, n_t);
+    bool keep = s->walter.connected_only && st->walter != 0;
     if (ev.tir || pathtrace_rng_uniform(rng) < ev.R) {
         st->d = ev.reflected;
-        st->walter = 0;
+        st->walter = keep ? 1 : 0;
     } else {
         st->d = ev.refracted;
         st->inside = next;
         /* out of the walter medium straight after scattering in it */
-        st->walter = st->walter == 1 && h->index == s->walter.surface && next == 0 ? 2 : 0;
+        st->walter = st->walter == 1 && h->index == s->walter.surface && next == 0 ? 2
+                     : keep                                                        ? 1
+                                                                                   : 0;
     }
     st->specular = true;
     return true;
@@ -345,7 +348,8 @@ void pathtrace_radiance(const struct pathtrace_scene *s, vec3 origin, vec3 dir, 
             return;
         }
         if (h.kind == HIT_LIGHT) {
-            if (!(st.walter == 2 && pathtrace_walter_light(s, h.index)))
+            bool made = st.walter == 2 || (st.walter != 0 && s->walter.connected_only);
+            if (!(made && pathtrace_walter_light(s, h.index)))
                 add_emitter(s, &st, h.index, L); /* else made by walter_next_event */
             return;
         }

@@ -123,6 +123,11 @@ struct pathtrace_scene {
         int surface;
         vec3 center;
         double radius, eta;
+        /* true: after a vertex in that medium, no hit of a small light counts at all (the
+         * light that reached the vertex after an internal reflection too, which the
+         * connections do not carry): the image of exactly the connected paths, what the
+         * fast renderer's single scattering models (refract-pictures --ref-walter-only) */
+        bool connected_only;
     } walter;
 };
 

@@ -110,6 +110,7 @@ enum refract_code scene_pathtrace_geometry(const struct scene *s, scene_volume_l
         p->env_radiance[c] = s->environment.intensity;
     struct scene_walter wa;
     if (scene_walter_sphere(s, &wa))
-        p->walter = (struct pathtrace_walter){true, wa.surface, wa.center, wa.radius, wa.eta};
+        p->walter =
+            (struct pathtrace_walter){true, wa.surface, wa.center, wa.radius, wa.eta, false};
     return REFRACT_E_OK;
 }
