@@ -175,7 +175,7 @@ bool pathtrace_walter_light(const struct pathtrace_scene *s, int k)
     double d = vec3_length(vec3_sub(l->position, s->walter.center));
     if (d <= s->walter.radius)
         return false; /* inside: shadow rays reach the medium */
-    return l->kind != PATHTRACE_LIGHT_SPHERE || l->radius <= 0.02 * d;
+    return l->kind != PATHTRACE_LIGHT_SPHERE || l->radius <= s->walter.lamp_ratio * d;
 }
 
 /* Exact connections from the walter medium's vertex p to every small light (walter.h):

@@ -128,13 +128,16 @@ struct pathtrace_scene {
          * connections do not carry): the image of exactly the connected paths, what the
          * fast renderer's single scattering models (refract-pictures --ref-walter-only) */
         bool connected_only;
+        /* the largest radius / distance of a sphere lamp connected as a point (scene_pathtrace
+         * sets 0.02) */
+        double lamp_ratio;
     } walter;
 };
 
 /* True when light k is small enough for the exact connections (pathtrace_scene.walter):
- * a point, spot or directional light, or a sphere lamp whose radius is at most 2 % of its
- * distance to the walter sphere's centre (treated as a point at its centre; the error is
- * of the order of that ratio squared). */
+ * a point, spot or directional light, or a sphere lamp whose radius is at most
+ * walter.lamp_ratio (2 %) of its distance to the walter sphere's centre (treated as a point
+ * at its centre; the error is of the order of that ratio squared). */
 bool pathtrace_walter_light(const struct pathtrace_scene *s, int k);
 
 /* The converted spherical light of total flux phi_w (W, per channel) and radius r: a

@@ -111,6 +111,6 @@ enum refract_code scene_pathtrace_geometry(const struct scene *s, scene_volume_l
     struct scene_walter wa;
     if (scene_walter_sphere(s, &wa))
         p->walter =
-            (struct pathtrace_walter){true, wa.surface, wa.center, wa.radius, wa.eta, false};
+            (struct pathtrace_walter){true, wa.surface, wa.center, wa.radius, wa.eta, false, 0.02};
     return REFRACT_E_OK;
 }
