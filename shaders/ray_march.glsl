@@ -583,6 +583,9 @@ vec3 march_defer_x, march_defer_d, march_defer_w;
 uint march_defer_inside;
 int march_defer_surface, march_defer_prim;
 int march_start_surface = -1, march_start_prim = -1;
+// True while the deferred ray runs: its legs take a quarter of the in-scattering steps
+// (its weight is a Fresnel reflectance, a few percent; reftrace.c surface_leg).
+bool march_second_ray = false;
 
 // A hit this close (relative to a surface's size) on a surface other than the one just
 // left is a real crossing; the one just left is searched from surfaces[k].medium.z on.
@@ -641,6 +644,8 @@ void march_surface_leg(inout march_state s, int medium, float t)
         bool scatters = lights.count.x > 0 && any(greaterThan(sc.rgb, vec3(0.0)));
         if (scatters)
             steps = medium_step_count(t, light_inscatter_step());
+        if (march_second_ray)
+            steps = max(1, steps / 4);
 #endif
         float h = t / float(steps);
         vec3 weight = medium_step_weight(sigma_t, h);

@@ -56,7 +56,9 @@ void main()
             march_defer_ok = false;
             march_start_surface = march_defer_surface;
             march_start_prim = march_defer_prim;
+            march_second_ray = true;
             march_state r = march_ray(march_defer_x, march_defer_d, march_defer_inside);
+            march_second_ray = false;
             sum += march_defer_w * r.L;
             march_start_surface = -1;
             march_start_prim = -1;

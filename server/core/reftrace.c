@@ -729,6 +729,8 @@ static void surface_leg(struct march *m, int medium, double t)
         const struct reftrace_lighting *lt = m->set->lighting;
         bool scatters = lt != NULL && (sigma_s.x > 0.0 || sigma_s.y > 0.0 || sigma_s.z > 0.0);
         int steps = scatters ? medium_step_count(t, reftrace_light_inscatter_step(lt)) : 1;
+        if (m->defer == NULL) /* the deferred ray: weighted by a reflectance (docs/walter.md) */
+            steps = steps / 4 > 1 ? steps / 4 : 1;
         double h = t / steps;
         vec3 weight = vec3_make(medium_step_weight(sigma_t.x, h), medium_step_weight(sigma_t.y, h),
                                 medium_step_weight(sigma_t.z, h));

@@ -158,12 +158,6 @@ int main(void)
             "\"medium\": {\"ior\": 1.5, \"attenuation\": [0.05, 0.05, 0.05], "
             "\"scattering\": [0.5, 0.5, 0.5], \"anisotropy\": 0}}]}",
             0.97, 1e-3);
-    /* The bubble's top rim is a band where float and double part by up to a few percent
-     * (89.8 % of pixels within 2e-3; mean difference 0.4 %): view rays that graze the
-     * bubble's inside after its internal reflection (docs/walter.md "The view ray's
-     * reflection") sample points within float rounding of the boundary, where the path
-     * through the nearby boundary point has d_V close to float's resolution of P and the
-     * directional light's omega_V is poorly determined. */
     compare(
         gpu, "air bubble in water",
         "{\"ambient_ior\": 1.33, \"camera\": {\"eye\": [0.5, 0.8, 3], \"look_at\": [0, 0, 0], "
@@ -176,7 +170,7 @@ int main(void)
         "\"surfaces\": [{\"shape\": \"sphere\", \"center\": [0.1, 0, -0.2], \"radius\": 0.7, "
         "\"medium\": {\"ior\": 1.0, \"attenuation\": [0.1, 0.2, 0.3], "
         "\"scattering\": [0.8, 0.6, 0.4], \"anisotropy\": 0.6}}]}",
-        0.85, 1e-2);
+        0.97, 1e-3);
     compare(gpu, "lamp inside the ball",
             "{\"camera\": {\"eye\": [0, 1, 4], \"look_at\": [0, 0, 0], \"fov_y_deg\": 40, "
             "\"width\": 48, \"height\": 36}, \"environment\": {\"intensity\": 0}, "
