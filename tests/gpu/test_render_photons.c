@@ -34,11 +34,6 @@ struct photon_work {
     struct render_view_result out;
 };
 
-static double light_scale(const struct scene_light *l, int c)
-{
-    return l->color[c] * l->intensity;
-}
-
 static void render_run(struct gpu_work *w, struct gpu *gpu)
 {
     struct photon_work *pw = w->user;
@@ -48,17 +43,7 @@ static void render_run(struct gpu_work *w, struct gpu *gpu)
     if (r == NULL)
         return;
     struct render_light rl[SCENE_MAX_LIGHTS];
-    for (size_t j = 0; j < s->light_count; j++) {
-        const struct scene_light *l = &s->lights[j];
-        rl[j] = (struct render_light){
-            .kind = l->kind,
-            .position = l->position,
-            .direction = l->direction,
-            .cos_spot = cos(l->spot_angle_deg * M_PI / 180.0),
-            .scale = {light_scale(l, 0), light_scale(l, 1), light_scale(l, 2)},
-            .radius = l->radius,
-            .camera_hidden = !l->camera_visible};
-    }
+    test_render_lights(s, rl);
     struct render_scene_source src = {.id = pw->name, .generation = 1, .scene = s};
     struct render_view_request req = {.camera = s->camera,
                                       .settings = s->render,
@@ -97,18 +82,7 @@ static void compare(struct gpu *gpu, const char *name, const char *doc, double c
     struct scene_reference ref;
     CHECK_INT(scene_reference_build(s, SCENE_REFERENCE_VOXELS, NULL, NULL, &ref, &e), REFRACT_E_OK);
     struct reftrace_light rl[SCENE_MAX_LIGHTS];
-    for (size_t j = 0; j < s->light_count; j++) {
-        const struct scene_light *l = &s->lights[j];
-        rl[j] = (struct reftrace_light){
-            .kind = (int)l->kind,
-            .mode = LIGHT_MODE_DIRECT,
-            .position = l->position,
-            .direction = l->direction,
-            .cos_spot = cos(l->spot_angle_deg * M_PI / 180.0),
-            .scale = {light_scale(l, 0), light_scale(l, 1), light_scale(l, 2)},
-            .radius = l->radius,
-            .camera_hidden = !l->camera_visible};
-    }
+    test_reftrace_lights(s, LIGHT_MODE_DIRECT, rl);
     struct reftrace_lighting lt = {
         .lights = rl,
         .count = (int)s->light_count,

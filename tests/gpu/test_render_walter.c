@@ -40,18 +40,7 @@ static void render_run(struct gpu_work *w, struct gpu *gpu)
     if (r == NULL)
         return;
     struct render_light rl[SCENE_MAX_LIGHTS];
-    for (size_t j = 0; j < s->light_count; j++) {
-        const struct scene_light *l = &s->lights[j];
-        rl[j] =
-            (struct render_light){.kind = l->kind,
-                                  .position = l->position,
-                                  .direction = l->direction,
-                                  .cos_spot = cos(l->spot_angle_deg * M_PI / 180.0),
-                                  .scale = {l->color[0] * l->intensity, l->color[1] * l->intensity,
-                                            l->color[2] * l->intensity},
-                                  .radius = l->radius,
-                                  .camera_hidden = !l->camera_visible};
-    }
+    test_render_lights(s, rl);
     struct render_scene_source src = {.id = "walter", .generation = 1, .scene = s};
     struct render_view_request req = {.camera = s->camera,
                                       .settings = s->render,
@@ -82,19 +71,7 @@ static void compare(struct gpu *gpu, const char *name, const char *doc, double c
     struct err e = {0};
     CHECK_INT(scene_reference_build(s, SCENE_REFERENCE_VOXELS, NULL, NULL, &ref, &e), REFRACT_E_OK);
     struct reftrace_light rl[SCENE_MAX_LIGHTS];
-    for (size_t j = 0; j < s->light_count; j++) {
-        const struct scene_light *l = &s->lights[j];
-        rl[j] = (struct reftrace_light){.kind = (int)l->kind,
-                                        .mode = LIGHT_MODE_WALTER,
-                                        .position = l->position,
-                                        .direction = l->direction,
-                                        .cos_spot = cos(l->spot_angle_deg * M_PI / 180.0),
-                                        .scale = {l->color[0] * l->intensity,
-                                                  l->color[1] * l->intensity,
-                                                  l->color[2] * l->intensity},
-                                        .radius = l->radius,
-                                        .camera_hidden = !l->camera_visible};
-    }
+    test_reftrace_lights(s, LIGHT_MODE_WALTER, rl);
     struct reftrace_lighting lt = {
         .lights = rl,
         .count = (int)s->light_count,

@@ -13,7 +13,7 @@
 
 #include "core/env.h"
 #include "daemon.h"
-#include "io/io_image.h"
+#include "render_util.h"
 #include "test.h"
 
 #define W 80
@@ -36,26 +36,15 @@ static const char *const scene_doc =
 static bool brightest(struct test_daemon *d, const char *id, int *col, int *row, double *peak,
                       double *typical)
 {
-    struct refract_image img = {0};
-    if (refract_render(d->client, id, "{\"format\": \"exr\"}", &img) != REFRACT_E_OK) {
-        fprintf(stderr, "render: %s\n", refract_errmsg(d->client));
+    static float rgba[W * H * 4];
+    if (!test_render_exr(d, id, W, H, rgba))
         return false;
-    }
-    struct io_image px = {0};
-    struct err e = {0};
-    bool ok = io_image_decode(img.bytes, img.len, 1 << 24, &px, &e) == REFRACT_E_OK;
-    refract_image_free(&img);
-    if (!ok || px.width != W || px.height != H) {
-        fprintf(stderr, "decode: %s\n", e.msg);
-        io_image_free(&px);
-        return false;
-    }
     *peak = -1.0;
     int lit = 0;
     double sum = 0.0;
     for (int j = 0; j < H; j++)
         for (int i = 0; i < W; i++) {
-            double v = px.rgba[(j * W + i) * 4 + 1];
+            double v = rgba[(j * W + i) * 4 + 1];
             if (v > *peak) {
                 *peak = v;
                 *col = i;
@@ -67,7 +56,6 @@ static bool brightest(struct test_daemon *d, const char *id, int *col, int *row,
             }
         }
     *typical = lit > 0 ? sum / lit : 0.0;
-    io_image_free(&px);
     return true;
 }
 

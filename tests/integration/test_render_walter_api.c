@@ -12,8 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "daemon.h"
-#include "io/io_image.h"
+#include "render_util.h"
 #include "test.h"
 
 #define W 80
@@ -39,25 +38,6 @@ static void status_says(struct test_daemon *d, const char *id, const char *metho
     free(body);
 }
 
-/* Renders an EXR into rgba (W x H x 4 floats). */
-static bool render_exr(struct test_daemon *d, const char *id, float *rgba)
-{
-    struct refract_image img = {0};
-    if (refract_render(d->client, id, "{\"format\": \"exr\"}", &img) != REFRACT_E_OK) {
-        fprintf(stderr, "render: %s\n", refract_errmsg(d->client));
-        return false;
-    }
-    struct io_image px = {0};
-    struct err e = {0};
-    bool ok = io_image_decode(img.bytes, img.len, 1 << 24, &px, &e) == REFRACT_E_OK;
-    refract_image_free(&img);
-    ok = ok && px.width == W && px.height == H;
-    if (ok)
-        memcpy(rgba, px.rgba, sizeof(float) * W * H * 4);
-    io_image_free(&px);
-    return ok;
-}
-
 int main(void)
 {
     struct test_daemon d;
@@ -70,13 +50,13 @@ int main(void)
     status_says(&d, id, "\"single_scattering\":\"walter\"", "\"needed\":false");
     static float left[W * H * 4], right[W * H * 4];
     /* The lamp to the left (x = -4), behind: the light crosses the ball toward +x. */
-    CHECK(render_exr(&d, id, left));
+    CHECK(test_render_exr(&d, id, W, H, left));
     CHECK_INT(refract_light_put(d.client, id, "lamp",
                                 "{\"type\": \"point\", \"position\": [4, 1, -3], \"intensity\": "
                                 "79.5775}",
                                 NULL),
               REFRACT_E_OK);
-    CHECK(render_exr(&d, id, right));
+    CHECK(test_render_exr(&d, id, W, H, right));
     /* The scene is symmetric under x -> -x and the camera sits on that plane: the picture
      * with the lamp on the right is the mirror image of the one with it on the left, which
      * is not symmetric itself (the light comes from one side). The lit pixels are the
