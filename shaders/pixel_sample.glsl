@@ -27,3 +27,10 @@ vec2 pixel_sample(uint col, uint row, uint s, uint n)
     float jy = float(pixel_hash(h) >> 8) * (1.0 / 16777216.0);
     return vec2((float(s % k) + jx) / float(k), (float(s / k) + jy) / float(k));
 }
+
+// Where ray s samples the inner steps of a walter scene's in-scattering (docs/walter.md
+// "Steps"): the golden-ratio sequence from the midpoint (pixel_sample.c's twin).
+float pixel_step_offset(uint s)
+{
+    return fract(0.5 + 0.6180339887 * float(s));
+}

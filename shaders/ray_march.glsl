@@ -586,6 +586,10 @@ int march_start_surface = -1, march_start_prim = -1;
 // True while the deferred ray runs: its legs take a quarter of the in-scattering steps
 // (its weight is a Fresnel reflectance, a few percent; reftrace.c surface_leg).
 bool march_second_ray = false;
+// Where in each inner in-scattering step the source is sampled (0.5: the midpoint; a leg's
+// first and last steps always use it). In walter scenes render_view shifts it per pixel
+// sample (docs/walter.md "Steps").
+float march_step_offset = 0.5;
 
 // A hit this close (relative to a surface's size) on a surface other than the one just
 // left is a real crossing; the one just left is searched from surfaces[k].medium.z on.
@@ -652,8 +656,10 @@ void march_surface_leg(inout march_state s, int medium, float t)
         for (int i = 0; i < steps; i++) {
             vec3 source = le;
 #if MARCH_SCATTERING && MARCH_LIGHTS
-            if (scatters)
-                source += light_inscatter(s.x + s.d * ((float(i) + 0.5) * h), s.d, sc.rgb, sc.a);
+            if (scatters) {
+                float o = i == 0 || i == steps - 1 ? 0.5 : march_step_offset;
+                source += light_inscatter(s.x + s.d * ((float(i) + o) * h), s.d, sc.rgb, sc.a);
+            }
 #endif
             s.L += w * exp(-s.alpha) * weight * source;
             s.alpha += sigma_t * h;

@@ -48,6 +48,11 @@ void main()
 #if MARCH_SURFACES
         march_defer_ok = true;
         march_deferred = false;
+#if MARCH_LIGHTS
+        // walter scenes: sample i's inner in-scattering points shifted by the golden ratio
+        if (lights.count.w == 1)
+            march_step_offset = pixel_step_offset(i);
+#endif
 #endif
         march_state s = march_ray(params.eye.xyz, dir, uint(params.surfaces.y));
         sum += s.L;

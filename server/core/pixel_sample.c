@@ -30,3 +30,9 @@ void pixel_sample(uint32_t col, uint32_t row, uint32_t s, uint32_t n, double *dx
     *dx = (double)(((float)(s % k) + jx) / (float)k);
     *dy = (double)(((float)(s / k) + jy) / (float)k);
 }
+
+double pixel_step_offset(uint32_t s)
+{
+    float v = 0.5f + 0.6180339887f * (float)s;
+    return (double)(v - floorf(v));
+}

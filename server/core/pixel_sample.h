@@ -15,4 +15,9 @@ uint32_t pixel_hash(uint32_t x);
  * col + dx - 0.5, row + dy - 0.5 to camera_ray (which adds the half pixel). */
 void pixel_sample(uint32_t col, uint32_t row, uint32_t s, uint32_t n, double *dx, double *dy);
 
+/* Where ray s of a pixel samples the inner steps of a walter scene's in-scattering, in
+ * [0, 1) of each step (docs/walter.md "Steps"): the golden-ratio sequence from the
+ * midpoint, fract(0.5 + 0.6180339887 s), in float as on the GPU. */
+double pixel_step_offset(uint32_t s);
+
 #endif

@@ -736,10 +736,16 @@ static void surface_leg(struct march *m, int medium, double t)
                                 medium_step_weight(sigma_t.z, h));
         for (int i = 0; i < steps; i++) {
             vec3 source = emission;
-            if (scatters)
+            if (scatters) {
+                /* the inner steps' point shifted per pixel sample in walter scenes */
+                double o = i == 0 || i == steps - 1 || !lt->walter.enabled ||
+                                   !(lt->walter.step_offset > 0.0)
+                               ? 0.5
+                               : lt->walter.step_offset;
                 source = vec3_add(source,
-                                  reftrace_light_inscatter(lt, vec3_madd(m->x, m->d, (i + 0.5) * h),
+                                  reftrace_light_inscatter(lt, vec3_madd(m->x, m->d, (i + o) * h),
                                                            m->d, sigma_s, sf->anisotropy));
+            }
             vec3 before = vec3_scale(exp_neg(m->alpha), w);
             m->L = vec3_add(m->L, vec3_mul(vec3_mul(before, weight), source));
             m->alpha = vec3_madd(m->alpha, sigma_t, h);

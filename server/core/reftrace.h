@@ -113,6 +113,8 @@ struct reftrace_lighting {
         vec3 center;
         double radius, eta; /* eta: the medium's index over the ambient one */
         double sigma_t[3];
+        double step_offset; /* where the inner in-scattering steps sample, in (0, 1) (the
+                               GPU's pixel_step_offset of the ray); 0: the midpoint */
     } walter;
 };
 

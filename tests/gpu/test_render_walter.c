@@ -6,7 +6,8 @@
  *   1. peer scene B at 80 x 60: a scattering glass ball lit from behind by a point light;
  *   2. an air bubble (index 1 in water of 1.33, eta < 1) holding a forward-scattering
  *      mist (g 0.6), under a spot light and a directional light;
- *   3. a light inside the ball (straight, attenuated light; no boundary to cross).
+ *   3. scene B at 4 rays per pixel (each ray's own in-scattering points);
+ *   4. a light inside the ball (straight, attenuated light; no boundary to cross).
  * The scenes need no light simulation, and the in-scattered light must matter (the image
  * without it, lights off, is darker).
  */
@@ -16,6 +17,7 @@
 #include <string.h>
 
 #include "core/env.h"
+#include "core/pixel_sample.h"
 #include "core/reftrace_light.h"
 #include "gpu/queue.h"
 #include "render/render.h"
@@ -91,6 +93,22 @@ static void compare(struct gpu *gpu, const char *name, const char *doc, double c
             struct reftrace_result r, r0;
             reftrace_ray(ref.objects, ref.count, &ref.settings, o, dir, &r);
             reftrace_ray(ref.objects, ref.count, &unlit, o, dir, &r0);
+            int n = s->render.samples_per_pixel;
+            if (n > 1) { /* the same jittered rays and step points (pixel_sample.c) */
+                vec3 acc = {0, 0, 0};
+                for (int k = 0; k < n; k++) {
+                    double dx, dy;
+                    pixel_sample((uint32_t)col, (uint32_t)row, (uint32_t)k, (uint32_t)n, &dx, &dy);
+                    camera_ray(cam->eye, cam->look_at, cam->up, cam->fov_y_deg, w, h,
+                               col + dx - 0.5, row + dy - 0.5, &o, &dir);
+                    lt.walter.step_offset = pixel_step_offset((uint32_t)k);
+                    struct reftrace_result rk;
+                    reftrace_ray(ref.objects, ref.count, &ref.settings, o, dir, &rk);
+                    acc = vec3_add(acc, rk.radiance);
+                }
+                lt.walter.step_offset = 0.0;
+                r.radiance = vec3_scale(acc, 1.0 / n);
+            }
             const float *g = &ww.out.rgba[(row * w + col) * 4];
             double want[3] = {r.radiance.x, r.radiance.y, r.radiance.z};
             double base[3] = {r0.radiance.x, r0.radiance.y, r0.radiance.z};
@@ -148,6 +166,18 @@ int main(void)
         "\"medium\": {\"ior\": 1.0, \"attenuation\": [0.1, 0.2, 0.3], "
         "\"scattering\": [0.8, 0.6, 0.4], \"anisotropy\": 0.6}}]}",
         0.97, 1e-3);
+    /* 4 rays per pixel: the jittered rays and the shifted in-scattering points
+     * (pixel_step_offset) of each sample, the same on both sides. */
+    compare(gpu, "peer scene B, 4 rays a pixel",
+            "{\"camera\": {\"eye\": [0, 2.5, 7], \"look_at\": [0, -0.5, 0], \"fov_y_deg\": 35, "
+            "\"width\": 40, \"height\": 30}, \"environment\": {\"intensity\": 0}, "
+            "\"render\": {\"samples_per_pixel\": 4}, "
+            "\"lights\": [{\"type\": \"point\", \"position\": [0, 1, -5], \"intensity\": 79.5775, "
+            "\"radius\": 0.1, \"camera_visible\": false}], "
+            "\"surfaces\": [{\"shape\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 1, "
+            "\"medium\": {\"ior\": 1.5, \"attenuation\": [0.05, 0.05, 0.05], "
+            "\"scattering\": [0.5, 0.5, 0.5], \"anisotropy\": 0}}]}",
+            0.97, 1e-3);
     compare(gpu, "lamp inside the ball",
             "{\"camera\": {\"eye\": [0, 1, 4], \"look_at\": [0, 0, 0], \"fov_y_deg\": 40, "
             "\"width\": 48, \"height\": 36}, \"environment\": {\"intensity\": 0}, "
