@@ -196,18 +196,13 @@ static void walter_next_event(const struct pathtrace_scene *s, const struct pt_s
         for (int c = 0; c < 3; c++) /* a sphere lamp's far field: L_e pi r^2 */
             I[c] = l->kind == PATHTRACE_LIGHT_SPHERE ? l->value[c] * M_PI * l->radius * l->radius
                                                      : l->value[c];
-        struct walter_path wp[WALTER_MAX_PATHS];
-        int n = walter_sphere_paths(w->center, w->radius, w->eta, inf ? l->direction : l->position,
-                                    inf, p, wp, WALTER_MAX_PATHS);
-        for (int j = 0; j < n; j++) {
-            if (l->kind == PATHTRACE_LIGHT_SPOT &&
-                vec3_dot(vec3_scale(wp[j].omega_L, -1.0), l->direction) < l->cos_spot)
-                continue;
-            double f = phase_hg(g, vec3_dot(st->d, vec3_scale(wp[j].omega_V, -1.0)));
-            double e = f * wp[j].gain / (w->eta * w->eta);
-            for (int c = 0; c < 3; c++)
-                L[c] += st->beta[c] * I[c] * e * exp(-(m->sigma_a[c] + m->sigma_s[c]) * wp[j].d_V);
-        }
+        vec3 e = walter_sphere_inscatter(
+            w->center, w->radius, w->eta, inf ? l->direction : l->position, inf, p, st->d, g,
+            vec3_make(m->sigma_a[0] + m->sigma_s[0], m->sigma_a[1] + m->sigma_s[1],
+                      m->sigma_a[2] + m->sigma_s[2]),
+            l->direction, l->kind == PATHTRACE_LIGHT_SPOT ? l->cos_spot : -2.0);
+        for (int c = 0; c < 3; c++)
+            L[c] += st->beta[c] * I[c] * vec3_get(e, c) / (w->eta * w->eta);
     }
 }
 

@@ -105,20 +105,12 @@ static vec3 walter_inscatter(const struct reftrace_walter *w, const struct reftr
         }
         return sum;
     }
-    struct walter_path p[WALTER_MAX_PATHS];
-    int n =
-        walter_sphere_paths(w->center, w->radius, w->eta, at_infinity ? l->direction : l->position,
-                            at_infinity, x, p, WALTER_MAX_PATHS);
-    for (int k = 0; k < n; k++) {
-        if (l->kind == LIGHT_KIND_SPOT &&
-            vec3_dot(vec3_scale(p[k].omega_L, -1.0), l->direction) < l->cos_spot)
-            continue;
-        double ph = phase_hg(g, vec3_dot(p[k].omega_V, toward_eye)) * p[k].gain;
-        for (int c = 0; c < 3; c++)
-            vec3_set(&sum, c,
-                     vec3_get(sum, c) + ph * vec3_get(scale, c) * exp(-w->sigma_t[c] * p[k].d_V));
-    }
-    return sum;
+    vec3 sigma_t = {w->sigma_t[0], w->sigma_t[1], w->sigma_t[2]};
+    vec3 e = walter_sphere_inscatter(w->center, w->radius, w->eta,
+                                     at_infinity ? l->direction : l->position, at_infinity, x,
+                                     vec3_scale(toward_eye, -1.0), g, sigma_t, l->direction,
+                                     l->kind == LIGHT_KIND_SPOT ? l->cos_spot : -2.0);
+    return vec3_mul(scale, e);
 }
 
 vec3 reftrace_light_inscatter(const struct reftrace_lighting *lt, vec3 x, vec3 d, vec3 sigma_s,

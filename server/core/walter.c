@@ -7,9 +7,9 @@
 #include <math.h>
 
 #include "fresnel.h"
+#include "phase.h"
 
-/* The derivative of u / |u| along u' (walter2009 eq. 10). */
-static vec3 unit_deriv(vec3 u, vec3 du)
+vec3 walter_unit_deriv(vec3 u, vec3 du)
 {
     double l2 = vec3_dot(u, u), l = sqrt(l2);
     return vec3_scale(vec3_madd(vec3_scale(du, l2), u, -vec3_dot(u, du)), 1.0 / (l2 * l));
@@ -58,7 +58,7 @@ double walter_spread(vec3 V, vec3 L, bool at_infinity, vec3 P, double eta,
         vec3 Pp = vec3_scale(vec3_madd(du, u, -vec3_dot(du, nrm->N_g) / ug), -d_V);
         vec3 mp = vec3_add(vec3_scale(nrm->dm_a, vec3_dot(nrm->g_a, Pp)),
                            vec3_scale(nrm->dm_b, vec3_dot(nrm->g_b, Pp)));
-        vec3 Np = unit_deriv(nrm->m, mp);
+        vec3 Np = walter_unit_deriv(nrm->m, mp);
         double cp = vec3_dot(du, N) + vec3_dot(u, Np);
         double mup = cp * (eta + eta * eta * c / cos_L);                       /* eq. 23 */
         vec3 wLp = vec3_madd(vec3_madd(vec3_scale(N, mup), Np, mu), du, -eta); /* eq. 24 */
@@ -130,9 +130,9 @@ static double sphere_g(const struct sphere_plane *s, double th, double *dg)
     vec3 h = vec3_madd(wL, wV, s->eta);
     if (dg != NULL) {
         vec3 Pp = vec3_scale(tg, s->R);
-        vec3 hp = vec3_scale(unit_deriv(u, vec3_scale(Pp, -1.0)), s->eta);
+        vec3 hp = vec3_scale(walter_unit_deriv(u, vec3_scale(Pp, -1.0)), s->eta);
         if (!s->at_infinity)
-            hp = vec3_add(hp, unit_deriv(w, vec3_scale(Pp, -1.0)));
+            hp = vec3_add(hp, walter_unit_deriv(w, vec3_scale(Pp, -1.0)));
         *dg = vec3_dot(hp, tg) - vec3_dot(h, N); /* t' = -N */
     }
     return vec3_dot(h, tg);
@@ -231,4 +231,20 @@ int walter_sphere_paths(vec3 c, double R, double eta, vec3 L, bool at_infinity, 
         t0 = t1, g0 = g1, d0 = d1;
     }
     return n;
+}
+
+vec3 walter_sphere_inscatter(vec3 c, double R, double eta, vec3 L, bool at_infinity, vec3 V, vec3 d,
+                             double g, vec3 sigma_t, vec3 spot_dir, double cos_spot)
+{
+    struct walter_path p[WALTER_MAX_PATHS];
+    int n = walter_sphere_paths(c, R, eta, L, at_infinity, V, p, WALTER_MAX_PATHS);
+    vec3 sum = {0, 0, 0}, toward_eye = vec3_scale(d, -1.0);
+    for (int k = 0; k < n; k++) {
+        if (vec3_dot(vec3_scale(p[k].omega_L, -1.0), spot_dir) < cos_spot)
+            continue;
+        double w = phase_hg(g, vec3_dot(p[k].omega_V, toward_eye)) * p[k].gain;
+        for (int ch = 0; ch < 3; ch++)
+            vec3_set(&sum, ch, vec3_get(sum, ch) + w * exp(-vec3_get(sigma_t, ch) * p[k].d_V));
+    }
+    return sum;
 }

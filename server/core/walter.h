@@ -93,6 +93,18 @@ bool walter_path_finish(struct walter_path *p, vec3 V, vec3 L, bool at_infinity,
 int walter_sphere_paths(vec3 c, double R, double eta, vec3 L, bool at_infinity, vec3 V,
                         struct walter_path *out, int max);
 
+/* The light a unit light (intensity 1; a directional one: irradiance 1) scatters per unit
+ * sigma_s toward -d at V inside the sphere: sum over walter_sphere_paths of
+ * p_HG(g, omega_V . -d) gain exp(-sigma_t d_V) (eq. 17 with the phase function), the paths
+ * of a spot light only where -omega_L lies in its cone (spot_dir, cos_spot; cos_spot <= -1:
+ * no cone). The twin of walter.glsl's; the fast renderer's CPU reference and the path
+ * tracer's connections both use it. */
+vec3 walter_sphere_inscatter(vec3 c, double R, double eta, vec3 L, bool at_infinity, vec3 V, vec3 d,
+                             double g, vec3 sigma_t, vec3 spot_dir, double cos_spot);
+
+/* The derivative of u / |u| along u' (walter2009 eq. 10). */
+vec3 walter_unit_deriv(vec3 u, vec3 du);
+
 /* ---- triangle meshes (walter_mesh.c) ---- */
 
 /* A boundary triangle: vertices and their shading normals (unit, out of the medium). */

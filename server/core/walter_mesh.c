@@ -146,7 +146,7 @@ static bool iv_has_zero(struct iv a)
     return a.lo <= 0.0 && a.hi >= 0.0;
 }
 
-/* u / |u| and its derivative along the constant vector du (eq. 10), over intervals. */
+/* u / |u| over intervals, and |u|^2 in *len2_out. */
 static struct ivec ivec_unit(struct ivec u, struct iv *len2_out)
 {
     struct iv l2 = ivec_norm2(u);
@@ -154,16 +154,9 @@ static struct ivec ivec_unit(struct ivec u, struct iv *len2_out)
     return ivec_mul(u, iv_recip_pos(iv_sqrt(l2)));
 }
 
-static struct ivec ivec_unit_deriv(struct ivec u, struct iv l2, vec3 du)
-{
-    /* (|u|^2 du - (u . du) u) / |u|^3 */
-    struct ivec num = ivec_sub(ivec_along(du, l2), ivec_mul(u, ivec_dot_v(u, du)));
-    struct iv l3 = iv_mul(l2, iv_sqrt(l2));
-    return ivec_mul(num, iv_recip_pos(l3));
-}
-
-/* The same for a direction u that varies along the interval vector du. */
-static struct ivec ivec_unit_deriv_iv(struct ivec u, struct iv l2, struct ivec du)
+/* The derivative of u / |u| along du, (|u|^2 du - (u . du) u) / |u|^3 (eq. 10), over
+ * intervals (l2: |u|^2). */
+static struct ivec ivec_unit_deriv(struct ivec u, struct iv l2, struct ivec du)
 {
     struct ivec num = ivec_sub(ivec_mul(du, l2), ivec_mul(u, ivec_dot(u, du)));
     struct iv l3 = iv_mul(l2, iv_sqrt(l2));
@@ -194,12 +187,6 @@ static struct tri_problem tri_problem(const struct walter_triangle *t, double et
     return q;
 }
 
-static vec3 unit_deriv(vec3 u, vec3 du)
-{
-    double l2 = vec3_dot(u, u), l = sqrt(l2);
-    return vec3_scale(vec3_madd(vec3_scale(du, l2), u, -vec3_dot(u, du)), 1.0 / (l2 * l));
-}
-
 /* f(a, b) and, when J is not NULL, its columns d f / da, d f / db. */
 static vec3 tri_f(const struct tri_problem *q, double a, double b, vec3 J[2])
 {
@@ -214,10 +201,10 @@ static vec3 tri_f(const struct tri_problem *q, double a, double b, vec3 J[2])
         vec3 dP[2] = {q->e1, q->e2}, dm[2] = {q->dn1, q->dn2};
         for (int k = 0; k < 2; k++) {
             vec3 mdP = vec3_scale(dP[k], -1.0);
-            vec3 hp = vec3_scale(unit_deriv(u, mdP), q->eta);
+            vec3 hp = vec3_scale(walter_unit_deriv(u, mdP), q->eta);
             if (!q->at_infinity)
-                hp = vec3_add(hp, unit_deriv(w, mdP));
-            J[k] = vec3_add(unit_deriv(h, hp), unit_deriv(m, dm[k]));
+                hp = vec3_add(hp, walter_unit_deriv(w, mdP));
+            J[k] = vec3_add(walter_unit_deriv(h, hp), walter_unit_deriv(m, dm[k]));
         }
     }
     return f;
@@ -250,11 +237,11 @@ static bool tri_F(const struct tri_problem *q, const struct iv X[2], struct ivec
     vec3 dP[2] = {q->e1, q->e2}, dm[2] = {q->dn1, q->dn2};
     for (int k = 0; k < 2; k++) {
         vec3 mdP = vec3_scale(dP[k], -1.0);
-        struct ivec hp = ivec_scale(ivec_unit_deriv(u, lu2, mdP), q->eta);
+        struct ivec hp = ivec_scale(ivec_unit_deriv(u, lu2, ivec_point(mdP)), q->eta);
         if (!q->at_infinity)
-            hp = ivec_add(hp, ivec_unit_deriv(w, lw2, mdP));
-        Fp[k] =
-            ivec_widen(ivec_add(ivec_unit_deriv_iv(h, lh2, hp), ivec_unit_deriv(m, lm2, dm[k])));
+            hp = ivec_add(hp, ivec_unit_deriv(w, lw2, ivec_point(mdP)));
+        Fp[k] = ivec_widen(
+            ivec_add(ivec_unit_deriv(h, lh2, hp), ivec_unit_deriv(m, lm2, ivec_point(dm[k]))));
     }
     return true;
 }

@@ -311,6 +311,10 @@ struct scene {
  * "Scattering inside surfaces"). */
 bool scene_surface_scatters(const struct scene_surface *sf);
 
+/* True when some object scatters (a SCENE_CH_SCATTERING field) or some surface's medium
+ * does (scene_surface_scatters). */
+bool scene_scatters(const struct scene *s);
+
 /* True when some object scatters (a SCENE_CH_SCATTERING field), some surface's medium
  * scatters (scene_surface_scatters; not when scene_walter_sphere holds) or a receiver with
  * "volume" caustics is enabled:

@@ -30,12 +30,8 @@ bool scene_surface_scatters(const struct scene_surface *sf)
            (m->scattering[0] > 0.0 || m->scattering[1] > 0.0 || m->scattering[2] > 0.0);
 }
 
-bool scene_needs_light_simulation(const struct scene *s)
+bool scene_scatters(const struct scene *s)
 {
-    if (s->receiver.enabled && s->receiver.caustics == SCENE_CAUSTICS_VOLUME)
-        return true; /* photons: shadow rays and the photon map (docs/photons.md) */
-    if (scene_walter_sphere(s, NULL))
-        return false; /* exact single-scattering paths (docs/walter.md) */
     for (size_t i = 0; i < s->object_count; i++) {
         if (scene_channel_used(&s->objects[i], SCENE_CH_SCATTERING))
             return true;
@@ -45,6 +41,15 @@ bool scene_needs_light_simulation(const struct scene *s)
             return true;
     }
     return false;
+}
+
+bool scene_needs_light_simulation(const struct scene *s)
+{
+    if (s->receiver.enabled && s->receiver.caustics == SCENE_CAUSTICS_VOLUME)
+        return true; /* photons: shadow rays and the photon map (docs/photons.md) */
+    if (scene_walter_sphere(s, NULL))
+        return false; /* exact single-scattering paths (docs/walter.md) */
+    return scene_scatters(s);
 }
 
 static void mix_bytes(uint64_t *h, const void *data, size_t n)

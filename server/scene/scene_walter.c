@@ -28,13 +28,5 @@ bool scene_walter_sphere(const struct scene *s, struct scene_walter *w)
 
 const char *scene_single_scattering_method(const struct scene *s)
 {
-    if (scene_walter_sphere(s, NULL))
-        return "walter";
-    for (size_t i = 0; i < s->object_count; i++)
-        if (scene_channel_used(&s->objects[i], SCENE_CH_SCATTERING))
-            return "volume";
-    for (size_t k = 0; k < s->surface_count; k++)
-        if (scene_surface_scatters(&s->surfaces[k]))
-            return "volume";
-    return "none";
+    return scene_walter_sphere(s, NULL) ? "walter" : scene_scatters(s) ? "volume" : "none";
 }
