@@ -11,11 +11,14 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "core/env.h"
+#include "core/pixel_sample.h"
 #include "core/reftrace.h"
 #include "core/vec3.h"
 #include "gpu/queue.h"
 #include "render/render.h"
 #include "scene/scene.h"
+#include "scene/scene_reference.h"
 #include "test.h"
 
 static inline struct gpu *test_gpu_create(const char *test_name)
@@ -76,6 +79,37 @@ static inline void test_reftrace_lights(const struct scene *s, int mode, struct 
                                         .radius = l->radius,
                                         .camera_hidden = !l->camera_visible};
     }
+}
+
+/* The CPU reference's radiance of pixel (col, row) of a w x h image: its centre ray, or for
+ * n > 1 the mean of the n jittered rays render_view.comp averages (pixel_sample.c). walter:
+ * when not NULL, the lighting in `set` whose walter.step_offset follows each ray's
+ * pixel_step_offset (walter scenes shift the in-scattering points per ray). */
+static inline vec3 test_reftrace_pixel(const struct scene_reference *ref,
+                                       const struct reftrace_settings *set,
+                                       const struct scene_camera *cam, int w, int h, int col,
+                                       int row, int n, struct reftrace_lighting *walter)
+{
+    vec3 o, dir, acc = {0, 0, 0};
+    struct reftrace_result r;
+    if (n <= 1) {
+        camera_ray(cam->eye, cam->look_at, cam->up, cam->fov_y_deg, w, h, col, row, &o, &dir);
+        reftrace_ray(ref->objects, ref->count, set, o, dir, &r);
+        return r.radiance;
+    }
+    for (int k = 0; k < n; k++) {
+        double dx, dy;
+        pixel_sample((uint32_t)col, (uint32_t)row, (uint32_t)k, (uint32_t)n, &dx, &dy);
+        camera_ray(cam->eye, cam->look_at, cam->up, cam->fov_y_deg, w, h, col + dx - 0.5,
+                   row + dy - 0.5, &o, &dir);
+        if (walter != NULL)
+            walter->walter.step_offset = pixel_step_offset((uint32_t)k);
+        reftrace_ray(ref->objects, ref->count, set, o, dir, &r);
+        acc = vec3_add(acc, r.radiance);
+    }
+    if (walter != NULL)
+        walter->walter.step_offset = 0.0;
+    return vec3_scale(acc, 1.0 / n);
 }
 
 #endif

@@ -104,28 +104,12 @@ static void compare(struct gpu *gpu, const char *name, const char *doc, double c
     double sum_diff = 0.0, sum_ref = 0.0, sum_photons = 0.0, max_photons = 0.0, max_base = 0.0;
     for (int row = 0; row < h; row++) {
         for (int col = 0; col < w; col++) {
-            vec3 o, dir;
-            camera_ray(cam->eye, cam->look_at, cam->up, cam->fov_y_deg, w, h, col, row, &o, &dir);
-            struct reftrace_result r, r0;
-            reftrace_ray(ref.objects, ref.count, &ref.settings, o, dir, &r);
-            reftrace_ray(ref.objects, ref.count, &no_photons, o, dir, &r0);
-            if (s->render.samples_per_pixel > 1) { /* the same jittered rays (pixel_sample.c) */
-                int n = s->render.samples_per_pixel;
-                vec3 acc = {0, 0, 0};
-                for (int k = 0; k < n; k++) {
-                    double dx, dy;
-                    pixel_sample(col, row, k, n, &dx, &dy);
-                    camera_ray(cam->eye, cam->look_at, cam->up, cam->fov_y_deg, w, h,
-                               col + dx - 0.5, row + dy - 0.5, &o, &dir);
-                    struct reftrace_result rk;
-                    reftrace_ray(ref.objects, ref.count, &ref.settings, o, dir, &rk);
-                    acc = vec3_add(acc, rk.radiance);
-                }
-                r.radiance = vec3_scale(acc, 1.0 / n);
-            }
+            vec3 r = test_reftrace_pixel(&ref, &ref.settings, cam, w, h, col, row,
+                                         s->render.samples_per_pixel, NULL);
+            vec3 r0 = test_reftrace_pixel(&ref, &no_photons, cam, w, h, col, row, 1, NULL);
             const float *g = &pw.out.rgba[(row * w + col) * 4];
-            double want[3] = {r.radiance.x, r.radiance.y, r.radiance.z};
-            double base[3] = {r0.radiance.x, r0.radiance.y, r0.radiance.z};
+            double want[3] = {r.x, r.y, r.z};
+            double base[3] = {r0.x, r0.y, r0.z};
             bool ok = true;
             for (int k = 0; k < 3; k++) {
                 double diff = fabs(g[k] - want[k]);

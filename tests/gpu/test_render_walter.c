@@ -16,8 +16,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/env.h"
-#include "core/pixel_sample.h"
 #include "core/reftrace_light.h"
 #include "gpu/queue.h"
 #include "render/render.h"
@@ -88,30 +86,12 @@ static void compare(struct gpu *gpu, const char *name, const char *doc, double c
     double sum_diff = 0.0, sum_ref = 0.0, sum_unlit = 0.0;
     for (int row = 0; row < h; row++) {
         for (int col = 0; col < w; col++) {
-            vec3 o, dir;
-            camera_ray(cam->eye, cam->look_at, cam->up, cam->fov_y_deg, w, h, col, row, &o, &dir);
-            struct reftrace_result r, r0;
-            reftrace_ray(ref.objects, ref.count, &ref.settings, o, dir, &r);
-            reftrace_ray(ref.objects, ref.count, &unlit, o, dir, &r0);
             int n = s->render.samples_per_pixel;
-            if (n > 1) { /* the same jittered rays and step points (pixel_sample.c) */
-                vec3 acc = {0, 0, 0};
-                for (int k = 0; k < n; k++) {
-                    double dx, dy;
-                    pixel_sample((uint32_t)col, (uint32_t)row, (uint32_t)k, (uint32_t)n, &dx, &dy);
-                    camera_ray(cam->eye, cam->look_at, cam->up, cam->fov_y_deg, w, h,
-                               col + dx - 0.5, row + dy - 0.5, &o, &dir);
-                    lt.walter.step_offset = pixel_step_offset((uint32_t)k);
-                    struct reftrace_result rk;
-                    reftrace_ray(ref.objects, ref.count, &ref.settings, o, dir, &rk);
-                    acc = vec3_add(acc, rk.radiance);
-                }
-                lt.walter.step_offset = 0.0;
-                r.radiance = vec3_scale(acc, 1.0 / n);
-            }
+            vec3 r = test_reftrace_pixel(&ref, &ref.settings, cam, w, h, col, row, n, &lt);
+            vec3 r0 = test_reftrace_pixel(&ref, &unlit, cam, w, h, col, row, 1, NULL);
             const float *g = &ww.out.rgba[(row * w + col) * 4];
-            double want[3] = {r.radiance.x, r.radiance.y, r.radiance.z};
-            double base[3] = {r0.radiance.x, r0.radiance.y, r0.radiance.z};
+            double want[3] = {r.x, r.y, r.z};
+            double base[3] = {r0.x, r0.y, r0.z};
             bool ok = true;
             for (int k = 0; k < 3; k++) {
                 double diff = fabs(g[k] - want[k]);
@@ -141,18 +121,21 @@ static void compare(struct gpu *gpu, const char *name, const char *doc, double c
     scene_destroy(s);
 }
 
+/* Peer scene B (proto/examples/peer_scene_b.json) at the image size `size` with `render`
+ * settings (string literals). */
+#define PEER_B(size, render)                                                                       \
+    "{\"camera\": {\"eye\": [0, 2.5, 7], \"look_at\": [0, -0.5, 0], \"fov_y_deg\": 35, " size      \
+    "}, \"environment\": {\"intensity\": 0}, " render                                              \
+    "\"lights\": [{\"type\": \"point\", \"position\": [0, 1, -5], \"intensity\": 79.5775, "        \
+    "\"radius\": 0.1, \"camera_visible\": false}], "                                               \
+    "\"surfaces\": [{\"shape\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 1, "                \
+    "\"medium\": {\"ior\": 1.5, \"attenuation\": [0.05, 0.05, 0.05], "                             \
+    "\"scattering\": [0.5, 0.5, 0.5], \"anisotropy\": 0}}]}"
+
 int main(void)
 {
     struct gpu *gpu = test_gpu_create("test_render_walter");
-    compare(gpu, "peer scene B",
-            "{\"camera\": {\"eye\": [0, 2.5, 7], \"look_at\": [0, -0.5, 0], \"fov_y_deg\": 35, "
-            "\"width\": 80, \"height\": 60}, \"environment\": {\"intensity\": 0}, "
-            "\"lights\": [{\"type\": \"point\", \"position\": [0, 1, -5], \"intensity\": 79.5775, "
-            "\"radius\": 0.1, \"camera_visible\": false}], "
-            "\"surfaces\": [{\"shape\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 1, "
-            "\"medium\": {\"ior\": 1.5, \"attenuation\": [0.05, 0.05, 0.05], "
-            "\"scattering\": [0.5, 0.5, 0.5], \"anisotropy\": 0}}]}",
-            0.97, 1e-3);
+    compare(gpu, "peer scene B", PEER_B("\"width\": 80, \"height\": 60", ""), 0.97, 1e-3);
     compare(
         gpu, "air bubble in water",
         "{\"ambient_ior\": 1.33, \"camera\": {\"eye\": [0.5, 0.8, 3], \"look_at\": [0, 0, 0], "
@@ -169,14 +152,7 @@ int main(void)
     /* 4 rays per pixel: the jittered rays and the shifted in-scattering points
      * (pixel_step_offset) of each sample, the same on both sides. */
     compare(gpu, "peer scene B, 4 rays a pixel",
-            "{\"camera\": {\"eye\": [0, 2.5, 7], \"look_at\": [0, -0.5, 0], \"fov_y_deg\": 35, "
-            "\"width\": 40, \"height\": 30}, \"environment\": {\"intensity\": 0}, "
-            "\"render\": {\"samples_per_pixel\": 4}, "
-            "\"lights\": [{\"type\": \"point\", \"position\": [0, 1, -5], \"intensity\": 79.5775, "
-            "\"radius\": 0.1, \"camera_visible\": false}], "
-            "\"surfaces\": [{\"shape\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 1, "
-            "\"medium\": {\"ior\": 1.5, \"attenuation\": [0.05, 0.05, 0.05], "
-            "\"scattering\": [0.5, 0.5, 0.5], \"anisotropy\": 0}}]}",
+            PEER_B("\"width\": 40, \"height\": 30", "\"render\": {\"samples_per_pixel\": 4}, "),
             0.97, 1e-3);
     compare(gpu, "lamp inside the ball",
             "{\"camera\": {\"eye\": [0, 1, 4], \"look_at\": [0, 0, 0], \"fov_y_deg\": 40, "

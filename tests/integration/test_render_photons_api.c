@@ -13,6 +13,7 @@
 
 #include "core/env.h"
 #include "daemon.h"
+#include "irradiance_util.h"
 #include "render_util.h"
 #include "test.h"
 
@@ -73,12 +74,11 @@ static void project(vec3 p, int *col, int *row)
 
 static void status_says_photons(struct test_daemon *d, const char *id)
 {
-    char path[128], *body = NULL;
-    snprintf(path, sizeof path, "/v1/scenes/%s/irradiance", id);
-    CHECK_INT((int)test_request(d, "GET", path, NULL, &body), 200);
-    CHECK_CONTAINS(body, "\"caustics\":\"photons\"");
-    CHECK_CONTAINS(body, "\"needed\":false");
-    free(body);
+    cJSON *st = irr_status(d, id);
+    CHECK(st != NULL);
+    CHECK_STR(irr_str(st, "caustics"), "photons");
+    CHECK(cJSON_IsFalse(cJSON_GetObjectItem(st, "needed")));
+    cJSON_Delete(st);
 }
 
 static void caustic_where_it_belongs(struct test_daemon *d, const char *id, vec3 focus)
