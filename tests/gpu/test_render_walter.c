@@ -75,8 +75,11 @@ static void compare(struct gpu *gpu, const char *name, const char *doc, double c
     struct reftrace_lighting lt = {
         .lights = rl,
         .count = (int)s->light_count,
-        .walter = {
-            true, wa.center, wa.radius, wa.eta, {wa.sigma_t[0], wa.sigma_t[1], wa.sigma_t[2]}}};
+        .walter = {.enabled = true,
+                   .center = wa.center,
+                   .radius = wa.radius,
+                   .eta = wa.eta,
+                   .sigma_t = {wa.sigma_t[0], wa.sigma_t[1], wa.sigma_t[2]}}};
     struct reftrace_lighting dark = {0};
     struct reftrace_settings unlit = ref.settings;
     ref.settings.lighting = &lt;
