@@ -252,6 +252,10 @@ struct refract_light_status {
     char message[512];      /* "failed": why */
     int code;               /* "failed": the REFRACT_E_* code of a "code" member when the
                                reply has one and the table knows it, else 0 */
+    int refining;           /* a photon map ("photon_map": receiver.caustics "photons") that
+                               is "ready" from its first pass and still refining: progress is
+                               the share of its photons traced; not settled until done */
+    long long photons;      /* that map's photons now; -1 when the light has no map */
 };
 
 /* The irradiance status of a scene. */
@@ -272,8 +276,8 @@ void refract_irradiance_free(struct refract_irradiance *status);
  * with a message naming the member, when json is not such a document. */
 int refract_irradiance_parse(refract_client *c, const char *json, struct refract_irradiance *out);
 
-/* 1 when no light's volume is still to come: every light is "ready", "failed" or
- * "not_needed" (a scene without lights is settled); else 0. */
+/* 1 when no light's volume or photon map is still to come: every light is "ready" (and not
+ * refining), "failed" or "not_needed" (a scene without lights is settled); else 0. */
 int refract_irradiance_settled(const struct refract_irradiance *status);
 
 /* PUT /v1/scenes/{id}/lights/{name} with one light object (light_json): adds the light

@@ -85,6 +85,9 @@ static bool read_light(const cJSON *obj, size_t i, struct refract_light_status *
     l->host_bytes = count_member(obj, "host_bytes");
     l->compute_ms = number_member(obj, "compute_ms");
     l->code = cJSON_IsString(code) ? code_of(code->valuestring) : 0;
+    const cJSON *map = cJSON_GetObjectItemCaseSensitive(obj, "photon_map");
+    l->refining = cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(map, "refining"));
+    l->photons = cJSON_IsObject(map) ? count_member(map, "photons") : -1;
     return true;
 }
 
@@ -138,7 +141,7 @@ int refract_irradiance_settled(const struct refract_irradiance *status)
     if (status == NULL)
         return 0;
     for (size_t i = 0; i < status->light_count; i++) {
-        if (!refract_state_is_settled(status->lights[i].state))
+        if (!refract_state_is_settled(status->lights[i].state) || status->lights[i].refining)
             return 0;
     }
     return 1;

@@ -210,7 +210,7 @@ float light_inscatter_step()
 
 #if MARCH_SURFACES && MARCH_LIGHTS
 // The "photons" caustics mode (lights.count.z = 1; shaders/photons.glsl, after the surfaces).
-vec3 photon_irradiance(vec2 xz);
+vec3 photon_irradiance(int light, vec2 xz);
 bool photon_light_visible(int j, vec3 at);
 #endif
 
@@ -226,8 +226,8 @@ bool photon_light_visible(int j, vec3 at);
 // and z faces (the pad and a margin) the volume is read, elsewhere the light's closed
 // form (light_direct), as no object can shade the plane there. In the "photons" caustics
 // mode (lights.count.z = 1, docs/photons.md) each light's unshadowed direct light counts
-// where no optical surface is in the way (photon_light_visible), and the photon map's
-// irradiance photon_irradiance, the cosine already in it, is added once.
+// where no optical surface is in the way (photon_light_visible), and its photon map's
+// irradiance photon_irradiance (unit light, the cosine already in it) times its scale.
 bool light_receiver(vec3 x, vec3 d, out vec3 L)
 {
     L = vec3(0.0);
@@ -254,6 +254,7 @@ bool light_receiver(vec3 x, vec3 d, out vec3 L)
 #if MARCH_SURFACES && MARCH_LIGHTS
         if (lights.count.z == 1) {
             lit = light_direct(j, at, E, l) && photon_light_visible(j, at);
+            sum += lp.scale.rgb * photon_irradiance(j, at.xz);
         } else
 #endif
             if (int(lp.scale.w) == LIGHT_MODE_VOLUME) {
@@ -268,10 +269,6 @@ bool light_receiver(vec3 x, vec3 d, out vec3 L)
         if (lit)
             sum += E * max(0.0, -l.y);
     }
-#if MARCH_SURFACES && MARCH_LIGHTS
-    if (lights.count.z == 1)
-        sum += photon_irradiance(at.xz);
-#endif
     L = albedo / LIGHT_PI * sum + albedo * environment_radiance(vec3(0.0, 1.0, 0.0));
     return true;
 }

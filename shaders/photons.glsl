@@ -22,35 +22,39 @@ uint photon_hash(int i, int j, uint capacity)
     return pixel_hash(uint(i) ^ pixel_hash(uint(j) + 0x9e3779b9u)) & (capacity - 1u);
 }
 
-// E at lattice point (i, j), 0 when it is not stored (no photon within the radius): at most
-// probe_max + 1 slots (photon_lattice_at).
-vec3 photon_lattice_at(int i, int j)
+// E at lattice point (i, j) of light j's map, 0 when it is not stored (no photon within the
+// radius): at most probe_max + 1 slots (photon_lattice_at). The maps of the lights lie one
+// after another in the buffers, light j's from slot photon_dims[j].z.
+vec3 photon_lattice_at(int light, int i, int j)
 {
-    uint capacity = uint(lights.photon_dims.x), probe_max = uint(lights.photon_dims.y);
+    ivec4 dims = lights.photon_dims[light];
+    uint capacity = uint(dims.x), probe_max = uint(dims.y), first = uint(dims.z);
     uint s = photon_hash(i, j, capacity);
     for (uint n = 0u; n <= probe_max; n++) {
-        ivec2 key = photon_keys[s];
+        ivec2 key = photon_keys[first + s];
         if (key.x == PHOTON_EMPTY_KEY)
             break;
         if (key == ivec2(i, j))
-            return photon_E[s].rgb;
+            return photon_E[first + s].rgb;
         s = (s + 1u) & (capacity - 1u);
     }
     return vec3(0.0);
 }
 
-// E (W / unit^2, rgb) on the plane at world (x, z): bilinear between the four lattice points
-// about it, each holding the kernel estimate sum phi_p 2 / (pi r^2) (1 - s^2 / r^2).
-vec3 photon_irradiance(vec2 xz)
+// E (W / unit^2, rgb, of light `light` at unit intensity) on the plane at world (x, z):
+// bilinear between the four lattice points about it, each holding the kernel estimate
+// sum phi_p 2 / (pi r^2) (1 - s^2 / r^2). The caller scales it by the light's colour times
+// intensity (docs/photons.md "The cache": a map per light).
+vec3 photon_irradiance(int light, vec2 xz)
 {
-    if (lights.photon_dims.x == 0)
+    if (lights.photon_dims[light].x == 0)
         return vec3(0.0);
-    vec2 u = xz / lights.photon_grid.x;
+    vec2 u = xz / lights.photon_grid[light].x;
     vec2 c = clamp(floor(u), vec2(-PHOTON_CELL_MAX), vec2(PHOTON_CELL_MAX));
     vec2 f = u - floor(u);
     int i = int(c.x), j = int(c.y);
-    vec3 e00 = photon_lattice_at(i, j), e10 = photon_lattice_at(i + 1, j);
-    vec3 e01 = photon_lattice_at(i, j + 1), e11 = photon_lattice_at(i + 1, j + 1);
+    vec3 e00 = photon_lattice_at(light, i, j), e10 = photon_lattice_at(light, i + 1, j);
+    vec3 e01 = photon_lattice_at(light, i, j + 1), e11 = photon_lattice_at(light, i + 1, j + 1);
     return mix(mix(e00, e10, f.x), mix(e01, e11, f.x), f.y);
 }
 

@@ -209,9 +209,11 @@ struct march_lights {
     vec4 receiver;                /* x: height (world y); y: half size (<= 0: the whole
                                      plane); zw: world x, z of the square's centre */
     vec4 receiver_albedo;         /* rgb: Lambertian reflectance */
-    vec4 photon_grid;             /* x: the lattice spacing; y: the gather radius */
-    ivec4 photon_dims;            /* x: hash slots (a power of two; 0: no photon landed);
-                                     y: the longest probe sequence */
+    vec4 photon_grid[MAX_LIGHTS]; /* count.z = 1, per light's map (unit light): x the
+                                     lattice spacing; y the gather radius */
+    ivec4 photon_dims[MAX_LIGHTS]; /* x: hash slots (a power of two; 0: no map, or no photon
+                                     landed); y: the longest probe sequence; z: the map's
+                                     first slot in the photon buffers */
     vec4 walter_sphere;           /* count.w = 1 (scene_walter_sphere): xyz the world centre,
                                      w the radius of the sphere of LIGHT_MODE_WALTER */
     vec4 walter_medium;           /* rgb: its sigma_t; w: its index over the ambient one */

@@ -152,8 +152,9 @@ void irr_sweep_locked(struct irradiance_cache *c)
         struct irr_entry *en = c->entries[i];
         if (en->cancelled && !en->busy && !en->persisting && !en->has_gpu && en->loading == 0 &&
             !en->uploading) {
-            irradiance_volume_free(&en->host);
+            irr_host_free(&en->host);
             irr_drop_source(en);
+            irr_photon_scene_free(en);
             free(en);
             continue;
         }
@@ -167,7 +168,7 @@ static size_t host_bytes_locked(const struct irradiance_cache *c)
     size_t n = 0;
     for (size_t i = 0; i < c->entry_count; i++) {
         if (c->entries[i]->has_host)
-            n += irradiance_volume_bytes(&c->entries[i]->host);
+            n += irr_host_bytes(&c->entries[i]->host);
     }
     return n;
 }
@@ -188,15 +189,19 @@ void irr_evict_host_locked(struct irradiance_cache *c)
         struct irr_entry *lru = NULL;
         for (size_t i = 0; i < c->entry_count; i++) {
             struct irr_entry *en = c->entries[i];
-            /* Only what is safe on disk may leave memory. */
-            if (en->has_host && en->on_disk && !en->persisting && !en->uploading &&
-                (lru == NULL || en->last_use < lru->last_use))
+            /* Only what is safe on disk may leave memory, or a photon map that stopped
+             * refining (its pose is no longer wanted: the entry goes with it). */
+            bool partial = en->kind == IRR_KIND_PHOTONS && en->refining && !en->busy;
+            if (en->has_host && (en->on_disk || partial) && !en->persisting && !en->uploading &&
+                en->loading == 0 && (lru == NULL || en->last_use < lru->last_use))
                 lru = en;
         }
         if (lru == NULL)
             return;
-        irradiance_volume_free(&lru->host);
+        irr_host_free(&lru->host);
         lru->has_host = false;
+        if (!lru->on_disk)
+            lru->cancelled = true; /* nothing left to use: swept */
         c->counters.evicted_host++;
     }
 }
@@ -223,12 +228,17 @@ void irr_evict_gpu_locked(struct irradiance_cache *c, int64_t keep_tick)
 /* Installs a volume read back from disk (rc its outcome) as the entry's host copy, unless
  * another thread did first. Returns whether the entry now has one. */
 static bool install_read_locked(struct irradiance_cache *c, struct irr_entry *en,
-                                enum refract_code rc, struct irradiance_volume *vol, double ms,
-                                const struct err *e)
+                                enum refract_code rc, struct irr_host *vol, enum irr_kind kind,
+                                double ms, const struct err *e)
 {
     if (en->has_host) {
-        irradiance_volume_free(vol);
+        irr_host_free(vol);
         return true;
+    }
+    if (rc == REFRACT_E_OK && kind != en->kind) {
+        irr_host_free(vol);
+        rc = REFRACT_E_STORAGE;
+        e = &(struct err){.code = rc, .msg = "its data file is of the other kind"};
     }
     if (rc != REFRACT_E_OK) {
         log_warn("irradiance", "volume %016" PRIx64 " could not be read back: %s", en->key, e->msg);
@@ -239,8 +249,8 @@ static bool install_read_locked(struct irradiance_cache *c, struct irr_entry *en
     }
     en->host = *vol;
     en->has_host = true;
-    en->has_stats = true;
-    en->stats = en->host.stats;
+    en->has_stats = kind == IRR_KIND_VOLUME;
+    en->stats = en->host.volume.stats;
     en->compute_ms = ms;
     en->loaded_from_disk = true;
     c->counters.loaded++;
@@ -256,10 +266,11 @@ static bool load_locked(struct irradiance_cache *c, struct irr_entry *en)
     if (!en->on_disk)
         return false;
     struct err e = {0};
-    struct irradiance_volume vol = {0};
+    struct irr_host vol = {0};
+    enum irr_kind kind = IRR_KIND_VOLUME;
     double ms = 0;
-    enum refract_code rc = irr_disk_read(c, en->key, &vol, &ms, &e);
-    return install_read_locked(c, en, rc, &vol, ms, &e);
+    enum refract_code rc = irr_disk_read(c, en->key, &vol, &kind, &ms, &e);
+    return install_read_locked(c, en, rc, &vol, kind, ms, &e);
 }
 
 /* HTTP threads: reads the host copies of ready entries from disk with the lock released,
@@ -268,7 +279,8 @@ static bool load_locked(struct irradiance_cache *c, struct irr_entry *en)
  * has a host copy afterwards. */
 static void load_unlocked(struct irradiance_cache *c, struct irr_entry **list, int n, bool *ok)
 {
-    struct irradiance_volume vol[SCENE_MAX_LIGHTS] = {0};
+    struct irr_host vol[SCENE_MAX_LIGHTS] = {0};
+    enum irr_kind kind[SCENE_MAX_LIGHTS] = {IRR_KIND_VOLUME};
     enum refract_code rc[SCENE_MAX_LIGHTS];
     struct err e[SCENE_MAX_LIGHTS] = {0};
     double ms[SCENE_MAX_LIGHTS] = {0};
@@ -276,11 +288,11 @@ static void load_unlocked(struct irradiance_cache *c, struct irr_entry **list, i
         list[i]->loading++;
     pthread_mutex_unlock(&c->lock);
     for (int i = 0; i < n; i++)
-        rc[i] = irr_disk_read(c, list[i]->key, &vol[i], &ms[i], &e[i]);
+        rc[i] = irr_disk_read(c, list[i]->key, &vol[i], &kind[i], &ms[i], &e[i]);
     pthread_mutex_lock(&c->lock);
     for (int i = 0; i < n; i++) {
         list[i]->loading--;
-        ok[i] = install_read_locked(c, list[i], rc[i], &vol[i], ms[i], &e[i]);
+        ok[i] = install_read_locked(c, list[i], rc[i], &vol[i], kind[i], ms[i], &e[i]);
     }
 }
 
@@ -293,6 +305,43 @@ static bool usable_locked(struct irradiance_cache *c, struct irr_entry *en)
 }
 
 /* ---- requests -------------------------------------------------------------------------- */
+
+/* What the scene keeps in the cache per light: volumes, photon maps, or nothing. */
+static bool needs_cache(const struct scene *s)
+{
+    return scene_needs_light_simulation(s) || scene_needs_photon_maps(s);
+}
+
+static uint64_t entry_key(const struct irradiance_cache *c, uint64_t transport,
+                          const struct scene *s, const struct scene_light *l)
+{
+    return scene_needs_light_simulation(s) ? irradiance_cache_key(c, transport, l)
+                                           : irr_photons_key(c, transport, s, l);
+}
+
+/* Gives en the source it is computed from (held until its fields or passes are done). */
+static void take_source_locked(struct irr_entry *en, const struct irradiance_source *src)
+{
+    en->scene = src->scene;
+    en->lookup = src->lookup;
+    en->lookup_ctx = src->lookup_ctx;
+    en->release = src->release;
+    if (src->retain)
+        src->retain(src->lookup_ctx);
+}
+
+/* A photon map that stopped refining when its pose was left (cache_photons.c) goes on when
+ * the pose is wanted again. */
+static void resume_locked(struct irradiance_cache *c, struct irr_entry *en,
+                          const struct irradiance_source *src)
+{
+    if (en->kind != IRR_KIND_PHOTONS || en->phase != IRR_READY || !en->refining || en->busy ||
+        en->cancelled)
+        return;
+    en->busy = true;
+    take_source_locked(en, src);
+    irr_push_task_locked(c, IRR_TASK_BUILD, en);
+}
 
 static void cancel_locked(struct irradiance_cache *c, struct irr_entry *en)
 {
@@ -330,18 +379,15 @@ static struct irr_entry *start_locked(struct irradiance_cache *c,
         return NULL;
     en->key = key;
     en->transport = transport;
+    en->kind = scene_needs_light_simulation(src->scene) ? IRR_KIND_VOLUME : IRR_KIND_PHOTONS;
+    en->receiver = src->scene->receiver;
     en->phase = IRR_QUEUED;
     en->busy = true;
     en->light = *l;
     en->set = src->scene->lightsim;
     en->last_use = c->tick;
     en->noted_phase = -1;
-    en->scene = src->scene;
-    en->lookup = src->lookup;
-    en->lookup_ctx = src->lookup_ctx;
-    en->release = src->release;
-    if (src->retain)
-        src->retain(src->lookup_ctx);
+    take_source_locked(en, src);
     irr_note_progress_locked(c, en); /* queued */
     irr_push_task_locked(c, IRR_TASK_BUILD, en);
     return en;
@@ -351,7 +397,7 @@ bool irradiance_cache_request(struct irradiance_cache *c, const struct irradianc
                               bool retry_failed)
 {
     const struct scene *s = src->scene;
-    if (!scene_needs_light_simulation(s))
+    if (!needs_cache(s))
         return true;
     uint64_t transport = irradiance_transport_hash(src);
     bool all_hit = true;
@@ -378,7 +424,7 @@ bool irradiance_cache_request(struct irradiance_cache *c, const struct irradianc
     c->slot_count = j;
     for (size_t k = 0; k < s->light_count; k++) {
         const struct scene_light *l = &s->lights[k];
-        uint64_t key = irradiance_cache_key(c, transport, l);
+        uint64_t key = entry_key(c, transport, s, l);
         struct irr_slot *sl = find_slot(c, src->scene_id, l->name);
         if (sl == NULL) {
             sl = add_slot(c, src->scene_id, l->name);
@@ -413,8 +459,11 @@ bool irradiance_cache_request(struct irradiance_cache *c, const struct irradianc
         }
         en->last_use = c->tick;
         irr_note_use_locked(c, en);
+        resume_locked(c, en, src);
         bool ready = en->phase == IRR_READY && !en->cancelled;
         metrics_cache(METRICS_CACHE_IRRADIANCE, ready ? METRICS_HIT : METRICS_MISS);
+        if (ready && en->refining)
+            all_hit = false; /* usable, but a photon map's passes remain: jobs wait for them */
         if (ready && !en->has_gpu && !en->has_host && en->on_disk) {
             to_load[loads] = en; /* read back below, without the lock */
             load_slot[loads++] = sl;
@@ -460,7 +509,7 @@ int irradiance_cache_status(struct irradiance_cache *c, const struct irradiance_
                             struct irradiance_light_status *out)
 {
     const struct scene *s = src->scene;
-    bool needed = scene_needs_light_simulation(s);
+    bool needed = needs_cache(s);
     uint64_t transport = irradiance_transport_hash(src);
     pthread_mutex_lock(&c->lock);
     for (size_t k = 0; k < s->light_count; k++) {
@@ -468,8 +517,9 @@ int irradiance_cache_status(struct irradiance_cache *c, const struct irradiance_
         struct irradiance_light_status *st = &out[k];
         memset(st, 0, sizeof *st);
         snprintf(st->name, sizeof st->name, "%s", l->name);
-        st->key = irradiance_cache_key(c, transport, l);
+        st->key = entry_key(c, transport, s, l);
         st->using_ = "none";
+        st->photons = scene_needs_photon_maps(s) && !scene_needs_light_simulation(s);
         if (!needed) {
             st->state = IRRADIANCE_NOT_NEEDED;
             continue;
@@ -493,13 +543,20 @@ int irradiance_cache_status(struct irradiance_cache *c, const struct irradiance_
         st->compute_ms = en->compute_ms;
         st->loaded_from_disk = en->loaded_from_disk;
         st->gpu_bytes = en->has_gpu ? en->gpu.bytes : 0;
-        st->host_bytes = en->has_host ? irradiance_volume_bytes(&en->host) : 0;
+        st->host_bytes = en->has_host ? irr_host_bytes(&en->host) : 0;
         st->stats = en->stats;
         st->has_stats = en->has_stats;
+        st->refining = en->refining;
+        st->passes = en->passes;
+        if (en->has_host && en->host.photons) {
+            st->photons_emitted = en->host.photons->emitted;
+            st->photons_landed = en->host.photons->landed;
+            st->photon_radius = en->host.photons->grid.radius;
+        }
         switch (en->phase) {
         case IRR_READY:
             st->state = IRRADIANCE_READY;
-            st->progress = 1.0;
+            st->progress = en->refining ? en->progress : 1.0;
             st->using_ = "current";
             break;
         case IRR_FAILED:
@@ -559,11 +616,17 @@ const char *irradiance_cache_gather(struct irradiance_cache *c, const struct irr
                                     struct render_light *out, int *count)
 {
     const struct scene *s = src->scene;
-    bool needed = scene_needs_light_simulation(s);
+    bool needed = needs_cache(s);
     uint64_t transport = needed ? irradiance_transport_hash(src) : 0;
     bool stale = false, missing = false;
     pthread_mutex_lock(&c->lock);
     int64_t tick = ++c->tick;
+    /* The previous gather's photon maps are no longer read (this thread renders one gather
+     * at a time). */
+    for (int j = 0; j < SCENE_MAX_LIGHTS; j++) {
+        irr_pmap_unref(c->gpu_borrowed[j]);
+        c->gpu_borrowed[j] = NULL;
+    }
     for (size_t k = 0; k < s->light_count; k++) {
         const struct scene_light *l = &s->lights[k];
         struct render_light *rl = &out[k];
@@ -579,8 +642,23 @@ const char *irradiance_cache_gather(struct irradiance_cache *c, const struct irr
         if (!needed)
             continue;
         bool previous = false;
-        struct irr_entry *en = best_locked(c, src->scene_id, l->name,
-                                           irradiance_cache_key(c, transport, l), &previous);
+        struct irr_entry *en =
+            best_locked(c, src->scene_id, l->name, entry_key(c, transport, s, l), &previous);
+        if (en && en->kind == IRR_KIND_PHOTONS) {
+            struct irr_pmap *m = en->has_host ? en->host.photons : NULL;
+            if (m && k < SCENE_MAX_LIGHTS) {
+                m->refs++; /* borrowed until the next gather */
+                c->gpu_borrowed[k] = m;
+                rl->photons = &m->grid;
+                rl->photon_key = en->key ^ ((uint64_t)m->emitted * 0x9e3779b97f4a7c15ull);
+                en->last_use = tick;
+                irr_note_use_locked(c, en);
+                stale = stale || previous;
+            } else {
+                missing = true;
+            }
+            continue;
+        }
         if (en && !en->has_gpu && en->has_host) {
             /* The upload (milliseconds for a large volume) runs with the lock released, so
              * HTTP threads asking for status or hits do not wait for it; the pin keeps the
@@ -589,7 +667,7 @@ const char *irradiance_cache_gather(struct irradiance_cache *c, const struct irr
             struct irradiance_gpu tex = {0};
             en->uploading = true;
             pthread_mutex_unlock(&c->lock);
-            enum refract_code rc = irradiance_gpu_upload(&en->host, &tex, &e);
+            enum refract_code rc = irradiance_gpu_upload(&en->host.volume, &tex, &e);
             pthread_mutex_lock(&c->lock);
             en->uploading = false;
             if (rc == REFRACT_E_OK) {
@@ -639,7 +717,8 @@ enum refract_code irradiance_cache_copy(struct irradiance_cache *c,
     if (!scene_needs_light_simulation(s))
         return err_set(e, REFRACT_E_CONFLICT,
                        "scene \"%s\" needs no light simulation (no scattering object, no "
-                       "receiver), so light \"%s\" has no irradiance volume",
+                       "receiver with \"volume\" caustics), so light \"%s\" has no irradiance "
+                       "volume",
                        src->scene_id, name);
     pthread_mutex_lock(&c->lock);
     struct irr_entry *en =
@@ -656,18 +735,18 @@ enum refract_code irradiance_cache_copy(struct irradiance_cache *c,
                      "/v1/scenes/%s/irradiance shows the progress",
                      name, src->scene_id, src->scene_id);
     } else {
-        size_t n =
-            (size_t)en->host.grid.dims[0] * en->host.grid.dims[1] * en->host.grid.dims[2] * 4;
-        out->grid = en->host.grid;
-        out->stats = en->host.stats;
+        const struct irradiance_volume *v = &en->host.volume;
+        size_t n = (size_t)v->grid.dims[0] * v->grid.dims[1] * v->grid.dims[2] * 4;
+        out->grid = v->grid;
+        out->stats = v->stats;
         out->irradiance = malloc(n * sizeof(float));
         out->direction = malloc(n * sizeof(float));
         if (out->irradiance == NULL || out->direction == NULL) {
             irradiance_volume_free(out);
             rc = err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory copying a volume");
         } else {
-            memcpy(out->irradiance, en->host.irradiance, n * sizeof(float));
-            memcpy(out->direction, en->host.direction, n * sizeof(float));
+            memcpy(out->irradiance, v->irradiance, n * sizeof(float));
+            memcpy(out->direction, v->direction, n * sizeof(float));
             *key = en->key;
             en->last_use = ++c->tick;
             irr_note_use_locked(c, en);
@@ -780,7 +859,8 @@ void irradiance_cache_destroy(struct irradiance_cache *c)
     }
     for (size_t i = 0; i < c->entry_count; i++) {
         struct irr_entry *en = c->entries[i];
-        irradiance_volume_free(&en->host);
+        irr_host_free(&en->host);
+        irr_photon_scene_free(en);
         irr_drop_source(en);
         if (en->fields)
             irr_fields_release(en->fields);
@@ -790,6 +870,8 @@ void irradiance_cache_destroy(struct irradiance_cache *c)
         if (c->fields[i])
             irr_fields_release(c->fields[i]);
     }
+    for (int j = 0; j < SCENE_MAX_LIGHTS; j++)
+        irr_pmap_unref(c->gpu_borrowed[j]);
     free(c->entries);
     free(c->slots);
     irr_notes_free(c);

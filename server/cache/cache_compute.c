@@ -24,7 +24,7 @@ void irr_fields_release(struct irr_fields *f)
 
 /* ---- GPU chunks ------------------------------------------------------------------------ */
 
-static void fail_locked(struct irr_entry *en, const struct err *e)
+void irr_fail_locked(struct irr_entry *en, const struct err *e)
 {
     en->phase = IRR_FAILED;
     snprintf(en->message, sizeof en->message, "%s", e->msg);
@@ -61,10 +61,10 @@ static void finish_run(struct irr_entry *en, struct err *e)
     } else if (rc != REFRACT_E_OK) {
         irradiance_volume_free(&host);
         irradiance_gpu_free(&tex);
-        fail_locked(en, e);
+        irr_fail_locked(en, e);
     } else {
         host.stats = stats;
-        en->host = host;
+        en->host.volume = host;
         en->has_host = true;
         en->gpu = tex;
         en->has_gpu = true;
@@ -151,7 +151,7 @@ static void chunk_settle(struct gpu_work *w)
         en->finished = true;
         pthread_mutex_lock(&c->lock);
         if (!en->cancelled)
-            fail_locked(en, &w->err);
+            irr_fail_locked(en, &w->err);
         pthread_mutex_unlock(&c->lock);
     }
     if (!en->finished) {
@@ -162,7 +162,7 @@ static void chunk_settle(struct gpu_work *w)
         en->run = NULL;
         en->finished = true;
         pthread_mutex_lock(&c->lock);
-        fail_locked(en, &e);
+        irr_fail_locked(en, &e);
         pthread_mutex_unlock(&c->lock);
     }
     if (en->fields) {
@@ -240,6 +240,10 @@ static struct irr_fields *fields_for(struct irradiance_cache *c, struct irr_entr
 
 static void run_build(struct irradiance_cache *c, struct irr_entry *en)
 {
+    if (en->kind == IRR_KIND_PHOTONS) {
+        irr_photons_pass(c, en);
+        return;
+    }
     pthread_mutex_lock(&c->lock);
     bool cancelled = en->cancelled;
     pthread_mutex_unlock(&c->lock);
@@ -249,7 +253,7 @@ static void run_build(struct irradiance_cache *c, struct irr_entry *en)
     irr_drop_source(en); /* the fields no longer need the scene version */
     if (cancelled || en->cancelled || f == NULL) {
         if (!cancelled && !en->cancelled)
-            fail_locked(en, &e);
+            irr_fail_locked(en, &e);
         en->busy = false;
         pthread_mutex_unlock(&c->lock);
         irr_fields_release(f);
@@ -266,7 +270,7 @@ static void run_build(struct irradiance_cache *c, struct irr_entry *en)
         irr_fields_release(f);
         pthread_mutex_lock(&c->lock);
         en->fields = NULL;
-        fail_locked(en, &e);
+        irr_fail_locked(en, &e);
         en->busy = false;
         pthread_mutex_unlock(&c->lock);
     }

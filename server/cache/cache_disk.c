@@ -2,11 +2,15 @@
  * cache_disk.c - irradiance volumes in the data directory and as EXR bytes.
  *
  *     <data>/irradiance/<key>.exr   the volume (layout in irradiance_cache.h, docs/api.md)
- *     <data>/irradiance/<key>.json  sidecar: {"key", "dims", "bmin", "voxel",
- *                                   "compute_ms", "stats": {...}}
+ *     <data>/irradiance/<key>.pmap  or a light's photon map (cache_photons.c)
+ *     <data>/irradiance/<key>.json  sidecar: {"key", "grid": {"dims", "bmin", "voxel"},
+ *                                   "compute_ms", "stats": {...}}, or for a photon map
+ *                                   {"key", "kind": "photons", "compute_ms", "photons",
+ *                                   "landed", "radius"}
  *
- * Both are written to a temporary name, fsynced and renamed, the EXR first, so a sidecar
- * always names a complete volume; the start-up index (cache_index.c) trusts only pairs.
+ * Both are written to a temporary name, fsynced and renamed, the data file first, so a
+ * sidecar always names a complete volume or map; the start-up index (cache_index.c) trusts
+ * only pairs.
  */
 #include <cjson/cJSON.h>
 #include <dirent.h>
@@ -29,6 +33,13 @@ void irr_volume_path(const struct irradiance_cache *c, uint64_t key, const char 
                      size_t size)
 {
     snprintf(out, size, "%s/%016" PRIx64 ".%s", c->dir, key, ext);
+}
+
+const char *irr_data_ext(const struct irradiance_cache *c, uint64_t key)
+{
+    char path[700];
+    irr_volume_path(c, key, "pmap", path, sizeof path);
+    return access(path, F_OK) == 0 ? "pmap" : "exr";
 }
 
 static cJSON *grid_object(const struct light_grid *g)
@@ -208,23 +219,37 @@ static void stats_from_json(const cJSON *o, struct lightsim_stats *s)
 enum refract_code irr_disk_write(const struct irradiance_cache *c, const struct irr_entry *en,
                                  struct err *e)
 {
-    void *bytes = NULL;
-    size_t len = 0;
-    enum refract_code rc = irradiance_volume_encode_exr(&en->host, en->key, &bytes, &len, e);
     char path[700];
-    irr_volume_path(c, en->key, "exr", path, sizeof path);
-    if (rc == REFRACT_E_OK)
-        rc = io_write_atomic(path, bytes, len, e);
-    free(bytes);
+    enum refract_code rc;
+    bool photons = en->kind == IRR_KIND_PHOTONS;
+    irr_volume_path(c, en->key, photons ? "pmap" : "exr", path, sizeof path);
+    if (photons) {
+        rc = irr_photons_write(path, &en->host, e);
+    } else {
+        void *bytes = NULL;
+        size_t len = 0;
+        rc = irradiance_volume_encode_exr(&en->host.volume, en->key, &bytes, &len, e);
+        if (rc == REFRACT_E_OK)
+            rc = io_write_atomic(path, bytes, len, e);
+        free(bytes);
+    }
     if (rc != REFRACT_E_OK)
         return rc;
     cJSON *o = cJSON_CreateObject();
     char keyhex[17];
     snprintf(keyhex, sizeof keyhex, "%016" PRIx64, en->key);
     cJSON_AddStringToObject(o, "key", keyhex);
-    cJSON_AddItemToObject(o, "grid", grid_object(&en->host.grid));
     cJSON_AddNumberToObject(o, "compute_ms", en->compute_ms);
-    cJSON_AddItemToObject(o, "stats", irradiance_stats_json(&en->host.stats));
+    if (photons) {
+        const struct irr_pmap *m = en->host.photons;
+        cJSON_AddStringToObject(o, "kind", "photons");
+        cJSON_AddNumberToObject(o, "photons", (double)m->emitted);
+        cJSON_AddNumberToObject(o, "landed", (double)m->landed);
+        cJSON_AddNumberToObject(o, "radius", m->grid.radius);
+    } else {
+        cJSON_AddItemToObject(o, "grid", grid_object(&en->host.volume.grid));
+        cJSON_AddItemToObject(o, "stats", irradiance_stats_json(&en->host.volume.stats));
+    }
     char *text = cJSON_Print(o);
     cJSON_Delete(o);
     if (text == NULL)
@@ -236,8 +261,10 @@ enum refract_code irr_disk_write(const struct irradiance_cache *c, const struct 
 }
 
 enum refract_code irr_disk_read(const struct irradiance_cache *c, uint64_t key,
-                                struct irradiance_volume *out, double *compute_ms, struct err *e)
+                                struct irr_host *out, enum irr_kind *kind, double *compute_ms,
+                                struct err *e)
 {
+    memset(out, 0, sizeof *out);
     char path[700];
     char *text = NULL, *bytes = NULL;
     size_t len = 0;
@@ -247,16 +274,26 @@ enum refract_code irr_disk_read(const struct irradiance_cache *c, uint64_t key,
     free(text);
     if (rc == REFRACT_E_OK && side == NULL)
         rc = err_set(e, REFRACT_E_STORAGE, "%s is not JSON", path);
-    irr_volume_path(c, key, "exr", path, sizeof path);
-    if (rc == REFRACT_E_OK)
+    const cJSON *k = side ? cJSON_GetObjectItemCaseSensitive(side, "kind") : NULL;
+    *kind = cJSON_IsString(k) && strcmp(k->valuestring, "photons") == 0 ? IRR_KIND_PHOTONS
+                                                                          : IRR_KIND_VOLUME;
+    irr_volume_path(c, key, *kind == IRR_KIND_PHOTONS ? "pmap" : "exr", path, sizeof path);
+    if (rc == REFRACT_E_OK && *kind == IRR_KIND_PHOTONS) {
+        rc = irr_photons_read(path, out, e);
+        if (rc == REFRACT_E_OK) {
+            out->photons->emitted = (long)read_number(side, "photons");
+            out->photons->landed = (size_t)read_number(side, "landed");
+        }
+    } else if (rc == REFRACT_E_OK) {
         rc = io_read_file(path, IRR_MAX_FILE, &bytes, &len, e);
-    if (rc == REFRACT_E_OK)
-        rc = irradiance_volume_decode_exr(bytes, len, out, e);
-    free(bytes);
-    if (rc == REFRACT_E_OK) {
-        stats_from_json(cJSON_GetObjectItemCaseSensitive(side, "stats"), &out->stats);
-        *compute_ms = read_number(side, "compute_ms");
+        if (rc == REFRACT_E_OK)
+            rc = irradiance_volume_decode_exr(bytes, len, &out->volume, e);
+        if (rc == REFRACT_E_OK)
+            stats_from_json(cJSON_GetObjectItemCaseSensitive(side, "stats"), &out->volume.stats);
     }
+    free(bytes);
+    if (rc == REFRACT_E_OK)
+        *compute_ms = read_number(side, "compute_ms");
     cJSON_Delete(side);
     return rc;
 }
@@ -275,9 +312,9 @@ size_t irr_disk_list_pairs(const struct irradiance_cache *c, uint64_t **keys)
             continue;
         char *end = NULL;
         uint64_t key = strtoull(n, &end, 16);
-        char exr[700];
-        irr_volume_path(c, key, "exr", exr, sizeof exr);
-        if (end != n + 16 || access(exr, R_OK) != 0)
+        char data[700];
+        irr_volume_path(c, key, irr_data_ext(c, key), data, sizeof data);
+        if (end != n + 16 || access(data, R_OK) != 0)
             continue;
         if (count == cap) {
             size_t grown_cap = cap ? 2 * cap : 64;

@@ -38,6 +38,9 @@ static void note_locked(struct irradiance_cache *c, const struct irr_slot *sl,
     n->progress = en->phase == IRR_READY ? 1.0 : en->progress;
     n->compute_ms = en->compute_ms;
     n->loaded_from_disk = en->loaded_from_disk;
+    n->photons = en->kind == IRR_KIND_PHOTONS;
+    n->refining = en->refining;
+    n->photons_emitted = en->has_host && en->host.photons ? en->host.photons->emitted : 0;
     snprintf(n->message, sizeof n->message, "%s", en->message);
     if (c->notes_tail)
         c->notes_tail->next = n;
@@ -103,6 +106,10 @@ static cJSON *note_json(const struct irr_note *n)
     if (strcmp(n->type, EVENT_IRRADIANCE_READY) == 0) {
         cJSON_AddNumberToObject(o, "compute_ms", n->compute_ms);
         cJSON_AddBoolToObject(o, "loaded_from_disk", n->loaded_from_disk);
+        if (n->photons) { /* a photon map's pass (docs/photons.md "The cache") */
+            cJSON_AddNumberToObject(o, "photons", (double)n->photons_emitted);
+            cJSON_AddBoolToObject(o, "refining", n->refining);
+        }
     } else if (strcmp(n->type, EVENT_IRRADIANCE_FAILED) == 0) {
         cJSON_AddStringToObject(o, "message", n->message);
     }

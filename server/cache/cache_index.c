@@ -31,13 +31,14 @@ int64_t irr_unix_ms(void)
     return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
 }
 
-/* Size of <key>.exr + <key>.json and the sidecar's mtime; false unless both exist. */
+/* Size of <key>.exr (or .pmap) + <key>.json and the sidecar's mtime; false unless both
+ * exist. */
 static bool pair_on_disk(const struct irradiance_cache *c, uint64_t key, uint64_t *bytes,
                          int64_t *mtime_ms)
 {
     char path[700];
     struct stat a, b;
-    irr_volume_path(c, key, "exr", path, sizeof path);
+    irr_volume_path(c, key, irr_data_ext(c, key), path, sizeof path);
     if (stat(path, &a) != 0 || !S_ISREG(a.st_mode))
         return false;
     irr_volume_path(c, key, "json", path, sizeof path);
@@ -56,6 +57,8 @@ static void remove_pair(const struct irradiance_cache *c, uint64_t key)
     remove(path);
     irr_volume_path(c, key, "exr", path, sizeof path);
     remove(path);
+    irr_volume_path(c, key, "pmap", path, sizeof path);
+    remove(path);
 }
 
 static struct irr_entry *add_disk_entry(struct irradiance_cache *c, uint64_t key,
@@ -66,6 +69,7 @@ static struct irr_entry *add_disk_entry(struct irradiance_cache *c, uint64_t key
         return NULL;
     en->key = key;
     en->transport = transport;
+    en->kind = strcmp(irr_data_ext(c, key), "pmap") == 0 ? IRR_KIND_PHOTONS : IRR_KIND_VOLUME;
     en->phase = IRR_READY;
     en->on_disk = true;
     en->disk_bytes = bytes;
@@ -241,7 +245,7 @@ void irr_evict_disk(struct irradiance_cache *c)
             victim->on_disk = false;
             victim->cancelled = true;
             if (victim->has_host) {
-                irradiance_volume_free(&victim->host);
+                irr_host_free(&victim->host);
                 victim->has_host = false;
             }
             c->counters.evicted_disk++;

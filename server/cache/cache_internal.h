@@ -18,7 +18,9 @@
 #include <pthread.h>
 #include <stdatomic.h>
 
+#include "../core/photon.h"
 #include "../lightsim/gpu/lightsim_gpu.h"
+#include "../scene/scene_pathtrace.h"
 #include "irradiance_cache.h"
 #include "irradiance_index.h"
 
@@ -34,9 +36,34 @@ void irr_fields_release(struct irr_fields *f);
 
 enum irr_phase { IRR_QUEUED = 0, IRR_COMPUTING = 1, IRR_READY = 2, IRR_FAILED = 3 };
 
+/* What an entry is: a light's irradiance volume (the light simulator's, on the GPU), or a
+ * light's photon map at unit intensity (receiver.caustics "photons", traced on the worker's
+ * CPU threads in passes: cache_photons.c, docs/photons.md "The cache"). */
+enum irr_kind { IRR_KIND_VOLUME = 0, IRR_KIND_PHOTONS = 1 };
+
+/* A photon map, shared by its entry and the GPU thread's last gather (which borrows it
+ * until its next one: irradiance_cache_gather), so that a pass may replace an entry's map
+ * or memory evict it while a render reads it. refs changes under the cache's lock. */
+struct irr_pmap {
+    int refs;
+    struct photon_grid grid; /* unit light */
+    long emitted;            /* the photons it was made of */
+    size_t landed;
+};
+void irr_pmap_unref(struct irr_pmap *m);
+
+/* An entry's host copy. */
+struct irr_host {
+    struct irradiance_volume volume; /* IRR_KIND_VOLUME */
+    struct irr_pmap *photons;        /* IRR_KIND_PHOTONS */
+};
+size_t irr_host_bytes(const struct irr_host *h);
+void irr_host_free(struct irr_host *h);
+
 struct irr_entry {
     struct irradiance_cache *cache;
     uint64_t key, transport;
+    enum irr_kind kind; /* set when made, never changed */
     enum irr_phase phase;     /* (L) */
     bool cancelled;           /* (L) superseded by a newer pose */
     bool busy;                /* (L) a worker task or a GPU item refers to it */
@@ -58,8 +85,14 @@ struct irr_entry {
     int noted_phase;               /* (L) phase of the last progress event; -1 = none */
     double noted_progress;         /* (L) progress of the last progress event */
     double noted_ms;               /* (L) gpu_time_ms() of the last progress event */
-    struct irradiance_volume host; /* (L) */
+    struct irr_host host;          /* (L) */
     bool has_host;                 /* (L) */
+    /* IRR_KIND_PHOTONS: the map is usable (IRR_READY) after its first pass and refines
+     * while `refining`; the last pass's map is the one persisted. */
+    int passes;                    /* (L) passes done */
+    bool refining;                 /* (L) passes remain */
+    struct scene_receiver receiver; /* the photon settings (photons, photon_radius) */
+    struct irr_photon_scene *pt;   /* (W) the geometry and the light, from the first pass on */
     struct irradiance_gpu gpu;     /* (L, made and freed on the GPU thread) */
     bool has_gpu;                  /* (L) */
     int64_t last_use;              /* (L) cache tick of the last request or render */
@@ -104,6 +137,9 @@ struct irr_note {
     double progress;
     double compute_ms;         /* ready */
     bool loaded_from_disk;     /* ready */
+    bool photons;              /* ready: a photon map's pass */
+    bool refining;             /* ready: passes remain */
+    long photons_emitted;      /* ready: the map's photons */
     char message[ERR_MSG_MAX]; /* failed */
 };
 
@@ -125,6 +161,7 @@ struct irradiance_cache {
     size_t slot_count, slot_cap;
     struct irr_task *task_head, *task_tail;
     struct irr_fields *fields[IRR_FIELDS_KEPT]; /* (W) most recent first */
+    struct irr_pmap *gpu_borrowed[SCENE_MAX_LIGHTS]; /* (L) the last gather's photon maps */
     int64_t tick;
     struct irradiance_cache_counters counters;
     struct irradiance_index index; /* the database's rows (irradiance_index.h) */
@@ -149,6 +186,8 @@ void irr_evict_gpu_locked(struct irradiance_cache *c, int64_t keep_tick);
 void irr_drop_source(struct irr_entry *en);
 
 /* cache_compute.c */
+/* Records en's failure (message, counter, event, log). */
+void irr_fail_locked(struct irr_entry *en, const struct err *e);
 void *irr_worker_main(void *arg);
 void irr_release_gpu_entry(struct irr_entry *en); /* GPU thread */
 
@@ -161,15 +200,35 @@ void irr_note_failed_locked(struct irradiance_cache *c, const struct irr_entry *
 void irr_events_flush(struct irradiance_cache *c);
 void irr_notes_free(struct irradiance_cache *c);
 
+/* cache_photons.c */
+struct irr_photon_scene; /* the entry's pathtrace scene with its light alone, unit intensity */
+/* The key of a light's photon map: the volume key's inputs, the lamp's radius and the photon
+ * settings. */
+uint64_t irr_photons_key(const struct irradiance_cache *c, uint64_t transport,
+                         const struct scene *s, const struct scene_light *l);
+/* Worker, lock not held: one pass of a photon entry (the task IRR_TASK_BUILD of such an
+ * entry), queueing the next while passes remain and its key is still wanted. */
+void irr_photons_pass(struct irradiance_cache *c, struct irr_entry *en);
+void irr_photon_scene_free(struct irr_entry *en);
+/* The map as <key>.pmap bytes (native byte order) and back. */
+enum refract_code irr_photons_write(const char *path, const struct irr_host *h, struct err *e);
+enum refract_code irr_photons_read(const char *path, struct irr_host *h, struct err *e);
+
 /* cache_disk.c */
 void irr_volume_path(const struct irradiance_cache *c, uint64_t key, const char *ext, char *out,
                      size_t size);
+/* The data file's extension of a key on disk: "pmap" (a photon map) when <key>.pmap exists,
+ * else "exr" (a volume). */
+const char *irr_data_ext(const struct irradiance_cache *c, uint64_t key);
 enum refract_code irr_disk_write(const struct irradiance_cache *c, const struct irr_entry *en,
                                  struct err *e);
-/* Reads <key>.exr and its sidecar into a new host volume (stats and compute_ms too). */
+/* Reads <key>.exr or <key>.pmap and its sidecar into a new host copy (stats and compute_ms
+ * too); *kind says which it was. */
 enum refract_code irr_disk_read(const struct irradiance_cache *c, uint64_t key,
-                                struct irradiance_volume *out, double *compute_ms, struct err *e);
-/* The keys of every <key>.json with a <key>.exr in the directory; *keys malloc'd. */
+                                struct irr_host *out, enum irr_kind *kind, double *compute_ms,
+                                struct err *e);
+/* The keys of every <key>.json with a <key>.exr or <key>.pmap in the directory; *keys
+ * malloc'd. */
 size_t irr_disk_list_pairs(const struct irradiance_cache *c, uint64_t **keys);
 
 /* cache_index.c */

@@ -106,6 +106,16 @@ struct irradiance_light_status {
     char message[ERR_MSG_MAX];
     struct lightsim_stats stats;
     bool has_stats;
+    /* A photon map instead of a volume (receiver.caustics "photons", docs/photons.md "The
+     * cache"): usable ("ready") after its first pass, `refining` while passes remain
+     * (progress: the share of its photons traced); the map in use has photons_emitted
+     * photons, photons_landed of them stored, and gathers with photon_radius. */
+    bool photons;
+    bool refining;
+    int passes;
+    long photons_emitted;
+    size_t photons_landed;
+    double photon_radius;
 };
 
 /* Counters over the cache's lifetime (and what it holds now). */

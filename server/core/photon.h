@@ -126,6 +126,13 @@ static inline uint32_t photon_hash(int32_t i, int32_t j, uint32_t capacity)
 /* Builds the lattice of the landed photons' kernel estimate for the radius. */
 enum refract_code photon_grid_build(const struct photon_list *l, double radius,
                                     struct photon_grid *g, struct err *e);
+/* A lattice from its n stored points, each (i, j) in ij[2 p ..] and E rgb in E[3 p ..],
+ * spacing `cell` and kernel radius `radius` as built (a map read back from the data
+ * directory): the table is made anew (capacity, probe_max). STORAGE for more than
+ * PHOTON_LATTICE_MAX points, a bad spacing or indices out of range. */
+enum refract_code photon_grid_from_points(double cell, double radius, uint32_t n,
+                                          const int32_t *ij, const double *E,
+                                          struct photon_grid *g, struct err *e);
 /* E at world (x, z): bilinear between the four lattice points about it (the twin of
  * photon_irradiance in shaders/photons.glsl). */
 void photon_irradiance(const struct photon_grid *g, double x, double z, double E[3]);
@@ -162,5 +169,19 @@ enum refract_code photon_map_build(const struct pathtrace_scene *s, long count,
                                    double radius_setting, uint64_t seed, int threads,
                                    struct photon_grid *g, struct photon_map_stats *stats,
                                    struct err *e);
+
+/* ---- a light's map, refined in passes (docs/photons.md "The cache") ---- */
+
+#define PHOTON_LEVELS 3 /* a map refines in passes of count / 16, count / 4 and count photons */
+
+/* The photons of pass `level` (0 .. PHOTON_LEVELS - 1) of a map of `count`:
+ * count / 4^(PHOTON_LEVELS - 1 - level), at least 1024 and at most count. */
+long photon_level_count(long count, int level);
+/* The seed of a pass: the last pass uses seed 1, as the map render_view builds at once. */
+uint64_t photon_level_seed(int level);
+/* *out = s with light l as its only light (a light's own map; l at unit intensity makes
+ * a map that the light's colour times intensity scales). out->surfaces stays s's. */
+void photon_scene_one_light(const struct pathtrace_scene *s, const struct pathtrace_light *l,
+                            struct pathtrace_scene *out);
 
 #endif

@@ -143,6 +143,8 @@ static enum refract_code splat(const struct photon_list *l, struct photon_grid *
     return REFRACT_E_OK;
 }
 
+static enum refract_code finish(struct photon_grid *g, struct err *e);
+
 enum refract_code photon_grid_build(const struct photon_list *l, double radius,
                                     struct photon_grid *g, struct err *e)
 {
@@ -177,6 +179,13 @@ enum refract_code photon_grid_build(const struct photon_list *l, double radius,
                        : rc;
         }
     }
+    return finish(g, e);
+}
+
+/* The GPU's float copy of E and the longest probe sequence, once the table is complete. */
+static enum refract_code finish(struct photon_grid *g, struct err *e)
+{
+    g->probe_max = 0;
     g->E = malloc((size_t)g->capacity * 4 * sizeof *g->E);
     if (g->E == NULL) {
         photon_grid_free(g);
@@ -194,6 +203,45 @@ enum refract_code photon_grid_build(const struct photon_list *l, double radius,
         }
     }
     return REFRACT_E_OK;
+}
+
+enum refract_code photon_grid_from_points(double cell, double radius, uint32_t n,
+                                          const int32_t *ij, const double *E,
+                                          struct photon_grid *g, struct err *e)
+{
+    memset(g, 0, sizeof *g);
+    g->radius = radius;
+    g->cell = cell;
+    if (n == 0)
+        return REFRACT_E_OK;
+    if (n > PHOTON_LATTICE_MAX || !(cell > 0.0) || !isfinite(cell))
+        return err_set(e, REFRACT_E_STORAGE,
+                       "photons: a lattice of %u points with spacing %g is not one this build "
+                       "makes (at most %u points, a positive spacing)",
+                       n, cell, PHOTON_LATTICE_MAX);
+    uint32_t capacity = 1024;
+    while (capacity < 4u * n)
+        capacity *= 2u;
+    enum refract_code rc = table_alloc(g, capacity, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    for (uint32_t p = 0; p < n; p++) {
+        int32_t i = ij[2 * p], j = ij[2 * p + 1];
+        if (i == PHOTON_EMPTY_KEY || fabs((double)i) > PHOTON_CELL_MAX ||
+            fabs((double)j) > PHOTON_CELL_MAX) {
+            photon_grid_free(g);
+            return err_set(e, REFRACT_E_STORAGE,
+                           "photons: lattice point %u has indices out of range", p);
+        }
+        uint32_t s = find(g, i, j, NULL);
+        if (g->keys[2 * s] == PHOTON_EMPTY_KEY) {
+            g->keys[2 * s] = i;
+            g->keys[2 * s + 1] = j;
+            g->used++;
+        }
+        memcpy(&g->E_double[3 * s], &E[3 * p], 3 * sizeof(double));
+    }
+    return finish(g, e);
 }
 
 void photon_lattice_at(const struct photon_grid *g, int32_t i, int32_t j, double E[3])

@@ -82,3 +82,25 @@ enum refract_code photon_map_build(const struct pathtrace_scene *s, long count,
         photon_list_free(&w[t].list);
     return rc;
 }
+
+long photon_level_count(long count, int level)
+{
+    int shift = 2 * (PHOTON_LEVELS - 1 - level);
+    long n = shift > 0 ? count >> shift : count;
+    if (n < 1024)
+        n = 1024;
+    return n < count ? n : count;
+}
+
+uint64_t photon_level_seed(int level)
+{
+    return (uint64_t)(PHOTON_LEVELS - level);
+}
+
+void photon_scene_one_light(const struct pathtrace_scene *s, const struct pathtrace_light *l,
+                            struct pathtrace_scene *out)
+{
+    *out = *s;
+    out->lights[0] = *l;
+    out->light_count = 1;
+}

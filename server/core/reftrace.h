@@ -66,6 +66,8 @@ struct reftrace_object {
                           only the integrals are stepped */
 };
 
+struct photon_grid; /* photon.h */
+
 /* One light as the reference sees it (docs/tracing.md "Light"); the CPU twin of the GPU's
  * light_params, independent of the light simulator. */
 struct reftrace_light {
@@ -82,6 +84,9 @@ struct reftrace_light {
     double radius;      /* point: > 0, the lamp's sphere that rays leaving the scene see
                            (reftrace_light_emitter); 0: a point, never seen */
     bool camera_hidden; /* the sphere is not seen by camera rays that met nothing */
+    /* receiver.caustics "photons": this light's photon map at unit intensity (scale
+     * multiplies it; docs/photons.md "The cache"); NULL: no caustic from it (yet). */
+    const struct photon_grid *photons;
 };
 
 /* The receiver plane y = height, |x - center[0]|, |z - center[1]| <= half_size
@@ -93,17 +98,16 @@ struct reftrace_receiver {
     double center[2]; /* world x, z of the square's centre */
 };
 
-struct photon_grid;     /* photon.h */
 struct pathtrace_scene; /* pathtrace.h */
 
 struct reftrace_lighting {
     const struct reftrace_light *lights;
     int count;
     struct reftrace_receiver receiver;
-    /* receiver.caustics "photons" (docs/photons.md; the GPU's lights.count.z = 1): the photon
-     * map, and the scene whose surfaces the direct light's shadow rays test (its lights
-     * indexed as `lights`). NULL: the receiver reads the lights' modes as usual. */
-    const struct photon_grid *photons;
+    /* receiver.caustics "photons" (docs/photons.md; the GPU's lights.count.z = 1): the scene
+     * whose surfaces the direct light's shadow rays test (its lights indexed as `lights`),
+     * each light's map in reftrace_light.photons. NULL: the receiver reads the lights'
+     * modes as usual. */
     const struct pathtrace_scene *photon_scene;
     /* The sphere of the lights in LIGHT_MODE_WALTER (docs/walter.md; the GPU's
      * lights.walter_sphere and walter_medium): in-scattering inside it by walter2009's exact

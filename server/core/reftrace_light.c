@@ -160,10 +160,16 @@ bool reftrace_light_receiver(const struct reftrace_lighting *lt, vec3 env_up, ve
         const struct reftrace_light *lj = &lt->lights[j];
         vec3 E, l;
         bool lit;
-        if (lt->photons != NULL) { /* docs/photons.md "The receiver" */
+        if (lt->photon_scene != NULL) { /* docs/photons.md "The receiver" */
             if (reftrace_light_direct(lj, at, &E, &l) &&
                 photon_light_visible(lt->photon_scene, j, at))
                 sum = vec3_madd(sum, E, fmax(0.0, -l.y));
+            if (lj->photons != NULL) {
+                double Ep[3];
+                photon_irradiance(lj->photons, at.x, at.z, Ep);
+                sum = vec3_add(sum, (vec3){Ep[0] * lj->scale[0], Ep[1] * lj->scale[1],
+                                           Ep[2] * lj->scale[2]});
+            }
             continue;
         }
         if (lj->mode == LIGHT_MODE_VOLUME) {
@@ -180,11 +186,6 @@ bool reftrace_light_receiver(const struct reftrace_lighting *lt, vec3 env_up, ve
         }
         if (lit)
             sum = vec3_madd(sum, E, fmax(0.0, -l.y));
-    }
-    if (lt->photons != NULL) {
-        double Ep[3];
-        photon_irradiance(lt->photons, at.x, at.z, Ep);
-        sum = vec3_add(sum, (vec3){Ep[0], Ep[1], Ep[2]});
     }
     vec3 albedo = {rc->albedo[0], rc->albedo[1], rc->albedo[2]};
     *L = vec3_add(vec3_scale(vec3_mul(albedo, sum), 1.0 / M_PI), vec3_mul(albedo, env_up));

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "../cache/irradiance_cache.h"
+#include "../core/photon.h"
 #include "http_internal.h"
 
 static void add_hex(cJSON *o, const char *name, uint64_t v)
@@ -26,7 +27,11 @@ cJSON *http_irradiance_status(const struct http_app *app, struct store_scene *v)
     int n = irradiance_cache_status(app->irradiance, &src, st);
     cJSON *root = cJSON_CreateObject();
     cJSON_AddStringToObject(root, "scene", v->id);
-    cJSON_AddBoolToObject(root, "needed", scene_needs_light_simulation(v->scene));
+    /* Whether each light needs something of the cache: an irradiance volume, or a photon map
+     * (receiver.caustics "photons"). */
+    cJSON_AddBoolToObject(root, "needed",
+                          scene_needs_light_simulation(v->scene) ||
+                              scene_needs_photon_maps(v->scene));
     /* Which caustic method the scene's receiver uses (docs/photons.md "Choosing"): "photons"
      * (photon map and shadow rays, no volume), "volume" (the light simulator's) or "none"
      * (no receiver). */
@@ -55,6 +60,15 @@ cJSON *http_irradiance_status(const struct http_app *app, struct store_scene *v)
             cJSON_AddStringToObject(o, "message", st[i].message);
         if (st[i].has_stats)
             cJSON_AddItemToObject(o, "stats", irradiance_stats_json(&st[i].stats));
+        if (st[i].photons) { /* docs/photons.md "The cache" */
+            cJSON *p = cJSON_AddObjectToObject(o, "photon_map");
+            cJSON_AddNumberToObject(p, "passes", st[i].passes);
+            cJSON_AddNumberToObject(p, "passes_total", PHOTON_LEVELS);
+            cJSON_AddBoolToObject(p, "refining", st[i].refining);
+            cJSON_AddNumberToObject(p, "photons", (double)st[i].photons_emitted);
+            cJSON_AddNumberToObject(p, "landed", (double)st[i].photons_landed);
+            cJSON_AddNumberToObject(p, "radius", st[i].photon_radius);
+        }
         cJSON_AddItemToArray(arr, o);
     }
     struct irradiance_cache_counters k;

@@ -53,7 +53,8 @@ _Static_assert(sizeof(struct trace_hit_out) == 64, "trace_hit_out layout");
 _Static_assert(sizeof(struct trace_event_out) == 64, "trace_event_out layout");
 _Static_assert(RENDER_TRACE_MAX_EVENTS == TRACE_MAX_EVENTS, "events per traced ray");
 _Static_assert(sizeof(struct light_params) == 5 * 16, "light_params layout");
-_Static_assert(sizeof(struct march_lights) == 7 * 16 + 2 * (MAX_OBJECTS + MAX_SURFACES) * 16 +
+_Static_assert(sizeof(struct march_lights) == 5 * 16 + 2 * MAX_LIGHTS * 16 +
+                                                  2 * (MAX_OBJECTS + MAX_SURFACES) * 16 +
                                                   MAX_LIGHTS * sizeof(struct light_params),
                "march_lights layout");
 _Static_assert(MAX_LIGHTS == SCENE_MAX_LIGHTS, "one light slot per scene light");

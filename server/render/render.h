@@ -60,6 +60,8 @@ struct render_scene_status {
 
 /* One light as the view renderer sees it (tevs2007 eqs. 5.4-5.8). The irradiance volume
  * is borrowed from the irradiance cache for the call (GPU thread). */
+struct photon_grid; /* core/photon.h */
+
 struct render_light {
     enum scene_light_kind kind;
     vec3 position, direction;            /* world; direction unit, the way light travels */
@@ -69,6 +71,11 @@ struct render_light {
     double radius;      /* point: > 0, the lamp's sphere is seen by rays leaving the scene
                            (docs/tracing.md "Lamps"); 0: a point, never seen */
     bool camera_hidden; /* the sphere is not seen by camera rays that met nothing */
+    /* receiver.caustics "photons" with render_view_request.photons_cached: this light's
+     * photon map at unit intensity (scale multiplies it) and its key, borrowed like volume;
+     * NULL: no caustic from this light (yet). */
+    const struct photon_grid *photons;
+    uint64_t photon_key;
 };
 
 struct render_view_request {
@@ -81,6 +88,10 @@ struct render_view_request {
      * most SCENE_MAX_LIGHTS are used; the rest are ignored. */
     const struct render_light *lights;
     int light_count;
+    /* receiver.caustics "photons": the lights' photon maps come with the lights (the
+     * irradiance cache's, docs/photons.md "The cache"); false: render_view traces each
+     * light's map itself, at once, and keeps it with the scene (tools and tests). */
+    bool photons_cached;
 };
 
 struct render_view_result {

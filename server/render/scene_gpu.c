@@ -581,5 +581,6 @@ void scene_gpu_destroy(struct scene_gpu *sg)
     gpu_buffer_destroy(&sg->mesh_verts);
     gpu_buffer_destroy(&sg->photons);
     gpu_buffer_destroy(&sg->photon_keys);
+    photons_gpu_free(sg);
     free(sg);
 }

@@ -26,6 +26,8 @@ struct scene_gpu_object {
     int first_cell; /* its first cell in skip_cells */
 };
 
+struct photon_grid; /* core/photon.h */
+
 struct scene_gpu {
     char id[64];
     uint64_t generation;
@@ -58,19 +60,25 @@ struct scene_gpu {
     size_t bytes;
     double build_ms;
     int64_t last_used_ms;
-    /* The receiver's photon map (receiver.caustics "photons", photons_gpu.c): built on first
-     * use and again when the lights or the photon settings change (photon_key). */
+    /* The receiver's photon maps (receiver.caustics "photons", photons_gpu.c), one per light
+     * at unit intensity, one after another in two buffers: the irradiance cache's maps
+     * (render_view_request.photons_cached), or those traced here for requests without the
+     * cache (photon_own, kept while their keys hold). photon_key mixes the keys of the
+     * maps in the buffers. */
     struct gpu_buffer photons;     /* vec4 E per lattice hash slot (photon_grid.E); 0: none yet */
     struct gpu_buffer photon_keys; /* ivec2 per slot (photon_grid.keys) */
     uint64_t photon_key;
-    double photon_cell, photon_radius;
-    uint32_t photon_capacity, photon_probe_max;
-    double photon_build_ms;
+    int photon_maps;                             /* lights whose maps are in the buffers */
+    float photon_grid[SCENE_MAX_LIGHTS][4];      /* march_lights.photon_grid[j] */
+    int32_t photon_dims[SCENE_MAX_LIGHTS][4];    /* march_lights.photon_dims[j] */
+    struct photon_grid *photon_own[SCENE_MAX_LIGHTS]; /* maps traced here (NULL: none) */
+    uint64_t photon_own_key[SCENE_MAX_LIGHTS];
 };
 
-/* photons_gpu.c: makes sure sg holds the photon map for req's lights (a no-op unless the
- * scene's receiver.caustics is "photons"; photons traced on the GPU when trace_on_gpu and the
- * scene has no mesh surface, else on CPU threads), binds it and fills the lights block's photon
+/* photons_gpu.c: makes sure sg's buffers hold the photon map of each of req's lights (a
+ * no-op unless the scene's receiver.caustics is "photons"): the lights' own maps when
+ * req->photons_cached, else maps traced now (on the GPU when trace_on_gpu and the scene has
+ * no mesh surface, else on CPU threads); binds them and fills the lights block's photon
  * fields (count.z, photon_grid, photon_dims). CONFLICT from the photon tracer (docs/photons.md
  * "Not yet"), OUT_OF_MEMORY, or GPU errors. GPU thread. */
 struct march_lights;
@@ -78,6 +86,8 @@ struct render_view_request;
 enum refract_code photons_gpu_prepare(struct scene_gpu *sg, const struct render_scene_source *src,
                                       const struct render_view_request *req, bool trace_on_gpu,
                                       struct march_lights *ml, struct err *e);
+/* Frees the maps photons_gpu_prepare traced itself (scene_gpu_destroy). */
+void photons_gpu_free(struct scene_gpu *sg);
 
 /* Builds a new scene_gpu from src. Returns it (destroy with scene_gpu_destroy) or NULL with
  * e filled (CONFLICT for a missing volume or environment, LIMIT_EXCEEDED for atlases

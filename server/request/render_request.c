@@ -127,6 +127,7 @@ enum refract_code render_request_version_rows(struct render *r, struct irradianc
     *irradiance = irradiance_cache_gather(c, &isrc, lights, &count);
     req->lights = lights;
     req->light_count = count;
+    req->photons_cached = true;
     enum refract_code rc = render_view_rows(r, &src, req, row0, rows, out, e);
     if (rc == REFRACT_E_OK)
         note_build(store, v, &out->scene);
@@ -134,14 +135,19 @@ enum refract_code render_request_version_rows(struct render *r, struct irradianc
 }
 
 bool render_request_volumes_changed(const struct render_view_request *req, int row0,
-                                    const struct irradiance_gpu **volumes, int *count)
+                                    const struct irradiance_gpu **volumes, uint64_t *photon_keys,
+                                    int *count)
 {
     bool changed = row0 != 0 && req->light_count != *count;
     for (int j = 0; j < req->light_count && j < SCENE_MAX_LIGHTS; j++) {
-        if (row0 == 0)
-            volumes[j] = req->lights[j].volume;
-        else if (volumes[j] != req->lights[j].volume)
+        const struct render_light *l = &req->lights[j];
+        uint64_t pk = l->photons ? l->photon_key : 0;
+        if (row0 == 0) {
+            volumes[j] = l->volume;
+            photon_keys[j] = pk;
+        } else if (volumes[j] != l->volume || photon_keys[j] != pk) {
             changed = true;
+        }
     }
     if (row0 == 0)
         *count = req->light_count;

@@ -38,10 +38,12 @@ enum refract_code render_request_version_rows(struct render *r, struct irradianc
                                               struct render_view_result *out,
                                               const char **irradiance, struct err *e);
 
-/* A render drawn in tiles: true when the tile at row0 gathered other irradiance volumes
- * than the first tile did (one became ready in between), so the picture would show a seam;
- * the first tile (row0 == 0) remembers its volumes in volumes[SCENE_MAX_LIGHTS], *count. */
+/* A render drawn in tiles: true when the tile at row0 gathered other irradiance volumes or
+ * photon maps than the first tile did (one became ready in between), so the picture would
+ * show a seam; the first tile (row0 == 0) remembers its volumes in
+ * volumes[SCENE_MAX_LIGHTS], *count and its maps' keys in photon_keys[SCENE_MAX_LIGHTS]. */
 bool render_request_volumes_changed(const struct render_view_request *req, int row0,
-                                    const struct irradiance_gpu **volumes, int *count);
+                                    const struct irradiance_gpu **volumes, uint64_t *photon_keys,
+                                    int *count);
 
 #endif

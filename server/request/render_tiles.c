@@ -44,7 +44,7 @@ enum refract_code render_tiles_step(struct render_tiles *t, struct render *r,
     if (rc != REFRACT_E_OK)
         return rc;
     t->render_ms += gpu_time_ms() - t0;
-    if (render_request_volumes_changed(req, row0, t->volumes, &t->volume_count) &&
+    if (render_request_volumes_changed(req, row0, t->volumes, t->photon_keys, &t->volume_count) &&
         t->restarts < RENDER_TILES_MAX_RESTARTS) {
         t->restarts++;
         t->next_row = 0;

@@ -34,6 +34,7 @@ struct render_tiles {
     int restarts;                                           /* times the image started again */
     const struct irradiance_gpu *volumes[SCENE_MAX_LIGHTS]; /* what the first tile used */
     int volume_count;
+    uint64_t photon_keys[SCENE_MAX_LIGHTS]; /* the photon maps the first tile used */
     double render_ms; /* the tiles' render time so far (GET /metrics, once all are drawn) */
 };
 

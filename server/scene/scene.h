@@ -323,6 +323,9 @@ bool scene_scatters(const struct scene *s);
  * needs light simulation but has no lights simply has nothing to simulate yet (lights
  * come and go with PUT .../lights without changing the answer). */
 bool scene_needs_light_simulation(const struct scene *s);
+/* True when the receiver is enabled with "photons" caustics: each light then needs a photon
+ * map (docs/photons.md), which the irradiance cache keeps like a volume. */
+bool scene_needs_photon_maps(const struct scene *s);
 
 /* The sphere whose medium's single scattering comes from exact refracted paths (walter2009,
  * core/walter.h; docs/walter.md "When"): a scene of one exact sphere whose constant medium

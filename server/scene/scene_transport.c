@@ -52,6 +52,11 @@ bool scene_needs_light_simulation(const struct scene *s)
     return scene_scatters(s);
 }
 
+bool scene_needs_photon_maps(const struct scene *s)
+{
+    return s->receiver.enabled && s->receiver.caustics == SCENE_CAUSTICS_PHOTONS;
+}
+
 static void mix_bytes(uint64_t *h, const void *data, size_t n)
 {
     const unsigned char *p = data;

@@ -67,18 +67,29 @@ static void compare(struct gpu *gpu, const char *name, const char *doc, double c
         scene_destroy(s);
         return;
     }
-    /* The CPU side: the same photon map (photons_gpu.c's seed 1; the set does not depend on
-     * the thread count) gathered in double. */
+    /* The CPU side: the same photon maps, one per light at unit intensity (photons_gpu.c's
+     * final-pass seed; the set does not depend on the thread count), gathered in double. */
     static struct scene_pathtrace sp;
     struct err e = {0};
     CHECK_INT(scene_pathtrace_geometry(s, NULL, NULL, &sp, &e), REFRACT_E_OK);
-    struct photon_grid grid, none;
-    struct photon_map_stats st;
-    CHECK_INT(photon_map_build(&sp.scene, s->receiver.photons, s->receiver.photon_radius, 1, 2,
-                               &grid, &st, &e),
-              REFRACT_E_OK);
-    memset(&none, 0, sizeof none);
-    CHECK(st.landed > 1000);
+    struct photon_grid grids[SCENE_MAX_LIGHTS];
+    struct photon_map_stats st = {0};
+    size_t landed = 0;
+    static const double unit[3] = {1.0, 1.0, 1.0};
+    for (size_t j = 0; j < s->light_count; j++) {
+        const struct scene_light *sl = &s->lights[j];
+        struct pathtrace_light l;
+        scene_pathtrace_light(sl->kind, sl->position, sl->direction,
+                              cos(sl->spot_angle_deg * M_PI / 180.0), unit, sl->radius,
+                              sl->camera_visible, &l);
+        struct pathtrace_scene one;
+        photon_scene_one_light(&sp.scene, &l, &one);
+        CHECK_INT(photon_map_build(&one, s->receiver.photons, s->receiver.photon_radius,
+                                   photon_level_seed(PHOTON_LEVELS - 1), 2, &grids[j], &st, &e),
+                  REFRACT_E_OK);
+        landed += st.landed;
+    }
+    CHECK(landed > 1000);
     struct scene_reference ref;
     CHECK_INT(scene_reference_build(s, SCENE_REFERENCE_VOXELS, NULL, NULL, &ref, &e), REFRACT_E_OK);
     struct reftrace_light rl[SCENE_MAX_LIGHTS];
@@ -92,10 +103,14 @@ static void compare(struct gpu *gpu, const char *name, const char *doc, double c
                      .albedo = {s->receiver.albedo[0], s->receiver.albedo[1],
                                 s->receiver.albedo[2]},
                      .center = {s->receiver.center[0], s->receiver.center[1]}},
-        .photons = &grid,
         .photon_scene = &sp.scene};
+    struct reftrace_light rl_none[SCENE_MAX_LIGHTS];
+    for (size_t j = 0; j < s->light_count; j++) {
+        rl_none[j] = rl[j];
+        rl[j].photons = &grids[j];
+    }
     struct reftrace_lighting lt_none = lt;
-    lt_none.photons = &none;
+    lt_none.lights = rl_none;
     struct reftrace_settings no_photons = ref.settings;
     ref.settings.lighting = &lt;
     no_photons.lighting = &lt_none;
@@ -126,9 +141,9 @@ static void compare(struct gpu *gpu, const char *name, const char *doc, double c
                         row, g[0], g[1], g[2], want[0], want[1], want[2]);
         }
     }
-    printf("%-28s %dx%d, %ld photons (%zu landed, radius %.4f): %5.1f%% of pixels within 1e-3 "
-           "relative; mean |diff| %.1e of mean radiance %.3f, of which photons %.3f\n",
-           name, w, h, st.emitted, st.landed, st.radius, 100.0 * close / total,
+    printf("%-28s %dx%d, %ld photons per light (%zu landed, radius %.4f): %5.1f%% of pixels "
+           "within 1e-3 relative; mean |diff| %.1e of mean radiance %.3f, of which photons %.3f\n",
+           name, w, h, st.emitted, landed, st.radius, 100.0 * close / total,
            sum_diff / (3.0 * total), sum_ref / (3.0 * total), sum_photons / (3.0 * total));
     /* A caustic is small but bright: the photons' brightest pixel outshines the rest. */
     printf("%-28s brightest photon radiance %.3f, brightest without photons %.3f\n", name,
@@ -140,7 +155,8 @@ static void compare(struct gpu *gpu, const char *name, const char *doc, double c
               total);
     CHECK_MSG(sum_diff < 1e-3 * sum_ref, "%s: mean difference %g of %g", name, sum_diff, sum_ref);
     scene_reference_free(&ref);
-    photon_grid_free(&grid);
+    for (size_t j = 0; j < s->light_count; j++)
+        photon_grid_free(&grids[j]);
     free(pw.out.rgba);
     scene_destroy(s);
 }

@@ -165,8 +165,9 @@ static inline double irr_counter(const cJSON *status, const char *key)
     return irr_num(cJSON_GetObjectItemCaseSensitive(status, "cache"), key);
 }
 
-/* Polls until every light is "ready" (or failed); returns the last status (caller
- * deletes) after failing the test on a timeout or a failure. */
+/* Polls until every light is "ready" and no photon map is still refining (or a light
+ * failed); returns the last status (caller deletes) after failing the test on a timeout or
+ * a failure. */
 static inline cJSON *irr_wait_ready(const struct test_daemon *d, const char *id, double timeout_s)
 {
     struct timespec t0, now;
@@ -177,7 +178,10 @@ static inline cJSON *irr_wait_ready(const struct test_daemon *d, const char *id,
         const cJSON *l = NULL;
         cJSON_ArrayForEach(l, cJSON_GetObjectItemCaseSensitive(st, "lights"))
         {
-            ready = ready && strcmp(irr_str(l, "state"), "ready") == 0;
+            /* A photon map is "ready" from its first pass: wait for its last. */
+            const cJSON *map = cJSON_GetObjectItemCaseSensitive(l, "photon_map");
+            ready = ready && strcmp(irr_str(l, "state"), "ready") == 0 &&
+                    !cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(map, "refining"));
             failed = failed || strcmp(irr_str(l, "state"), "failed") == 0;
         }
         clock_gettime(CLOCK_MONOTONIC, &now);

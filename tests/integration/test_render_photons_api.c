@@ -1,9 +1,10 @@
 /*
  * test_render_photons_api.c - receiver.caustics "photons" through a real refractd
- * (docs/photons.md): the scene status says "photons" and needs no volume; a render shows
- * the caustic where the photon tracer puts it (the brightest floor pixel, far above the
- * floor's direct light) without waiting for any light simulation; moving the light moves
- * the caustic (the map is rebuilt for the new pose); scenes the photon tracer cannot
+ * (docs/photons.md): the scene status says "photons" and a photon map per light; once the
+ * map is ready a render shows the caustic where the photon tracer puts it (the brightest
+ * floor pixel, far above the floor's direct light); moving the light moves the caustic (the
+ * map is made for the new pose; test_photon_cache.c tests the cache itself); scenes the
+ * photon tracer cannot
  * handle are refused with a message that names the field and what to do.
  */
 #include <math.h>
@@ -77,7 +78,8 @@ static void status_says_photons(struct test_daemon *d, const char *id)
     cJSON *st = irr_status(d, id);
     CHECK(st != NULL);
     CHECK_STR(irr_str(st, "caustics"), "photons");
-    CHECK(cJSON_IsFalse(cJSON_GetObjectItem(st, "needed")));
+    CHECK(cJSON_IsTrue(cJSON_GetObjectItem(st, "needed"))); /* a photon map per light */
+    CHECK(cJSON_IsObject(cJSON_GetObjectItem(irr_light(st, "lamp"), "photon_map")));
     cJSON_Delete(st);
 }
 
@@ -140,7 +142,9 @@ int main(void)
     char id[REFRACT_ID_SIZE];
     CHECK(test_create_scene(&d, scene_doc, id));
     status_says_photons(&d, id);
-    /* The light straight above: the focus under the ball's centre. */
+    /* The light straight above: the focus under the ball's centre (renders never wait for
+     * the map: wait for it here). */
+    cJSON_Delete(irr_wait_ready(&d, id, 60));
     caustic_where_it_belongs(&d, id, vec3_make(0, -0.8, 0));
     /* Light moved to x = 2 (at y = 6): the caustic moves the other way, along the line
      * from the light through the ball's centre, to where that line meets the floor. */
@@ -148,6 +152,7 @@ int main(void)
                                 "{\"type\": \"point\", \"position\": [2, 6, 0], \"intensity\": 40}",
                                 NULL),
               REFRACT_E_OK);
+    cJSON_Delete(irr_wait_ready(&d, id, 60));
     caustic_where_it_belongs(&d, id, vec3_make(-2.0 * 0.8 / 6.0, -0.8, 0));
     refusals(&d);
     CHECK_INT(test_daemon_stop(&d), 0);

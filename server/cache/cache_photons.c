@@ -1,0 +1,307 @@
+/*
+ * cache_photons.c - lights' photon maps in the irradiance cache (docs/photons.md "The
+ * cache"; issue 15 item 3). A scene whose receiver has "photons" caustics keeps one map per
+ * light, like a volume: keyed by the scene's transport and the light's pose (not its colour
+ * or intensity: the map is traced at unit intensity and scaled at render time), made
+ * ahead on the cache's worker thread, used as soon as its first pass is done, refined in
+ * PHOTON_LEVELS passes of count / 16, count / 4 and count photons (each a whole map with the
+ * radius of its photon count, replacing the last: the caustic sharpens and its noise falls),
+ * and persisted as <key>.pmap once the last pass is in.
+ *
+ * Passes are worker tasks, one at a time, so other scenes' work interleaves; a pass traces
+ * on every online CPU (photon_map.c), never on the GPU thread, so renders go on meanwhile.
+ * A map whose pose is no longer wanted (the light moved on) stops after its current pass
+ * and stays usable; it goes on when the pose is asked for again, and memory may drop it
+ * (it is not on disk yet). Locking rules in cache_internal.h.
+ */
+#include <inttypes.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "../core/log.h"
+#include "../io/io_files.h"
+#include "cache_internal.h"
+
+struct irr_photon_scene {
+    struct scene_pathtrace sp;  /* the scene's surfaces (sp.scene.surfaces points into sp) */
+    struct pathtrace_scene one; /* the same with the entry's light alone, unit intensity */
+};
+
+/* ---- host copies ----------------------------------------------------------------------- */
+
+void irr_pmap_unref(struct irr_pmap *m)
+{
+    if (m == NULL || --m->refs > 0)
+        return;
+    photon_grid_free(&m->grid);
+    free(m);
+}
+
+size_t irr_host_bytes(const struct irr_host *h)
+{
+    if (h->photons) /* keys, E in double and float per slot */
+        return (size_t)h->photons->grid.capacity * (2 * sizeof(int32_t) + 3 * sizeof(double) +
+                                                     4 * sizeof(float));
+    return irradiance_volume_bytes(&h->volume);
+}
+
+void irr_host_free(struct irr_host *h)
+{
+    irradiance_volume_free(&h->volume);
+    irr_pmap_unref(h->photons);
+    h->photons = NULL;
+}
+
+void irr_photon_scene_free(struct irr_entry *en)
+{
+    free(en->pt);
+    en->pt = NULL;
+}
+
+/* ---- keys ------------------------------------------------------------------------------ */
+
+static uint64_t mix(uint64_t h, const void *data, size_t len)
+{
+    const unsigned char *p = data;
+    for (size_t i = 0; i < len; i++) {
+        h ^= p[i];
+        h *= 1099511628211ull; /* FNV-1a 64 prime */
+    }
+    return h;
+}
+
+uint64_t irr_photons_key(const struct irradiance_cache *c, uint64_t transport,
+                         const struct scene *s, const struct scene_light *l)
+{
+    uint64_t h = irradiance_cache_key(c, transport, l);
+    h = mix(h, "photons", 7);
+    int64_t radius = llround(l->radius / c->desc.position_tolerance);
+    h = mix(h, &radius, sizeof radius);
+    int64_t count = s->receiver.photons;
+    h = mix(h, &count, sizeof count);
+    double r = s->receiver.photon_radius;
+    return mix(h, &r, sizeof r);
+}
+
+/* ---- passes (worker) ------------------------------------------------------------------- */
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+/* The geometry and the light of a photon entry, made at its first pass. */
+static enum refract_code photon_scene(struct irr_entry *en, struct err *e)
+{
+    if (en->pt != NULL)
+        return REFRACT_E_OK;
+    en->pt = malloc(sizeof *en->pt);
+    if (en->pt == NULL)
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for a photon map's scene");
+    enum refract_code rc =
+        scene_pathtrace_geometry(en->scene, en->lookup, en->lookup_ctx, &en->pt->sp, e);
+    if (rc != REFRACT_E_OK) {
+        irr_photon_scene_free(en);
+        return rc;
+    }
+    static const double unit[3] = {1.0, 1.0, 1.0};
+    const struct scene_light *l = &en->light;
+    struct pathtrace_light pl;
+    scene_pathtrace_light(l->kind, l->position, l->direction, cos(l->spot_angle_deg * M_PI / 180.0),
+                          unit, l->radius, l->camera_visible, &pl);
+    photon_scene_one_light(&en->pt->sp.scene, &pl, &en->pt->one);
+    return REFRACT_E_OK;
+}
+
+static bool wanted_locked(const struct irradiance_cache *c, uint64_t key)
+{
+    for (size_t i = 0; i < c->slot_count; i++) {
+        if (c->slots[i].current == key)
+            return true;
+    }
+    return false;
+}
+
+/* The share of a map's photons traced after `passes` passes. */
+static double progress_of(long count, int passes)
+{
+    double done = 0.0, all = 0.0;
+    for (int k = 0; k < PHOTON_LEVELS; k++) {
+        long n = photon_level_count(count, k);
+        all += (double)n;
+        done += k < passes ? (double)n : 0.0;
+        if (n >= count)
+            break; /* a small map has fewer passes */
+    }
+    return all > 0.0 ? done / all : 1.0;
+}
+
+void irr_photons_pass(struct irradiance_cache *c, struct irr_entry *en)
+{
+    struct err e = {0};
+    pthread_mutex_lock(&c->lock);
+    bool cancelled = en->cancelled;
+    int pass = en->passes;
+    if (!cancelled && en->phase == IRR_QUEUED) {
+        en->phase = IRR_COMPUTING;
+        irr_note_progress_locked(c, en);
+    }
+    pthread_mutex_unlock(&c->lock);
+    irr_events_flush(c);
+
+    enum refract_code rc = cancelled ? REFRACT_E_OK : photon_scene(en, &e);
+    struct irr_pmap *m = NULL;
+    long count = photon_level_count(en->receiver.photons, pass);
+    double t0 = now_ms();
+    struct photon_map_stats st = {0};
+    if (!cancelled && rc == REFRACT_E_OK) {
+        m = calloc(1, sizeof *m);
+        if (m == NULL) {
+            rc = err_set(&e, REFRACT_E_OUT_OF_MEMORY, "out of memory for a photon map");
+        } else {
+            m->refs = 1;
+            long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+            rc = photon_map_build(&en->pt->one, count, en->receiver.photon_radius,
+                                  photon_level_seed(pass), cpus > 0 ? (int)cpus : 1, &m->grid,
+                                  &st, &e);
+            m->emitted = st.emitted;
+            m->landed = st.landed;
+        }
+    }
+    double ms = now_ms() - t0;
+
+    pthread_mutex_lock(&c->lock);
+    bool go_on = false;
+    if (cancelled || en->cancelled || rc != REFRACT_E_OK) {
+        irr_pmap_unref(m);
+        if (!cancelled && !en->cancelled && rc != REFRACT_E_OK)
+            irr_fail_locked(en, &e);
+    } else {
+        if (en->has_host)
+            irr_host_free(&en->host);
+        en->host.photons = m;
+        en->has_host = true;
+        en->passes = pass + 1;
+        bool last = count >= en->receiver.photons || en->passes >= PHOTON_LEVELS;
+        en->refining = !last;
+        en->progress = last ? 1.0 : progress_of(en->receiver.photons, en->passes);
+        en->compute_ms += ms;
+        if (en->phase != IRR_READY) {
+            en->phase = IRR_READY;
+            en->last_use = ++c->tick;
+        }
+        /* Every pass is news to the views showing this pose: irradiance.ready again. */
+        for (size_t i = 0; i < c->slot_count; i++) {
+            if (c->slots[i].current == en->key)
+                c->slots[i].announced = false;
+        }
+        irr_note_ready_locked(c, en);
+        if (last) {
+            c->counters.computed++;
+            en->persisting = true;
+            irr_push_task_locked(c, IRR_TASK_PERSIST, en);
+        } else {
+            go_on = wanted_locked(c, en->key);
+        }
+        log_info("irradiance",
+                 "photon map %016" PRIx64 " (light %s) pass %d of %d: %ld photons (%zu landed), "
+                 "radius %.4g, %u lattice points, %.0f ms (trace %.0f, gather %.0f)%s",
+                 en->key, en->light.name, en->passes, PHOTON_LEVELS, st.emitted, st.landed,
+                 st.radius, m->grid.used, ms, st.trace_ms, st.grid_ms,
+                 last    ? ""
+                 : go_on ? "; refining"
+                         : "; its pose is no longer wanted: stopped");
+    }
+    if (go_on) {
+        irr_push_task_locked(c, IRR_TASK_BUILD, en); /* still busy */
+    } else {
+        en->busy = false;
+        irr_drop_source(en);
+        irr_photon_scene_free(en);
+    }
+    irr_evict_host_locked(c);
+    pthread_mutex_unlock(&c->lock);
+    irr_events_flush(c);
+}
+
+/* ---- files ----------------------------------------------------------------------------- */
+
+/* <key>.pmap: a header (magic, point count, spacing, radius), then per stored lattice point
+ * i, j (int32) and E rgb (double), in the host's byte order: a data directory is read by the
+ * machine that wrote it. */
+static const char pmap_magic[16] = "REFRACT-PMAP-1\n";
+#define PMAP_HEADER (16 + 8 + 16)
+#define PMAP_POINT (8 + 24)
+
+enum refract_code irr_photons_write(const char *path, const struct irr_host *h, struct err *e)
+{
+    const struct photon_grid *g = &h->photons->grid;
+    size_t len = PMAP_HEADER + (size_t)g->used * PMAP_POINT;
+    unsigned char *b = malloc(len);
+    if (b == NULL)
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory writing a photon map");
+    uint32_t head[2] = {g->used, 0};
+    double grid[2] = {g->cell, g->radius};
+    memcpy(b, pmap_magic, 16);
+    memcpy(b + 16, head, 8);
+    memcpy(b + 24, grid, 16);
+    unsigned char *p = b + PMAP_HEADER;
+    for (uint32_t s = 0; s < g->capacity; s++) {
+        if (g->keys[2 * s] == PHOTON_EMPTY_KEY)
+            continue;
+        memcpy(p, &g->keys[2 * s], 8);
+        memcpy(p + 8, &g->E_double[3 * s], 24);
+        p += PMAP_POINT;
+    }
+    enum refract_code rc = io_write_atomic(path, b, len, e);
+    free(b);
+    return rc;
+}
+
+enum refract_code irr_photons_read(const char *path, struct irr_host *h, struct err *e)
+{
+    char *b = NULL;
+    size_t len = 0;
+    enum refract_code rc =
+        io_read_file(path, PMAP_HEADER + (size_t)PHOTON_LATTICE_MAX * PMAP_POINT, &b, &len, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    uint32_t head[2] = {0, 0};
+    double grid[2] = {0.0, 0.0};
+    if (len >= PMAP_HEADER) {
+        memcpy(head, b + 16, 8);
+        memcpy(grid, b + 24, 16);
+    }
+    if (len < PMAP_HEADER || memcmp(b, pmap_magic, 16) != 0 || head[0] > PHOTON_LATTICE_MAX ||
+        len != PMAP_HEADER + (size_t)head[0] * PMAP_POINT) {
+        free(b);
+        return err_set(e, REFRACT_E_STORAGE, "%s is not a photon map this build wrote", path);
+    }
+    int32_t *ij = malloc((size_t)head[0] * 2 * sizeof *ij + 8);
+    double *E = malloc((size_t)head[0] * 3 * sizeof *E + 8);
+    struct irr_pmap *m = calloc(1, sizeof *m);
+    if (ij == NULL || E == NULL || m == NULL)
+        rc = err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory reading a photon map");
+    for (uint32_t p = 0; rc == REFRACT_E_OK && p < head[0]; p++) {
+        memcpy(&ij[2 * p], b + PMAP_HEADER + (size_t)p * PMAP_POINT, 8);
+        memcpy(&E[3 * p], b + PMAP_HEADER + (size_t)p * PMAP_POINT + 8, 24);
+    }
+    if (rc == REFRACT_E_OK)
+        rc = photon_grid_from_points(grid[0], grid[1], head[0], ij, E, &m->grid, e);
+    free(b);
+    free(ij);
+    free(E);
+    if (rc != REFRACT_E_OK) {
+        free(m);
+        return rc;
+    }
+    m->refs = 1;
+    h->photons = m;
+    return REFRACT_E_OK;
+}
