@@ -252,10 +252,11 @@ struct refract_light_status {
     char message[512];      /* "failed": why */
     int code;               /* "failed": the REFRACT_E_* code of a "code" member when the
                                reply has one and the table knows it, else 0 */
-    int refining;           /* a photon map ("photon_map": receiver.caustics "photons") that
-                               is "ready" from its first pass and still refining: progress is
-                               the share of its photons traced; not settled until done */
-    long long photons;      /* that map's photons now; -1 when the light has no map */
+    int photon_map;         /* 1: the light's entry is a photon map (receiver.caustics
+                               "photons", docs/photons.md "The cache"), not a volume */
+    int refining;           /* such a map "ready" from its first pass and still refining:
+                               progress is the share of its photons traced; not settled */
+    long long photons;      /* that map's photons now (0 before its first pass) */
 };
 
 /* The irradiance status of a scene. */

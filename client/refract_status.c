@@ -86,8 +86,10 @@ static bool read_light(const cJSON *obj, size_t i, struct refract_light_status *
     l->compute_ms = number_member(obj, "compute_ms");
     l->code = cJSON_IsString(code) ? code_of(code->valuestring) : 0;
     const cJSON *map = cJSON_GetObjectItemCaseSensitive(obj, "photon_map");
+    l->photon_map = cJSON_IsObject(map);
     l->refining = cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(map, "refining"));
-    l->photons = cJSON_IsObject(map) ? count_member(map, "photons") : -1;
+    l->photons = l->photon_map && count_member(map, "photons") > 0 ? count_member(map, "photons")
+                                                                   : 0;
     return true;
 }
 

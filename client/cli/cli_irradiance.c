@@ -17,9 +17,18 @@ static bool is_state(const struct refract_light_status *l, const char *state)
     return strcmp(l->state, state) == 0;
 }
 
+/* A photon map is "ready" from its first pass and refining until its last
+ * (docs/photons.md "The cache"): not settled until then. */
 static bool is_settled(const struct refract_light_status *l)
 {
-    return is_state(l, "ready") || is_state(l, "failed") || is_state(l, "not_needed");
+    return (is_state(l, "ready") && !l->refining) || is_state(l, "failed") ||
+           is_state(l, "not_needed");
+}
+
+/* The state as printed: refractd's word, "refining" for a ready map still refining. */
+static const char *state_word(const struct refract_light_status *l)
+{
+    return is_state(l, "ready") && l->refining ? "refining" : l->state;
 }
 
 /* A light's own progress, 0..1. */
@@ -79,7 +88,7 @@ void cli_irradiance_summary(char *buf, size_t size, const struct refract_irradia
     for (size_t i = 0; i < s->light_count; i++) {
         const struct refract_light_status *l = &s->lights[i];
 
-        used = append(buf, size, used, "%s%s %s", i > 0 ? ", " : "", l->name, l->state);
+        used = append(buf, size, used, "%s%s %s", i > 0 ? ", " : "", l->name, state_word(l));
         if (!is_settled(l) && !is_state(l, "queued") && l->progress >= 0) {
             int pct = (int)(100.0 * (l->progress > 1 ? 1 : l->progress));
 
@@ -97,7 +106,7 @@ static void progress_cell(char *buf, size_t size, const struct refract_light_sta
 {
     if (is_state(l, "not_needed"))
         snprintf(buf, size, "-");
-    else if (is_state(l, "ready"))
+    else if (is_state(l, "ready") && !l->refining)
         snprintf(buf, size, "100%%");
     else if (l->progress >= 0)
         snprintf(buf, size, "%.0f%%", 100.0 * (l->progress > 1 ? 1 : l->progress));
@@ -110,8 +119,13 @@ void cli_irradiance_table(FILE *f, const struct refract_irradiance *s)
     int name_w = 5; /* "LIGHT" */
     bool any_failed = false;
 
+    bool maps = false;
+    for (size_t i = 0; i < s->light_count; i++)
+        maps = maps || s->lights[i].photon_map;
     fprintf(f, "scene %s: %s", s->scene[0] != '\0' ? s->scene : "?",
-            s->needed ? "needs light simulation" : "needs no light simulation");
+            !s->needed ? "needs no light simulation"
+            : maps     ? "needs a photon map per light"
+                       : "needs light simulation");
     if (s->transport_hash[0] != '\0')
         fprintf(f, ", transport hash %s", s->transport_hash);
     fprintf(f, ", %zu light%s\n", s->light_count, s->light_count == 1 ? "" : "s");
@@ -136,7 +150,7 @@ void cli_irradiance_table(FILE *f, const struct refract_irradiance *s)
         cli_format_bytes(gpu, sizeof(gpu), l->gpu_bytes);
         cli_format_bytes(host, sizeof(host), l->host_bytes);
         cli_format_ms(compute, sizeof(compute), l->compute_ms);
-        fprintf(f, "%-*s  %-10s  %8s  %8s  %10s  %10s  %10s  %s\n", name_w, l->name, l->state,
+        fprintf(f, "%-*s  %-10s  %8s  %8s  %10s  %10s  %10s  %s\n", name_w, l->name, state_word(l),
                 progress, patches, gpu, host, compute,
                 l->using_volume[0] != '\0' ? l->using_volume : "-");
         any_failed = any_failed || is_state(l, "failed");

@@ -148,6 +148,15 @@ void irr_photons_pass(struct irradiance_cache *c, struct irr_entry *en)
     pthread_mutex_lock(&c->lock);
     bool cancelled = en->cancelled;
     int pass = en->passes;
+    if (!cancelled && en->phase == IRR_READY && !wanted_locked(c, en->key)) {
+        /* A refining pass queued before the light moved on: not run (it goes on when the
+         * pose is asked for again). */
+        en->busy = false;
+        irr_drop_source(en);
+        irr_photon_scene_free(en);
+        pthread_mutex_unlock(&c->lock);
+        return;
+    }
     if (!cancelled && en->phase == IRR_QUEUED) {
         en->phase = IRR_COMPUTING;
         irr_note_progress_locked(c, en);

@@ -12,7 +12,7 @@
  *   - a pose seen before is a hit: the light put back answers 200 (not 202), nothing is
  *     computed, the render is "ready" at once with the first caustic;
  *   - after a restart the maps come from the data directory (loaded_from_disk), and the
- *     render is the same picture.
+ *     render is the same picture; maps on disk cut short are refused and made again.
  */
 #include <math.h>
 #include <stdio.h>
@@ -270,6 +270,29 @@ int main(void)
     printf("render sums: first %.6f, again %.6f, after a restart %.6f\n", above.sum, again.sum,
            restarted.sum);
     CHECK_INT(test_daemon_stop(&d2), 0);
+
+    /* Maps on disk that are not what refractd wrote (cut short): refused when read back,
+     * made again, the same picture. */
+    char cmd[700];
+    snprintf(cmd, sizeof cmd, "for f in '%s'/irradiance/*.pmap; do head -c 30 \"$f\" > \"$f.cut\" "
+             "&& mv \"$f.cut\" \"$f\"; done", data_dir);
+    CHECK_INT(system(cmd), 0);
+    struct test_daemon d3;
+    if (!test_daemon_start_in(&d3, data_dir, NULL)) {
+        test_daemon_cleanup(&d);
+        test_setup_failed("test_photon_cache (cut files)", d3.why);
+    }
+    struct picture cut;
+    CHECK(render(&d3, id, &cut)); /* reads the file back: refused, the entry dropped */
+    CHECK(render(&d3, id, &cut)); /* asks for the map again */
+    cJSON_Delete(irr_wait_ready(&d3, id, 60));
+    st = irr_status(&d3, id);
+    CHECK_NEAR(irr_counter(st, "computed"), 1, 0);
+    cJSON_Delete(st);
+    CHECK(render(&d3, id, &cut));
+    CHECK_STR(cut.irradiance, "ready");
+    CHECK_NEAR(cut.sum, above.sum, 1e-5 * above.sum);
+    CHECK_INT(test_daemon_stop(&d3), 0);
     test_daemon_cleanup(&d);
     return test_summary("test_photon_cache");
 }

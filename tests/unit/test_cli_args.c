@@ -695,6 +695,19 @@ static void summary_lines_round_to_steps_for_logs(void)
     CHECK_STR(line, "sun ready, ");
     cli_irradiance_summary(line, sizeof(line), &empty, 0);
     CHECK_STR(line, "no lights");
+    /* A photon map is usable from its first pass but not settled until its last. */
+    struct refract_light_status map = {.name = "lamp", .state = "ready", .progress = 0.238,
+                                       .photon_map = 1, .refining = 1, .photons = 262144};
+    struct refract_irradiance refining = {.needed = 1, .light_count = 1, .lights = &map};
+    cli_irradiance_summary(line, sizeof(line), &refining, 0);
+    CHECK_STR(line, "lamp refining 23%");
+    CHECK(!refract_irradiance_settled(&refining));
+    CHECK_NEAR(cli_irradiance_fraction(&refining), 0.238, 1e-12);
+    map.refining = 0;
+    map.progress = 1;
+    CHECK(refract_irradiance_settled(&refining));
+    cli_irradiance_summary(line, sizeof(line), &refining, 0);
+    CHECK_STR(line, "lamp ready");
 }
 
 /* Runs f(stream) into memory and returns what it printed (a new string). */
@@ -737,6 +750,35 @@ static void status_table_has_a_row_per_light_and_the_failures_below(void)
                           "           -  none\n");
     CHECK_CONTAINS(table, "failed:\n  spot: patch list full\n");
     free(table);
+    refract_irradiance_free(&s);
+}
+
+/* A photon map's status (docs/photons.md "The cache"): read, not settled while refining,
+ * printed as such. */
+static void photon_map_status_is_read_and_printed(void)
+{
+    static const char doc[] =
+        "{\"scene\":\"s2\",\"needed\":true,\"lights\":[{\"name\":\"lamp\",\"state\":"
+        "\"ready\",\"progress\":0.238,\"patches_live\":0,\"host_bytes\":12582912,"
+        "\"using\":\"current\",\"photon_map\":{\"passes\":2,\"passes_total\":3,"
+        "\"refining\":true,\"photons\":1048576,\"landed\":158062,\"radius\":0.05}}]}";
+    struct refract_irradiance s;
+    char why[256] = "";
+
+    CHECK(refract_status_from_json(doc, strlen(doc), &s, why, sizeof(why)));
+    CHECK_INT(s.lights[0].photon_map, 1);
+    CHECK_INT(s.lights[0].refining, 1);
+    CHECK(s.lights[0].photons == 1048576);
+    CHECK(!refract_irradiance_settled(&s));
+    char *table = printed(print_table, &s);
+    CHECK_CONTAINS(table, "scene s2: needs a photon map per light, 1 light\n");
+    CHECK_CONTAINS(table, "lamp   refining         24%");
+    free(table);
+    refract_irradiance_free(&s);
+    /* a volume's light has no photon_map */
+    CHECK(refract_status_from_json(status_doc, strlen(status_doc), &s, why, sizeof(why)));
+    CHECK_INT(s.lights[0].photon_map, 0);
+    CHECK(s.lights[0].photons == 0);
     refract_irradiance_free(&s);
 }
 
@@ -1027,6 +1069,7 @@ int main(void)
     progress_is_the_mean_over_lights_that_need_a_volume();
     summary_lines_round_to_steps_for_logs();
     status_table_has_a_row_per_light_and_the_failures_below();
+    photon_map_status_is_read_and_printed();
     progress_redraws_a_bar_on_terminals_and_logs_changes_elsewhere();
     orbit_turns_the_eye_around_look_at_about_up();
     frame_files_are_numbered_from_one_with_four_digits();

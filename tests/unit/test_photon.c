@@ -219,6 +219,76 @@ static void lattice_holds_the_kernel_estimate(void)
     photon_list_free(&l);
 }
 
+/* A map read back from disk (the irradiance cache's <key>.pmap holds the stored points) is
+ * the same map: photon_grid_from_points makes a new table of the points that answers every
+ * lookup alike. Bad points are refused. */
+static void lattice_from_its_points_is_the_same(void)
+{
+    struct pathtrace_surface ball;
+    struct pathtrace_scene s = pt_scene_a(&ball);
+    struct photon_list l = {0};
+    struct err e;
+    CHECK_INT(photon_trace(&s, 50000, 3, 0, 1, &l, &e), REFRACT_E_OK);
+    struct photon_grid g, h;
+    CHECK_INT(photon_grid_build(&l, 0.05, &g, &e), REFRACT_E_OK);
+    int32_t *ij = malloc((size_t)g.used * 2 * sizeof *ij);
+    double *E = malloc((size_t)g.used * 3 * sizeof *E);
+    uint32_t n = 0;
+    for (uint32_t k = 0; k < g.capacity; k++) {
+        if (g.keys[2 * k] == PHOTON_EMPTY_KEY)
+            continue;
+        ij[2 * n] = g.keys[2 * k];
+        ij[2 * n + 1] = g.keys[2 * k + 1];
+        memcpy(&E[3 * n], &g.E_double[3 * k], 3 * sizeof(double));
+        n++;
+    }
+    CHECK_INT((int)n, (int)g.used);
+    CHECK_INT(photon_grid_from_points(g.cell, g.radius, n, ij, E, &h, &e), REFRACT_E_OK);
+    CHECK_INT((int)h.used, (int)g.used);
+    CHECK(h.capacity >= 4 * h.used && (h.capacity & (h.capacity - 1)) == 0);
+    int same = 0, lit = 0;
+    for (int k = 0; k < 4000; k++) {
+        double x = -1.0 + 0.0005 * k, z = -0.5 + 0.00031 * k, a[3], b[3];
+        photon_irradiance(&g, x, z, a);
+        photon_irradiance(&h, x, z, b);
+        same += a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
+        lit += a[1] > 0.0;
+    }
+    CHECK_INT(same, 4000);
+    CHECK_MSG(lit > 100, "only %d of the probes lit", lit);
+    photon_grid_free(&g);
+    photon_grid_free(&h);
+    /* bad points (a file that is not what this build wrote): an empty slot's key, an index
+     * past the clamp, a bad spacing, too many points */
+    int32_t bad[4] = {PHOTON_EMPTY_KEY, 0, 0, 2147483647};
+    double Ebad[6] = {1, 1, 1, 1, 1, 1};
+    CHECK_INT(photon_grid_from_points(0.01, 0.03, 1, bad, Ebad, &g, &e), REFRACT_E_STORAGE);
+    CHECK(g.keys == NULL && g.capacity == 0);
+    CHECK_INT(photon_grid_from_points(0.01, 0.03, 1, bad + 2, Ebad, &g, &e), REFRACT_E_STORAGE);
+    CHECK_INT(photon_grid_from_points(0.0, 0.03, 1, ij, Ebad, &g, &e), REFRACT_E_STORAGE);
+    CHECK_INT(photon_grid_from_points(0.01, 0.03, PHOTON_LATTICE_MAX + 1u, ij, Ebad, &g, &e),
+              REFRACT_E_STORAGE);
+    CHECK_CONTAINS(e.msg, "points");
+    free(ij);
+    free(E);
+    photon_list_free(&l);
+}
+
+/* A map's passes: count / 16, count / 4, count photons (at least 1024, at most count), the
+ * last with seed 1 (the map render_view makes at once), each with its own seed. */
+static void passes_of_a_map(void)
+{
+    CHECK_INT((int)photon_level_count(1048576, 0), 65536);
+    CHECK_INT((int)photon_level_count(1048576, 1), 262144);
+    CHECK_INT((int)photon_level_count(1048576, 2), 1048576);
+    CHECK_INT((int)photon_level_count(2000, 0), 1024);
+    CHECK_INT((int)photon_level_count(2000, 2), 2000);
+    CHECK_INT((int)photon_level_count(1024, 0), 1024);
+    CHECK_INT((int)photon_level_seed(PHOTON_LEVELS - 1), 1);
+    CHECK(photon_level_seed(0) != photon_level_seed(1) &&
+          photon_level_seed(1) != photon_level_seed(2));
+}
+
 static void radius_rule_and_refusals(void)
 {
     struct pathtrace_surface ball = pt_sphere(vec3_make(0, 0, 0), 1.0, 1.5);
@@ -258,6 +328,8 @@ int main(void)
     direct_light_is_not_stored();
     threads_split_and_merge_to_the_same_list();
     ball_focuses_on_its_axis();
+    lattice_from_its_points_is_the_same();
+    passes_of_a_map();
     lattice_holds_the_kernel_estimate();
     radius_rule_and_refusals();
     return test_summary("test_photon");
