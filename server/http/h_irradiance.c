@@ -33,11 +33,16 @@ cJSON *http_irradiance_status(const struct http_app *app, struct store_scene *v)
                           scene_needs_light_simulation(v->scene) ||
                               scene_needs_photon_maps(v->scene));
     /* Which caustic method the scene's receiver uses (docs/photons.md "Choosing"): "photons"
-     * (photon map and shadow rays, no volume), "volume" (the light simulator's) or "none"
-     * (no receiver). */
+     * (photon maps and shadow rays, no volume), "volume" (the light simulator's) or "none"
+     * (direct light and shadows only, or no receiver). */
     const struct scene_receiver *rc = &v->scene->receiver;
     cJSON_AddStringToObject(root, "caustics",
                             !rc->enabled ? "none" : scene_caustics_words[rc->caustics]);
+    /* Whether the daemon chose it ("auto", the default) and why (docs/photons.md
+     * "Choosing"). */
+    cJSON_AddBoolToObject(root, "caustics_auto", rc->enabled && rc->caustics_auto);
+    cJSON_AddStringToObject(root, "caustics_reason",
+                            !rc->enabled ? "no receiver" : rc->caustics_reason);
     /* How scattering media get light (docs/walter.md "When"): "walter" (exact paths through
      * the sphere, no volume), "volume" or "none" (nothing scatters). */
     cJSON_AddStringToObject(root, "single_scattering", scene_single_scattering_method(v->scene));

@@ -205,14 +205,16 @@ enum refract_code photons_gpu_prepare(struct scene_gpu *sg, const struct render_
                                       const struct render_view_request *req, bool trace_on_gpu,
                                       struct march_lights *ml, struct err *e)
 {
-    if (!scene_needs_photon_maps(src->scene))
-        return REFRACT_E_OK;
+    if (!scene_receiver_shadow_rays(src->scene))
+        return REFRACT_E_OK; /* caustics "none": shadow rays, no map (all maps NULL below) */
     int n = req->lights ? req->light_count : 0;
     if (n > SCENE_MAX_LIGHTS)
         n = SCENE_MAX_LIGHTS;
     const struct photon_grid *maps[SCENE_MAX_LIGHTS] = {NULL};
     uint64_t keys[SCENE_MAX_LIGHTS] = {0};
-    if (req->photons_cached) {
+    if (!scene_needs_photon_maps(src->scene)) {
+        /* caustics "none": direct light and shadows only */
+    } else if (req->photons_cached) {
         for (int j = 0; j < n; j++) {
             maps[j] = req->lights[j].photons;
             keys[j] = maps[j] ? req->lights[j].photon_key : 0;

@@ -219,7 +219,17 @@ struct scene_light {
 };
 
 /* A diffuse plane y = height that receives caustics and shadows (thesis fig. 7.4). */
-enum scene_caustics { SCENE_CAUSTICS_VOLUME = 0, SCENE_CAUSTICS_PHOTONS = 1 };
+/* How light that went through or off the surfaces reaches the receiver (docs/photons.md
+ * "Choosing"): the light simulator's volume; photons traced through exact surfaces, with
+ * shadow rays for direct light; "auto" (the document's default), which the parser resolves
+ * to one of the others by the scene's content (receiver.caustics_reason says why); or none:
+ * direct light with shadow rays only. */
+enum scene_caustics {
+    SCENE_CAUSTICS_VOLUME = 0,
+    SCENE_CAUSTICS_PHOTONS = 1,
+    SCENE_CAUSTICS_AUTO = 2, /* in documents only: a parsed scene holds the method chosen */
+    SCENE_CAUSTICS_NONE = 3,
+};
 extern const char *const scene_caustics_words[];
 #define SCENE_MAX_PHOTONS 67108864 /* receiver.photons at most (2^26: 2.7 GB of photons) */
 
@@ -232,7 +242,9 @@ struct scene_receiver {
     double albedo[3]; /* Lambertian reflectance, 0..1; default 0.8 */
     /* How light that went through or off the surfaces reaches the plane (docs/photons.md):
      * the light simulator's volume (default) or caustic photons with shadow rays. */
-    enum scene_caustics caustics;
+    enum scene_caustics caustics;  /* never SCENE_CAUSTICS_AUTO once parsed */
+    bool caustics_auto;            /* the document said "auto" (or nothing) */
+    const char *caustics_reason;   /* why this method (a static sentence) */
     int photons;          /* caustic photons per map, 1024..SCENE_MAX_PHOTONS; 1048576 */
     double photon_radius; /* gather radius, world units; 0 (default): the auto rule */
 };
@@ -326,6 +338,9 @@ bool scene_needs_light_simulation(const struct scene *s);
 /* True when the receiver is enabled with "photons" caustics: each light then needs a photon
  * map (docs/photons.md), which the irradiance cache keeps like a volume. */
 bool scene_needs_photon_maps(const struct scene *s);
+/* True when the receiver's direct light is found by shadow rays that optical surfaces block
+ * (caustics "photons" or "none"; docs/photons.md "Which light is whose"). */
+bool scene_receiver_shadow_rays(const struct scene *s);
 
 /* The sphere whose medium's single scattering comes from exact refracted paths (walter2009,
  * core/walter.h; docs/walter.md "When"): a scene of one exact sphere whose constant medium

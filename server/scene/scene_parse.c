@@ -533,9 +533,12 @@ static enum refract_code parse_document(const cJSON *root, const struct scene_li
     /* After the objects: the receiver's default size depends on where they are. */
     if (rc == REFRACT_E_OK)
         rc = scene_parse_receiver(member(root, "receiver"), s, e);
+    if (rc == REFRACT_E_OK)
+        scene_resolve_caustics(s);
     if (rc == REFRACT_E_OK && s->receiver.enabled && s->receiver.caustics == SCENE_CAUSTICS_PHOTONS)
         rc = scene_check_photon_surfaces(s, e);
-    else if (rc == REFRACT_E_OK && s->receiver.enabled)
+    else if (rc == REFRACT_E_OK && s->receiver.enabled &&
+             s->receiver.caustics == SCENE_CAUSTICS_VOLUME)
         rc = scene_check_lightsim_surfaces(s, "receiver", e);
     return rc;
 }

@@ -66,6 +66,11 @@ enum refract_code scene_parse_surfaces(const cJSON *arr, const struct scene_limi
  * filled by an object's field, scattering media and unbounded (plane) surfaces whose
  * medium differs from the ambient one, each with a message that names it. */
 enum refract_code scene_check_photon_surfaces(const struct scene *s, struct err *e);
+/* A receiver's "auto" caustics (the default) becomes the method the scene needs
+ * (docs/photons.md "Choosing"): "volume" when a volume object, a field-filled surface, a
+ * scattering medium or an infinite optical plane is present; else "photons" when some
+ * surface changes light (another index, absorption); else "none". Sets caustics_reason. */
+void scene_resolve_caustics(struct scene *s);
 enum refract_code scene_check_lightsim_surfaces(const struct scene *s, const char *path,
                                                 struct err *e);
 

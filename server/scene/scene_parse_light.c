@@ -311,11 +311,13 @@ enum refract_code scene_parse_receiver(const cJSON *o, struct scene *s, struct e
     }
     if (rc == REFRACT_E_OK)
         rc = read_rgb(o, "receiver", "albedo", 0.8, 1.0, r->albedo, e);
-    int caustics = SCENE_CAUSTICS_VOLUME;
+    int caustics = SCENE_CAUSTICS_AUTO;
     if (rc == REFRACT_E_OK)
-        rc = jr_enum(o, "receiver", "caustics", false, SCENE_CAUSTICS_VOLUME, scene_caustics_words,
+        rc = jr_enum(o, "receiver", "caustics", false, SCENE_CAUSTICS_AUTO, scene_caustics_words,
                      &caustics, e);
-    r->caustics = (enum scene_caustics)caustics;
+    r->caustics = (enum scene_caustics)caustics; /* auto: resolved after the surfaces */
+    r->caustics_auto = caustics == SCENE_CAUSTICS_AUTO;
+    r->caustics_reason = "given in the document";
     if (rc == REFRACT_E_OK)
         rc = jr_int(o, "receiver", "photons", false, 1048576, 1024, SCENE_MAX_PHOTONS, &r->photons,
                     e);

@@ -401,36 +401,88 @@ static enum refract_code check_rules(const struct scene *s, struct err *e)
     return REFRACT_E_OK;
 }
 
-enum refract_code scene_check_photon_surfaces(const struct scene *s, struct err *e)
+/* What keeps photons from a scene (docs/photons.md "Not yet"), as the refusal of an
+ * explicit "photons" (REFRACT_E_INVALID_FIELD in e) and *reason, a short sentence for the
+ * "auto" rule; REFRACT_E_OK when photons can trace it. *optical tells whether some surface
+ * changes light at all. */
+static enum refract_code photon_obstacle(const struct scene *s, const char **reason,
+                                         bool *optical_any, struct err *e)
 {
     static const char use[] = "set receiver.caustics to \"volume\" (docs/photons.md \"Not yet\")";
-    if (s->object_count > 0)
+    *optical_any = false;
+    if (s->object_count > 0) {
+        *reason = "a volume object: its index varies continuously, so the light simulator's "
+                  "wavefront volume";
         return err_set(e, REFRACT_E_INVALID_FIELD,
                        "receiver.caustics: \"photons\" traces exact surfaces only, and "
                        "objects[0] (\"%s\") is a volume object; remove it or %s",
                        s->objects[0].name, use);
+    }
     for (size_t k = 0; k < s->surface_count; k++) {
         const struct scene_surface *sf = &s->surfaces[k];
         const struct scene_medium *m = &sf->medium;
-        if (m->has_object)
+        if (m->has_object) {
+            *reason = "a surface filled by a field (GRIN): the light simulator's wavefront "
+                      "volume";
             return err_set(e, REFRACT_E_INVALID_FIELD,
                            "receiver.caustics: \"photons\" does not trace through a field "
                            "yet, and surfaces[%d].medium names the object \"%s\"; %s",
                            sf->document_index, s->objects[m->object].name, use);
-        if (scene_surface_scatters(sf))
+        }
+        if (scene_surface_scatters(sf)) {
+            *reason = "a scattering medium: the light simulator's volume (photons do not "
+                      "scatter yet)";
             return err_set(e, REFRACT_E_INVALID_FIELD,
                            "receiver.caustics: \"photons\" does not scatter photons in media "
                            "yet, and surfaces[%d].medium.scattering is not 0; %s",
                            sf->document_index, use);
+        }
         bool optical = m->ior != s->ambient_ior || m->attenuation[0] > 0.0 ||
                        m->attenuation[1] > 0.0 || m->attenuation[2] > 0.0;
-        if (sf->shape.kind == SCENE_SHAPE_PLANE && optical)
+        *optical_any = *optical_any || optical;
+        if (sf->shape.kind == SCENE_SHAPE_PLANE && optical) {
+            *reason = "an infinite optical plane: the light simulator's volume (photons need "
+                      "bounded surfaces)";
             return err_set(e, REFRACT_E_INVALID_FIELD,
                            "receiver.caustics: \"photons\" needs bounded surfaces, and "
                            "surfaces[%d] (\"%s\") is an infinite plane; use a box or %s",
                            sf->document_index, sf->name, use);
+        }
     }
+    *reason = *optical_any ? "exact surfaces of constant media: photons traced through them"
+                           : "no surface changes light on its way to the receiver: direct "
+                             "light only";
     return REFRACT_E_OK;
+}
+
+enum refract_code scene_check_photon_surfaces(const struct scene *s, struct err *e)
+{
+    const char *reason;
+    bool optical;
+    return photon_obstacle(s, &reason, &optical, e);
+}
+
+void scene_resolve_caustics(struct scene *s)
+{
+    struct scene_receiver *r = &s->receiver;
+    if (!r->enabled || r->caustics != SCENE_CAUSTICS_AUTO)
+        return;
+    const char *reason;
+    bool optical;
+    struct err ignored = {0};
+    if (photon_obstacle(s, &reason, &optical, &ignored) != REFRACT_E_OK)
+        r->caustics = SCENE_CAUSTICS_VOLUME;
+    else
+        r->caustics = optical ? SCENE_CAUSTICS_PHOTONS : SCENE_CAUSTICS_NONE;
+    if (r->caustics == SCENE_CAUSTICS_VOLUME &&
+        scene_check_lightsim_surfaces(s, "receiver", &ignored) != REFRACT_E_OK) {
+        /* Neither traces through a field-filled surface yet (issue 12): rather than refuse
+         * the scene, its receiver gets direct light and shadows. */
+        r->caustics = SCENE_CAUSTICS_NONE;
+        reason = "a surface filled by a field (GRIN): neither photons nor the light "
+                 "simulator trace through it yet, so direct light and shadows only";
+    }
+    r->caustics_reason = reason;
 }
 
 enum refract_code scene_check_lightsim_surfaces(const struct scene *s, const char *path,

@@ -57,6 +57,12 @@ bool scene_needs_photon_maps(const struct scene *s)
     return s->receiver.enabled && s->receiver.caustics == SCENE_CAUSTICS_PHOTONS;
 }
 
+bool scene_receiver_shadow_rays(const struct scene *s)
+{
+    return s->receiver.enabled && (s->receiver.caustics == SCENE_CAUSTICS_PHOTONS ||
+                                   s->receiver.caustics == SCENE_CAUSTICS_NONE);
+}
+
 static void mix_bytes(uint64_t *h, const void *data, size_t n)
 {
     const unsigned char *p = data;

@@ -10,7 +10,7 @@ const char *const scene_stepper_words[] = {"euler", "rk4", "rk2", "adaptive", NU
 const char *const scene_ior_texture_words[] = {"float32", "float16", NULL};
 const char *const scene_ior_filter_words[] = {"trilinear", "tricubic", NULL};
 const char *const scene_tonemap_words[] = {"clamp", "filmic", NULL};
-const char *const scene_caustics_words[] = {"volume", "photons", NULL};
+const char *const scene_caustics_words[] = {"volume", "photons", "auto", "none", NULL};
 
 _Static_assert(SCENE_STEPPER_EULER == 0 && SCENE_STEPPER_RK4 == 1 && SCENE_STEPPER_RK2 == 2 &&
                    SCENE_STEPPER_ADAPTIVE == 3,

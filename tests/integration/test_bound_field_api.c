@@ -107,9 +107,9 @@ static void bad_input(struct test_daemon *d)
          400,
          "invalid_field",
          {"surfaces[0].medium.ior", "object"}},
-        {__LINE__,
-         "{\"receiver\": {\"height\": -1.5}, \"objects\": [" LENS("1") "], \"surfaces\": [" BALL(
-             "{\"object\": \"lens\"}") "]}",
+        {__LINE__, /* the light simulator asked for ("auto" gives direct light only) */
+         "{\"receiver\": {\"height\": -1.5, \"caustics\": \"volume\"}, \"objects\": [" LENS(
+             "1") "], \"surfaces\": [" BALL("{\"object\": \"lens\"}") "]}",
          400,
          "invalid_field",
          {"receiver", "light simulator"}},

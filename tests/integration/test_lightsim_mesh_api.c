@@ -58,7 +58,8 @@ static long post_mesh(struct test_daemon *d, const char *id, const char *name, c
     " \"width\": 32, \"height\": 24}, \"environment\": {\"intensity\": 0},"                        \
     " \"surfaces\": [{\"name\": \"ball\", \"shape\": \"mesh\", \"mesh\": \"ico\", \"scale\": 0.5," \
     " \"medium\": {\"ior\": 1.5}}],"                                                               \
-    " \"receiver\": {\"height\": " height ", \"half_size\": 0.9, \"albedo\": 0.8},"                \
+    " \"receiver\": {\"height\": " height ", \"half_size\": 0.9, \"albedo\": 0.8,"          \
+    " \"caustics\": \"volume\"},"                \
     " \"lights\": [{\"name\": \"sun\", \"type\": \"directional\", \"direction\": [0, -1, 0]}],"    \
     " \"lightsim\": {\"resolution\": 16, \"initial_patches\": 8}}"
 

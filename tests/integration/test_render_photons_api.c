@@ -80,6 +80,8 @@ static void status_says_photons(struct test_daemon *d, const char *id)
     CHECK_STR(irr_str(st, "caustics"), "photons");
     CHECK(cJSON_IsTrue(cJSON_GetObjectItem(st, "needed"))); /* a photon map per light */
     CHECK(cJSON_IsObject(cJSON_GetObjectItem(irr_light(st, "lamp"), "photon_map")));
+    CHECK(cJSON_IsFalse(cJSON_GetObjectItem(st, "caustics_auto"))); /* the document said so */
+    CHECK_STR(irr_str(st, "caustics_reason"), "given in the document");
     cJSON_Delete(st);
 }
 
@@ -97,6 +99,38 @@ static void caustic_where_it_belongs(struct test_daemon *d, const char *id, vec3
     CHECK_MSG(abs(col - want_col) <= 3 && abs(row - want_row) <= 3,
               "brightest (%d, %d), expected (%d, %d)", col, row, want_col, want_row);
     CHECK_MSG(peak > 5.0 * typical, "peak %.3f vs mean %.3f", peak, typical);
+}
+
+/* Without "caustics" refractd chooses (docs/photons.md "Choosing") and says why: photons for
+ * the glass ball, the light simulator once a voxel object joins, none for a clear ball. */
+static void auto_choice(struct test_daemon *d)
+{
+    static const struct {
+        const char *doc, *want, *reason;
+    } cases[] = {
+        {"{\"surfaces\": [{\"shape\": \"sphere\", \"radius\": 1, \"medium\": {\"ior\": "
+         "1.5}}], \"lights\": [{\"type\": \"point\", \"position\": [0, 4, 0]}], "
+         "\"receiver\": {\"height\": -2}}",
+         "photons", "exact surfaces"},
+        {"{\"objects\": [{\"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "
+         "\"resolution\": 8, \"ior\": 1.2}], \"lights\": [{\"type\": \"point\", \"position\": "
+         "[0, 4, 0]}], \"receiver\": {\"height\": -2}}",
+         "volume", "volume object"},
+        {"{\"surfaces\": [{\"shape\": \"sphere\", \"radius\": 1, \"medium\": {\"ior\": "
+         "1}}], \"lights\": [{\"type\": \"point\", \"position\": [0, 4, 0]}], "
+         "\"receiver\": {\"height\": -2}}",
+         "none", "no surface"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char id[REFRACT_ID_SIZE];
+        CHECK(test_create_scene(d, cases[i].doc, id));
+        cJSON *st = irr_status(d, id);
+        CHECK_STR(irr_str(st, "caustics"), cases[i].want);
+        CHECK(cJSON_IsTrue(cJSON_GetObjectItem(st, "caustics_auto")));
+        CHECK_CONTAINS(irr_str(st, "caustics_reason"), cases[i].reason);
+        CHECK(cJSON_IsTrue(cJSON_GetObjectItem(st, "needed")) == (strcmp(cases[i].want, "none") != 0));
+        cJSON_Delete(st);
+    }
 }
 
 static void refusals(struct test_daemon *d)
@@ -154,6 +188,7 @@ int main(void)
               REFRACT_E_OK);
     cJSON_Delete(irr_wait_ready(&d, id, 60));
     caustic_where_it_belongs(&d, id, vec3_make(-2.0 * 0.8 / 6.0, -0.8, 0));
+    auto_choice(&d);
     refusals(&d);
     CHECK_INT(test_daemon_stop(&d), 0);
     test_daemon_cleanup(&d);

@@ -83,10 +83,12 @@ static void test_refuses_bad_bindings(void)
                                        "[0.2, 0.2, 0.2], \"medium\": "
                                        "{\"ior\": 1.5}}]}",
          REFRACT_E_INVALID_FIELD, "surfaces[1]: its solid may overlap objects[0] (\"lens\")", NULL},
-        /* The light simulator does not bend inside surfaces. */
+        /* The light simulator does not bend inside surfaces (asked for explicitly; "auto"
+         * then chooses "none", tested below). */
         {"{\"objects\": [" LENS("1") "], \"surfaces\": [" BALL(
              "{\"object\": \"lens\"}") "], "
-                                       "\"receiver\": {\"height\": -1.5}}",
+                                       "\"receiver\": {\"height\": -1.5, \"caustics\": "
+                                       "\"volume\"}}",
          REFRACT_E_INVALID_FIELD, "receiver: needs the light simulator", "\"lens\""},
         /* ... nor does a scattering surface medium beside a field-filled surface. */
         {"{\"objects\": [" LENS("1") "], \"surfaces\": [" BALL(

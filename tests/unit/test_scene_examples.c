@@ -327,7 +327,11 @@ static void light_examples_hold_what_their_names_promise(const char *dir)
         CHECK_NEAR(s->surfaces[0].medium.ior, 1.5, 0);
         CHECK(s->receiver.enabled);
         CHECK_NEAR(-s->receiver.height, 1.5 * 0.5 / (2 * 0.5), 1e-12);
-        CHECK(scene_needs_light_simulation(s));
+        /* The daemon's choice ("auto", docs/photons.md "Choosing"): photons through the
+         * exact sphere, no light simulation. */
+        CHECK(s->receiver.caustics_auto);
+        CHECK_INT((int)s->receiver.caustics, SCENE_CAUSTICS_PHOTONS);
+        CHECK(!scene_needs_light_simulation(s) && scene_needs_photon_maps(s));
         scene_destroy(s);
     }
     s = parse_file(dir, "ball_lens_caustic_voxels.json");
@@ -339,6 +343,7 @@ static void light_examples_hold_what_their_names_promise(const char *dir)
         /* The receiver lies at the ball lens's back focal distance n R / (2 (n - 1)). */
         CHECK_NEAR(-s->receiver.height, 1.5 * 0.5 / (2 * 0.5), 1e-12);
         CHECK_INT(s->lightsim.resolution, 64);
+        CHECK_INT((int)s->receiver.caustics, SCENE_CAUSTICS_VOLUME); /* auto: a voxel object */
         CHECK(scene_needs_light_simulation(s));
         CHECK_NEAR(ior_at(s, vec3_make(0.01, 0.01, 0.01)), 1.5, 1e-6);
         scene_destroy(s);

@@ -281,8 +281,9 @@ static void receiver_defaults_follow_the_objects_world_bounds(void)
         CHECK_NEAR(s->receiver.half_size, 1.5 * 5.0, 1e-12);
         for (int c = 0; c < 3; c++)
             CHECK_NEAR(s->receiver.albedo[c], 0.8, 0);
-        /* docs/photons.md: the light simulator's caustics unless asked for photons */
+        /* docs/photons.md "Choosing": a voxel object's caustics are the light simulator's */
         CHECK_INT((int)s->receiver.caustics, SCENE_CAUSTICS_VOLUME);
+        CHECK(s->receiver.caustics_auto);
         CHECK_INT(s->receiver.photons, 1048576);
         CHECK_NEAR(s->receiver.photon_radius, 0.0, 0);
         CHECK(scene_needs_light_simulation(s));
@@ -312,6 +313,76 @@ static void receiver_defaults_follow_the_objects_world_bounds(void)
         CHECK_NEAR(s->receiver.albedo[1], 0.25, 0);
         scene_destroy(s);
     }
+}
+
+/* The receiver's "auto" caustics (the default; docs/photons.md "Choosing"): the method the
+ * scene needs, and why; an explicit method is kept (or refused when it cannot work). */
+static void auto_caustics_choose_what_the_scene_needs(void)
+{
+#define RECV "\"receiver\": {\"height\": -2}"
+#define LENS_OBJ                                                                                  \
+    "{\"name\": \"lens\", \"bounds\": {\"min\": [-1, -1, -1], \"max\": [1, 1, 1]}, "            \
+    "\"resolution\": 8, \"ior\": {\"profile\": \"luneburg\", \"center\": [0, 0, 0], \"radius\": 1}}"
+    static const struct {
+        const char *doc;
+        enum scene_caustics want;
+        const char *reason;
+    } cases[] = {
+        {"{" RECV ", \"surfaces\": [{\"shape\": \"sphere\", \"radius\": 1, \"medium\": "
+         "{\"ior\": 1.5}}]}",
+         SCENE_CAUSTICS_PHOTONS, "exact surfaces"},
+        {"{" RECV ", \"surfaces\": [{\"shape\": \"box\", \"size\": [1, 1, 1], \"medium\": "
+         "{\"ior\": 1, \"attenuation\": [0.5, 0, 0]}}]}", /* absorbing only: still optical */
+         SCENE_CAUSTICS_PHOTONS, "exact surfaces"},
+        {"{" RECV ", \"objects\": [{" BOUNDS ", \"ior\": 1.5}]}", SCENE_CAUSTICS_VOLUME,
+         "volume object"},
+        {"{" RECV ", \"surfaces\": [{\"shape\": \"sphere\", \"radius\": 1, \"medium\": "
+         "{\"ior\": 1.3, \"scattering\": [0.5, 0.5, 0.5]}}]}",
+         SCENE_CAUSTICS_VOLUME, "scattering"},
+        {"{\"receiver\": {\"height\": -2, \"half_size\": 3}, \"surfaces\": [{\"shape\": "
+         "\"plane\", \"point\": [0, 0, 0], \"normal\": [0, 1, 0], \"medium\": {\"ior\": "
+         "1.33}}]}",
+         SCENE_CAUSTICS_VOLUME, "infinite"},
+        {"{" RECV ", \"surfaces\": [{\"shape\": \"sphere\", \"radius\": 1, \"medium\": "
+         "{\"ior\": 1}}]}", /* index-matched, clear: nothing to trace */
+         SCENE_CAUSTICS_NONE, "no surface"},
+        {"{" RECV ", \"objects\": [" LENS_OBJ "], \"surfaces\": [{\"shape\": \"sphere\", "
+         "\"radius\": 1, \"medium\": {\"object\": \"lens\"}}]}",
+         SCENE_CAUSTICS_NONE, "field"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        struct scene *s = parse_ok(cases[i].doc);
+        if (s == NULL)
+            continue;
+        CHECK_MSG(s->receiver.caustics == cases[i].want && s->receiver.caustics_auto,
+                  "case %zu: caustics %d (%s), want %d", i, (int)s->receiver.caustics,
+                  s->receiver.caustics_reason, (int)cases[i].want);
+        CHECK_CONTAINS(s->receiver.caustics_reason, cases[i].reason);
+        CHECK(scene_needs_light_simulation(s) == (cases[i].want == SCENE_CAUSTICS_VOLUME));
+        CHECK(scene_needs_photon_maps(s) == (cases[i].want == SCENE_CAUSTICS_PHOTONS));
+        CHECK(scene_receiver_shadow_rays(s) == (cases[i].want != SCENE_CAUSTICS_VOLUME));
+        scene_destroy(s);
+    }
+    /* Explicit methods are kept: "volume" for exact surfaces, "none". */
+    struct scene *s = parse_ok("{\"receiver\": {\"height\": -2, \"caustics\": \"volume\"}, "
+                               "\"surfaces\": [{\"shape\": \"sphere\", \"radius\": 1, "
+                               "\"medium\": {\"ior\": 1.5}}]}");
+    if (s != NULL) {
+        CHECK_INT((int)s->receiver.caustics, SCENE_CAUSTICS_VOLUME);
+        CHECK(!s->receiver.caustics_auto);
+        CHECK_CONTAINS(s->receiver.caustics_reason, "document");
+        scene_destroy(s);
+    }
+    s = parse_ok("{\"receiver\": {\"height\": -2, \"caustics\": \"none\"}, \"surfaces\": "
+                 "[{\"shape\": \"sphere\", \"radius\": 1, \"medium\": {\"ior\": 1.5}}]}");
+    if (s != NULL) {
+        CHECK_INT((int)s->receiver.caustics, SCENE_CAUSTICS_NONE);
+        CHECK(!scene_needs_photon_maps(s) && !scene_needs_light_simulation(s));
+        CHECK(scene_receiver_shadow_rays(s));
+        scene_destroy(s);
+    }
+#undef RECV
+#undef LENS_OBJ
 }
 
 static void reads_every_lightsim_setting(void)
@@ -441,6 +512,7 @@ int main(void)
     without_the_new_keys_there_are_no_lights_no_receiver_and_default_settings();
     reads_each_light_type_with_defaults();
     receiver_defaults_follow_the_objects_world_bounds();
+    auto_caustics_choose_what_the_scene_needs();
     reads_every_lightsim_setting();
     reads_each_brdf_type();
     reads_scattering_and_anisotropy_values_and_layers();
