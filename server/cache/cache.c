@@ -17,7 +17,7 @@
 
 /* ---- keys ------------------------------------------------------------------------------ */
 
-static uint64_t mix(uint64_t h, const void *data, size_t len)
+uint64_t irr_mix(uint64_t h, const void *data, size_t len)
 {
     const unsigned char *p = data;
     for (size_t i = 0; i < len; i++) {
@@ -29,7 +29,7 @@ static uint64_t mix(uint64_t h, const void *data, size_t len)
 
 static uint64_t mix_i64(uint64_t h, int64_t v)
 {
-    return mix(h, &v, sizeof v);
+    return irr_mix(h, &v, sizeof v);
 }
 
 /* Nearest multiple of tol, as an integer: a change of less than tol/2 about a multiple
@@ -42,14 +42,14 @@ static int64_t quantise(double v, double tol)
 uint64_t irradiance_transport_hash(const struct irradiance_source *src)
 {
     uint64_t h = scene_transport_hash(src->scene);
-    return mix(h, &src->uploads_hash, sizeof src->uploads_hash);
+    return irr_mix(h, &src->uploads_hash, sizeof src->uploads_hash);
 }
 
 uint64_t irradiance_cache_key(const struct irradiance_cache *c, uint64_t transport,
                               const struct scene_light *l)
 {
     double pt = c->desc.position_tolerance, dt = c->desc.direction_tolerance;
-    uint64_t h = mix(14695981039346656037ull, &transport, sizeof transport);
+    uint64_t h = irr_mix(14695981039346656037ull, &transport, sizeof transport);
     h = mix_i64(h, l->kind);
     if (l->kind != SCENE_LIGHT_POINT) {
         /* A unit vector's components move by about the angle (radians) it turns. */

@@ -172,6 +172,8 @@ struct irradiance_cache {
 };
 
 /* cache.c */
+/* FNV-1a 64 of data mixed into h (the keys). */
+uint64_t irr_mix(uint64_t h, const void *data, size_t len);
 struct irr_entry *irr_find_locked(struct irradiance_cache *c, uint64_t key);
 /* A new zeroed entry of c (cache set), appended to the table; NULL when out of memory. */
 struct irr_entry *irr_entry_add_locked(struct irradiance_cache *c);

@@ -64,27 +64,17 @@ void irr_photon_scene_free(struct irr_entry *en)
 
 /* ---- keys ------------------------------------------------------------------------------ */
 
-static uint64_t mix(uint64_t h, const void *data, size_t len)
-{
-    const unsigned char *p = data;
-    for (size_t i = 0; i < len; i++) {
-        h ^= p[i];
-        h *= 1099511628211ull; /* FNV-1a 64 prime */
-    }
-    return h;
-}
-
 uint64_t irr_photons_key(const struct irradiance_cache *c, uint64_t transport,
                          const struct scene *s, const struct scene_light *l)
 {
     uint64_t h = irradiance_cache_key(c, transport, l);
-    h = mix(h, "photons", 7);
+    h = irr_mix(h, "photons", 7);
     int64_t radius = llround(l->radius / c->desc.position_tolerance);
-    h = mix(h, &radius, sizeof radius);
+    h = irr_mix(h, &radius, sizeof radius);
     int64_t count = s->receiver.photons;
-    h = mix(h, &count, sizeof count);
+    h = irr_mix(h, &count, sizeof count);
     double r = s->receiver.photon_radius;
-    return mix(h, &r, sizeof r);
+    return irr_mix(h, &r, sizeof r);
 }
 
 /* ---- passes (worker) ------------------------------------------------------------------- */

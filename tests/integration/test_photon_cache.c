@@ -24,6 +24,7 @@
 #include "io/io_image.h"
 #include "irradiance_util.h"
 #include "sse_util.h"
+#include "render_util.h"
 #include "test.h"
 #include "view_util.h"
 
@@ -48,16 +49,10 @@ static const char *const lamp_above = "{\"type\": \"point\", \"position\": [0, 6
 static const char *const lamp_moved = "{\"type\": \"point\", \"position\": [2, 6, 0], "
                                       "\"intensity\": 40}";
 
-/* The pixel a world point lands on (env.h's camera model, pixel centres). */
+/* The pixel a world point lands on (the scene's camera). */
 static void project(vec3 p, int *col, int *row)
 {
-    vec3 eye = {3, 1.2, 0}, look = {0, -0.7, 0}, up = {0, 1, 0};
-    vec3 f = vec3_normalize(vec3_sub(look, eye)), r = vec3_normalize(vec3_cross(f, up));
-    vec3 u = vec3_cross(r, f), v = vec3_sub(p, eye);
-    double t = tan(50.0 * M_PI / 360.0), x = vec3_dot(v, r) / vec3_dot(v, f) / t,
-           y = vec3_dot(v, u) / vec3_dot(v, f) / t;
-    *col = (int)floor((x / ((double)W / H) + 1.0) * 0.5 * W);
-    *row = (int)floor((1.0 - y) * 0.5 * H);
+    test_project(vec3_make(3, 1.2, 0), vec3_make(0, -0.7, 0), 50.0, W, H, p, col, row);
 }
 
 /* The caustic's focus on the floor for a lamp at (lx, 6, 0). */
