@@ -40,6 +40,11 @@ struct test_daemon {
 bool test_daemon_start_in(struct test_daemon *d, const char *data_dir,
                           const char *const *extra_args);
 bool test_daemon_start(struct test_daemon *d, const char *const *extra_args);
+/* A restart: starts `next` on the data directory of `stopped` (stopped with
+ * test_daemon_stop, not yet cleaned up). On failure removes stopped's directory and fails
+ * the test `name` (test_setup_failed: does not return). */
+void test_daemon_restart(const struct test_daemon *stopped, struct test_daemon *next,
+                         const char *name);
 
 /* SIGTERM, wait up to 20 s. Returns the exit status (0 = clean), or -1 if it had to be
  * killed. Keeps the directory (see test_daemon_cleanup). */

@@ -3,6 +3,7 @@
  * daemon.h.
  */
 #include "daemon.h"
+#include "test.h"
 
 #include <cjson/cJSON.h>
 #include <errno.h>
@@ -84,6 +85,18 @@ static void spawn(struct test_daemon *d, const char *bin, const char *port_file,
     execv(bin, (char *const *)argv);
     fprintf(stderr, "exec %s failed: %s\n", bin, strerror(errno));
     _exit(127);
+}
+
+void test_daemon_restart(const struct test_daemon *stopped, struct test_daemon *next,
+                         const char *name)
+{
+    char data_dir[sizeof stopped->data_dir];
+    snprintf(data_dir, sizeof data_dir, "%s", stopped->data_dir);
+    if (!test_daemon_start_in(next, data_dir, NULL)) {
+        struct test_daemon old = *stopped;
+        test_daemon_cleanup(&old);
+        test_setup_failed(name, next->why);
+    }
 }
 
 bool test_daemon_start_in(struct test_daemon *d, const char *data_dir,

@@ -102,13 +102,8 @@ int main(void)
     CHECK_INT(test_daemon_stop(&d), 0);
 
     /* A restart: the volume comes from the disk index. */
-    char data_dir[sizeof d.data_dir];
-    snprintf(data_dir, sizeof data_dir, "%s", d.data_dir);
     struct test_daemon d2;
-    if (!test_daemon_start_in(&d2, data_dir, NULL)) {
-        test_daemon_cleanup(&d);
-        test_setup_failed("test_irradiance_persist (restart)", d2.why);
-    }
+    test_daemon_restart(&d, &d2, "test_irradiance_persist (restart)");
     st = irr_wait_loaded(&d2, id, "sun", 30);
     sun = irr_light(st, "sun");
     CHECK(cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(sun, "loaded_from_disk")));

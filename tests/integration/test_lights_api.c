@@ -181,13 +181,8 @@ int main(void)
         errors(&d, id);
     }
     CHECK_INT(test_daemon_stop(&d), 0);
-    char data_dir[sizeof d.data_dir];
-    snprintf(data_dir, sizeof data_dir, "%s", d.data_dir);
     struct test_daemon d2;
-    if (!test_daemon_start_in(&d2, data_dir, NULL)) {
-        test_daemon_cleanup(&d);
-        test_setup_failed("test_lights_api (restart)", d2.why);
-    }
+    test_daemon_restart(&d, &d2, "test_lights_api (restart)");
     cJSON *root = lights_of(&d2, id);
     CHECK_INT(count_of(root), 1);
     CHECK_STR(irr_str(nth(root, 0), "name"), "sun");

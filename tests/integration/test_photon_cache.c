@@ -246,13 +246,8 @@ int main(void)
     CHECK_INT(test_daemon_stop(&d), 0);
 
     /* A restart: the map comes from the data directory, the same picture. */
-    char data_dir[sizeof d.data_dir];
-    snprintf(data_dir, sizeof data_dir, "%s", d.data_dir);
     struct test_daemon d2;
-    if (!test_daemon_start_in(&d2, data_dir, NULL)) {
-        test_daemon_cleanup(&d);
-        test_setup_failed("test_photon_cache (restart)", d2.why);
-    }
+    test_daemon_restart(&d, &d2, "test_photon_cache (restart)");
     st = irr_wait_loaded(&d2, id, "lamp", 30);
     CHECK_NEAR(irr_counter(st, "computed"), 0, 0);
     CHECK_NEAR(irr_num(map_of(st), "photons"), PHOTONS, 0);
@@ -270,13 +265,10 @@ int main(void)
      * made again, the same picture. */
     char cmd[700];
     snprintf(cmd, sizeof cmd, "for f in '%s'/irradiance/*.pmap; do head -c 30 \"$f\" > \"$f.cut\" "
-             "&& mv \"$f.cut\" \"$f\"; done", data_dir);
+             "&& mv \"$f.cut\" \"$f\"; done", d.data_dir);
     CHECK_INT(system(cmd), 0);
     struct test_daemon d3;
-    if (!test_daemon_start_in(&d3, data_dir, NULL)) {
-        test_daemon_cleanup(&d);
-        test_setup_failed("test_photon_cache (cut files)", d3.why);
-    }
+    test_daemon_restart(&d, &d3, "test_photon_cache (cut files)");
     struct picture cut;
     CHECK(render(&d3, id, &cut)); /* reads the file back: refused, the entry dropped */
     CHECK(render(&d3, id, &cut)); /* asks for the map again */
