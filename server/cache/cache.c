@@ -520,6 +520,8 @@ int irradiance_cache_status(struct irradiance_cache *c, const struct irradiance_
         st->key = entry_key(c, transport, s, l);
         st->using_ = "none";
         st->photons = scene_needs_photon_maps(s) && !scene_needs_light_simulation(s);
+        if (st->photons)
+            st->passes_total = photon_pass_count(s->receiver.photons, s->receiver.photons_max);
         if (!needed) {
             st->state = IRRADIANCE_NOT_NEEDED;
             continue;

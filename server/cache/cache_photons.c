@@ -29,6 +29,11 @@
 struct irr_photon_scene {
     struct scene_pathtrace sp;  /* the scene's surfaces (sp.scene.surfaces points into sp) */
     struct pathtrace_scene one; /* the same with the entry's light alone, unit intensity */
+    /* Passes past `photons` accumulate (receiver.photons_max): every landed photon so far,
+     * weighted as one list of acc_count photons; 0 before the pass of `photons`. */
+    struct photon_list acc;
+    long acc_count;
+    int next_pass; /* the pass to trace next (the entry's passes, unless replaying) */
 };
 
 /* ---- host copies ----------------------------------------------------------------------- */
@@ -58,6 +63,8 @@ void irr_host_free(struct irr_host *h)
 
 void irr_photon_scene_free(struct irr_entry *en)
 {
+    if (en->pt)
+        photon_list_free(&en->pt->acc);
     free(en->pt);
     en->pt = NULL;
 }
@@ -71,8 +78,8 @@ uint64_t irr_photons_key(const struct irradiance_cache *c, uint64_t transport,
     h = irr_mix(h, "photons", 7);
     int64_t radius = llround(l->radius / c->desc.position_tolerance);
     h = irr_mix(h, &radius, sizeof radius);
-    int64_t count = s->receiver.photons;
-    h = irr_mix(h, &count, sizeof count);
+    int64_t count[2] = {s->receiver.photons, s->receiver.photons_max};
+    h = irr_mix(h, count, sizeof count);
     double r = s->receiver.photon_radius;
     return irr_mix(h, &r, sizeof r);
 }
@@ -91,7 +98,7 @@ static enum refract_code photon_scene(struct irr_entry *en, struct err *e)
 {
     if (en->pt != NULL)
         return REFRACT_E_OK;
-    en->pt = malloc(sizeof *en->pt);
+    en->pt = calloc(1, sizeof *en->pt);
     if (en->pt == NULL)
         return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for a photon map's scene");
     enum refract_code rc =
@@ -118,18 +125,63 @@ static bool wanted_locked(const struct irradiance_cache *c, uint64_t key)
     return false;
 }
 
-/* The share of a map's photons traced after `passes` passes. */
-static double progress_of(long count, int passes)
+/* The share of a map's photons traced after `passes` passes, over all its passes. */
+static double progress_of(long count, long count_max, int passes)
 {
     double done = 0.0, all = 0.0;
-    for (int k = 0; k < PHOTON_LEVELS; k++) {
-        long n = photon_level_count(count, k);
-        all += (double)n;
-        done += k < passes ? (double)n : 0.0;
-        if (n >= count)
-            break; /* a small map has fewer passes */
+    int n = photon_pass_count(count, count_max);
+    for (int k = 0; k < n; k++) {
+        double b = (double)photon_pass_batch(count, count_max, k);
+        all += b;
+        done += k < passes ? b : 0.0;
     }
     return all > 0.0 ? done / all : 1.0;
+}
+
+/* One pass's map (photon.h "A light's map is made in passes"): traced and gathered into
+ * m->grid; the pass of `count` photons keeps its list for the passes after it, which add
+ * theirs to it. *total: the photons the map stands for. */
+static enum refract_code trace_pass(struct irr_photon_scene *pt, const struct scene_receiver *rc,
+                                    int pass, struct irr_pmap *m, struct photon_map_stats *st,
+                                    long *total, struct err *e)
+{
+    long count = rc->photons, count_max = rc->photons_max > count ? rc->photons_max : count;
+    int first = photon_initial_passes(count);
+    long batch = photon_pass_batch(count, count_max, pass);
+    long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+    int threads = cpus > 0 ? (int)cpus : 1;
+    *total = photon_pass_total(count, count_max, pass);
+    memset(st, 0, sizeof *st);
+    struct photon_list l;
+    double t0 = now_ms();
+    enum refract_code r =
+        photon_map_trace(&pt->one, batch, photon_level_seed(pass), threads, &l, e);
+    st->trace_ms = now_ms() - t0;
+    if (r != REFRACT_E_OK)
+        return r;
+    const struct photon_list *gathered = &l;
+    if (pass == first - 1 && count_max > count) {
+        photon_list_free(&pt->acc);
+        pt->acc = l; /* the passes after it add to it */
+        pt->acc_count = batch;
+        memset(&l, 0, sizeof l);
+        gathered = &pt->acc;
+    } else if (pass >= first) {
+        r = photon_list_accumulate(&pt->acc, pt->acc_count, &l, batch, e);
+        pt->acc_count += batch;
+        gathered = &pt->acc;
+    }
+    st->emitted = gathered->emitted;
+    st->landed = gathered->count;
+    st->radius = photon_radius(&pt->one, *total, rc->photon_radius);
+    double t1 = now_ms();
+    if (r == REFRACT_E_OK)
+        r = photon_grid_build(gathered, st->radius, &m->grid, e);
+    st->grid_ms = now_ms() - t1;
+    m->emitted = st->emitted;
+    m->landed = st->landed;
+    photon_list_free(&l);
+    return r;
 }
 
 void irr_photons_pass(struct irradiance_cache *c, struct irr_entry *en)
@@ -137,7 +189,7 @@ void irr_photons_pass(struct irradiance_cache *c, struct irr_entry *en)
     struct err e = {0};
     pthread_mutex_lock(&c->lock);
     bool cancelled = en->cancelled;
-    int pass = en->passes;
+    int passes_done = en->passes;
     if (!cancelled && en->phase == IRR_READY && !wanted_locked(c, en->key)) {
         /* A refining pass queued before the light moved on: not run (it goes on when the
          * pose is asked for again). */
@@ -154,24 +206,29 @@ void irr_photons_pass(struct irradiance_cache *c, struct irr_entry *en)
     pthread_mutex_unlock(&c->lock);
     irr_events_flush(c);
 
+    bool fresh = en->pt == NULL;
     enum refract_code rc = cancelled ? REFRACT_E_OK : photon_scene(en, &e);
+    /* Resumed past the pass of `photons` (the pose was left, which dropped the accumulated
+     * list): the passes from that one on are traced again (the same seeds, the same
+     * photons), their maps not shown until one has more photons than the map in use. */
+    int first = photon_initial_passes(en->receiver.photons);
+    if (!cancelled && rc == REFRACT_E_OK && fresh)
+        en->pt->next_pass = passes_done >= first ? first - 1 : passes_done;
+    int pass = rc == REFRACT_E_OK && en->pt ? en->pt->next_pass : passes_done;
     struct irr_pmap *m = NULL;
-    long count = photon_level_count(en->receiver.photons, pass);
+    long total = 0;
     double t0 = now_ms();
     struct photon_map_stats st = {0};
     if (!cancelled && rc == REFRACT_E_OK) {
         m = calloc(1, sizeof *m);
-        if (m == NULL) {
+        if (m == NULL)
             rc = err_set(&e, REFRACT_E_OUT_OF_MEMORY, "out of memory for a photon map");
-        } else {
+        else
             m->refs = 1;
-            long cpus = sysconf(_SC_NPROCESSORS_ONLN);
-            rc = photon_map_build(&en->pt->one, count, en->receiver.photon_radius,
-                                  photon_level_seed(pass), cpus > 0 ? (int)cpus : 1, &m->grid,
-                                  &st, &e);
-            m->emitted = st.emitted;
-            m->landed = st.landed;
-        }
+        if (rc == REFRACT_E_OK)
+            rc = trace_pass(en->pt, &en->receiver, pass, m, &st, &total, &e);
+        if (rc == REFRACT_E_OK)
+            en->pt->next_pass = pass + 1;
     }
     double ms = now_ms() - t0;
 
@@ -181,15 +238,24 @@ void irr_photons_pass(struct irradiance_cache *c, struct irr_entry *en)
         irr_pmap_unref(m);
         if (!cancelled && !en->cancelled && rc != REFRACT_E_OK)
             irr_fail_locked(en, &e);
+    } else if (en->has_host && en->host.photons && m->emitted <= en->host.photons->emitted) {
+        irr_pmap_unref(m); /* replayed: the map in use has as many photons; the list goes on */
+        en->compute_ms += ms;
+        go_on = wanted_locked(c, en->key);
     } else {
         if (en->has_host)
             irr_host_free(&en->host);
         en->host.photons = m;
         en->has_host = true;
         en->passes = pass + 1;
-        bool last = count >= en->receiver.photons || en->passes >= PHOTON_LEVELS;
+        long count_max = en->receiver.photons_max > en->receiver.photons
+                             ? en->receiver.photons_max
+                             : en->receiver.photons;
+        int passes_all = photon_pass_count(en->receiver.photons, count_max);
+        bool last = en->passes >= passes_all;
         en->refining = !last;
-        en->progress = last ? 1.0 : progress_of(en->receiver.photons, en->passes);
+        en->progress =
+            last ? 1.0 : progress_of(en->receiver.photons, count_max, en->passes);
         en->compute_ms += ms;
         if (en->phase != IRR_READY) {
             en->phase = IRR_READY;
@@ -211,7 +277,7 @@ void irr_photons_pass(struct irradiance_cache *c, struct irr_entry *en)
         log_info("irradiance",
                  "photon map %016" PRIx64 " (light %s) pass %d of %d: %ld photons (%zu landed), "
                  "radius %.4g, %u lattice points, %.0f ms (trace %.0f, gather %.0f)%s",
-                 en->key, en->light.name, en->passes, PHOTON_LEVELS, st.emitted, st.landed,
+                 en->key, en->light.name, en->passes, passes_all, st.emitted, st.landed,
                  st.radius, m->grid.used, ms, st.trace_ms, st.grid_ms,
                  last    ? ""
                  : go_on ? "; refining"

@@ -112,7 +112,7 @@ struct irradiance_light_status {
      * photons, photons_landed of them stored, and gathers with photon_radius. */
     bool photons;
     bool refining;
-    int passes;
+    int passes, passes_total;
     long photons_emitted;
     size_t photons_landed;
     double photon_radius;

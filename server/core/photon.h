@@ -80,6 +80,14 @@ enum refract_code photon_trace(const struct pathtrace_scene *s, long count, uint
 /* Appends b's photons and sums to a (threads' partial lists). */
 enum refract_code photon_list_merge(struct photon_list *a, const struct photon_list *b,
                                     struct err *e);
+/* One estimate from two independent lists traced with acc_count and batch_count photons
+ * (each photon's power is its light's power over its own list's count): the powers of
+ * acc's photons times acc_count / (acc_count + batch_count), batch's appended times
+ * batch_count / (acc_count + batch_count), as if all had been one list of the sum
+ * (progressive refinement, docs/photons.md "The cache"). emitted adds up. */
+enum refract_code photon_list_accumulate(struct photon_list *acc, long acc_count,
+                                         const struct photon_list *batch, long batch_count,
+                                         struct err *e);
 void photon_list_free(struct photon_list *l);
 
 /* The gather radius for count photons (docs/photons.md "Radius"): radius_setting when > 0,
@@ -163,8 +171,12 @@ struct photon_map_stats {
     double trace_ms, grid_ms;
 };
 
-/* Traces `count` photons on `threads` threads (1..64), then builds the grid with
- * photon_radius(s, count, radius_setting). On failure g is empty. */
+/* Traces `count` photons on `threads` threads (1..64) into a new list (the same set
+ * whatever the thread count). On failure out is empty. */
+enum refract_code photon_map_trace(const struct pathtrace_scene *s, long count, uint64_t seed,
+                                   int threads, struct photon_list *out, struct err *e);
+/* photon_map_trace, then the grid with photon_radius(s, count, radius_setting). On failure
+ * g is empty. */
 enum refract_code photon_map_build(const struct pathtrace_scene *s, long count,
                                    double radius_setting, uint64_t seed, int threads,
                                    struct photon_grid *g, struct photon_map_stats *stats,
@@ -177,8 +189,21 @@ enum refract_code photon_map_build(const struct pathtrace_scene *s, long count,
 /* The photons of pass `level` (0 .. PHOTON_LEVELS - 1) of a map of `count`:
  * count / 4^(PHOTON_LEVELS - 1 - level), at least 1024 and at most count. */
 long photon_level_count(long count, int level);
-/* The seed of a pass: the last pass uses seed 1, as the map render_view builds at once. */
+/* The seed of a pass: the pass of `count` photons uses seed 1, as the map render_view builds
+ * at once; each pass its own. */
 uint64_t photon_level_seed(int level);
+
+/* A light's map is made in passes (docs/photons.md "The cache"): first the levels above, up
+ * to the pass of `count` photons (photon_initial_passes of them), each a map of its own
+ * that replaces the last; then, while the map has fewer than `count_max` photons, passes
+ * that double its photons (the last up to count_max), accumulated with every photon before
+ * (photon_list_accumulate), the radius that of the total. Doubling keeps the lattice
+ * rebuilds to log2(count_max / count) of them, about twice the cost of the last. */
+int photon_initial_passes(long count);
+int photon_pass_count(long count, long count_max);
+/* The photons of the map after pass `pass` (0-based), and those that pass traces. */
+long photon_pass_total(long count, long count_max, int pass);
+long photon_pass_batch(long count, long count_max, int pass);
 /* *out = s with light l as its only light (a light's own map; l at unit intensity makes
  * a map that the light's colour times intensity scales). out->surfaces stays s's. */
 void photon_scene_one_light(const struct pathtrace_scene *s, const struct pathtrace_light *l,

@@ -302,6 +302,39 @@ enum refract_code photon_list_merge(struct photon_list *a, const struct photon_l
     return REFRACT_E_OK;
 }
 
+static void scale_items(struct photon_list *l, size_t from, size_t to, double f)
+{
+    for (size_t i = from; i < to; i++)
+        for (int c = 0; c < 3; c++)
+            l->items[i].power[c] *= f;
+}
+
+enum refract_code photon_list_accumulate(struct photon_list *acc, long acc_count,
+                                         const struct photon_list *batch, long batch_count,
+                                         struct err *e)
+{
+    double total = (double)acc_count + (double)batch_count;
+    if (!(total > 0.0))
+        return REFRACT_E_OK;
+    double wa = (double)acc_count / total, wb = (double)batch_count / total;
+    size_t first = acc->count;
+    double lost[3], landed[3];
+    for (int c = 0; c < 3; c++) {
+        lost[c] = acc->lost[c] * wa + batch->lost[c] * wb;
+        landed[c] = acc->landed[c] * wa + batch->landed[c] * wb;
+    }
+    enum refract_code rc = photon_list_merge(acc, batch, e);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    scale_items(acc, 0, first, wa);
+    scale_items(acc, first, acc->count, wb);
+    for (int c = 0; c < 3; c++) {
+        acc->lost[c] = lost[c];
+        acc->landed[c] = landed[c];
+    }
+    return REFRACT_E_OK;
+}
+
 void photon_list_free(struct photon_list *l)
 {
     free(l->items);

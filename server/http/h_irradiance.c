@@ -68,7 +68,7 @@ cJSON *http_irradiance_status(const struct http_app *app, struct store_scene *v)
         if (st[i].photons) { /* docs/photons.md "The cache" */
             cJSON *p = cJSON_AddObjectToObject(o, "photon_map");
             cJSON_AddNumberToObject(p, "passes", st[i].passes);
-            cJSON_AddNumberToObject(p, "passes_total", PHOTON_LEVELS);
+            cJSON_AddNumberToObject(p, "passes_total", st[i].passes_total);
             cJSON_AddBoolToObject(p, "refining", st[i].refining);
             cJSON_AddNumberToObject(p, "photons", (double)st[i].photons_emitted);
             cJSON_AddNumberToObject(p, "landed", (double)st[i].photons_landed);

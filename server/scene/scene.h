@@ -246,6 +246,8 @@ struct scene_receiver {
     bool caustics_auto;            /* the document said "auto" (or nothing) */
     const char *caustics_reason;   /* why this method (a static sentence) */
     int photons;          /* caustic photons per map, 1024..SCENE_MAX_PHOTONS; 1048576 */
+    int photons_max;      /* the cache refines a map up to this many (photons..
+                             SCENE_MAX_PHOTONS; default photons: no further) */
     double photon_radius; /* gather radius, world units; 0 (default): the auto rule */
 };
 

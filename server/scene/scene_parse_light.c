@@ -279,7 +279,8 @@ static enum refract_code read_center(const cJSON *o, double m, double out[2], st
 enum refract_code scene_parse_receiver(const cJSON *o, struct scene *s, struct err *e)
 {
     static const char *const keys[] = {"height",   "half_size", "center",        "albedo",
-                                       "caustics", "photons",   "photon_radius", NULL};
+                                       "caustics", "photons",   "photons_max", "photon_radius",
+                                       NULL};
     const double m = SCENE_COORD_MAX;
     struct scene_receiver *r = &s->receiver;
     memset(r, 0, sizeof *r);
@@ -321,6 +322,9 @@ enum refract_code scene_parse_receiver(const cJSON *o, struct scene *s, struct e
     if (rc == REFRACT_E_OK)
         rc = jr_int(o, "receiver", "photons", false, 1048576, 1024, SCENE_MAX_PHOTONS, &r->photons,
                     e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_int(o, "receiver", "photons_max", false, r->photons, r->photons, SCENE_MAX_PHOTONS,
+                    &r->photons_max, e);
     if (rc == REFRACT_E_OK)
         rc = jr_number(o, "receiver", "photon_radius", false, 0.0, 0.0, m, &r->photon_radius, e);
     r->enabled = rc == REFRACT_E_OK;

@@ -114,16 +114,18 @@ static void check_caustic(const struct picture *p, double lx, const char *what)
 }
 
 /* Reads irradiance.ready events of the lamp until one that is not refining: each pass's,
- * with growing photon counts. Returns the passes seen. */
-static int passes_until_final(struct sse_client *c, const char *key, double timeout_s)
+ * with growing photon counts, the last with `final_photons`. Returns the passes seen. */
+static int passes_until(struct sse_client *c, const char *scene, const char *key,
+                        double final_photons, double timeout_s)
 {
     int passes = 0;
     double last_photons = 0.0;
     struct sse_event ev;
     while (sse_until(c, "irradiance.ready", timeout_s, &ev, NULL, NULL, 0)) {
         cJSON *o = cJSON_Parse(ev.data);
-        if (key && strcmp(sse_str(o, "key"), key) != 0) {
-            cJSON_Delete(o); /* another pose's */
+        if ((key && strcmp(sse_str(o, "key"), key) != 0) ||
+            (scene && strcmp(sse_str(o, "scene"), scene) != 0)) {
+            cJSON_Delete(o); /* another pose's or scene's */
             continue;
         }
         double photons = sse_num(o, "photons");
@@ -136,7 +138,7 @@ static int passes_until_final(struct sse_client *c, const char *key, double time
         passes++;
         cJSON_Delete(o);
         if (!refining) {
-            CHECK_NEAR(photons, PHOTONS, 0);
+            CHECK_NEAR(photons, final_photons, 0);
             return passes;
         }
     }
@@ -144,9 +146,9 @@ static int passes_until_final(struct sse_client *c, const char *key, double time
     return passes;
 }
 
-static const cJSON *map_of(const cJSON *status)
+static int passes_until_final(struct sse_client *c, const char *key, double timeout_s)
 {
-    return cJSON_GetObjectItemCaseSensitive(irr_light(status, "lamp"), "photon_map");
+    return passes_until(c, NULL, key, PHOTONS, timeout_s);
 }
 
 /* PUT the lamp; returns the HTTP status and the lamp's key after it. */
@@ -164,6 +166,76 @@ static long put_lamp(struct test_daemon *d, const char *id, const char *light, c
     cJSON_Delete(st);
     free(a.body);
     return a.status;
+}
+
+/* receiver.photons_max: past its pass of `photons` the map goes on refining, each pass
+ * adding `photons` more to all before it (docs/photons.md "The cache"), until photons_max;
+ * then it is persisted like any map. */
+static void refines_up_to_photons_max(struct test_daemon *d)
+{
+    static const char doc[] =
+        "{\"name\": \"photons_max\", \"camera\": {\"eye\": [3, 1.2, 0], \"look_at\": [0, -0.7, "
+        "0], \"fov_y_deg\": 50, \"width\": 80, \"height\": 60}, \"environment\": "
+        "{\"intensity\": 0}, \"lights\": [{\"name\": \"lamp\", \"type\": \"point\", "
+        "\"position\": [0, 6, 0], \"intensity\": 40}], \"receiver\": {\"height\": -0.8, "
+        "\"half_size\": 4, \"photons\": 65536, \"photons_max\": 400000}, \"surfaces\": "
+        "[{\"name\": \"ball\", \"shape\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 0.5, "
+        "\"medium\": {\"ior\": 1.5}, \"brdf\": {\"type\": \"none\"}}]}";
+    char id[REFRACT_ID_SIZE];
+    struct sse_client sse;
+    /* Opened before the scene exists, so the daemon-wide stream. */
+    CHECK(sse_open(&sse, d, "/v1/events", NULL));
+    CHECK(test_create_scene(d, doc, id));
+    /* 4096, 16384, 65536 photons, then 131072, 262144 and 400000 accumulated */
+    CHECK_INT(passes_until(&sse, id, NULL, 400000, 120), 6);
+    sse_close(&sse);
+    cJSON *st = irr_wait_ready(d, id, 60);
+    const cJSON *map = cJSON_GetObjectItemCaseSensitive(irr_light(st, "lamp"), "photon_map");
+    CHECK_NEAR(irr_num(map, "passes"), 6, 0);
+    CHECK_NEAR(irr_num(map, "passes_total"), 6, 0);
+    CHECK_NEAR(irr_num(map, "photons"), 400000, 0);
+    CHECK_STR(irr_str(st, "caustics"), "photons"); /* chosen: no "caustics" in the document */
+    cJSON_Delete(st);
+    struct picture p;
+    CHECK(render(d, id, &p));
+    CHECK_STR(p.irradiance, "ready");
+    check_caustic(&p, 0.0, "photons_max");
+
+    /* Left while accumulating, the pose stops after its pass (its photon list is dropped);
+     * back again, it traces that list anew and goes on to photons_max. */
+    static const char doc2[] =
+        "{\"name\": \"resume\", \"environment\": {\"intensity\": 0}, \"lights\": "
+        "[{\"name\": \"lamp\", \"type\": \"point\", \"position\": [0, 6, 0], \"intensity\": "
+        "40}], \"receiver\": {\"height\": -0.8, \"half_size\": 4, \"photons\": 65536, "
+        "\"photons_max\": 4194304}, \"surfaces\": [{\"shape\": \"sphere\", \"radius\": 0.5, "
+        "\"medium\": {\"ior\": 1.5}}]}";
+    CHECK(sse_open(&sse, d, "/v1/events", NULL));
+    CHECK(test_create_scene(d, doc2, id));
+    struct sse_event ev;
+    bool accumulating = false;
+    while (!accumulating && sse_until(&sse, "irradiance.ready", 60, &ev, NULL, NULL, 0)) {
+        cJSON *o = cJSON_Parse(ev.data);
+        accumulating = strcmp(sse_str(o, "scene"), id) == 0 && sse_num(o, "photons") > 65536;
+        cJSON_Delete(o);
+    }
+    CHECK(accumulating);
+    sse_close(&sse);
+    char key[17], state[16], using_[16];
+    CHECK_INT(put_lamp(d, id, lamp_moved, key, state, using_), 202);
+    cJSON_Delete(irr_wait_ready(d, id, 120)); /* the moved pose, to its photons_max */
+    CHECK_INT(put_lamp(d, id, lamp_above, key, state, using_), 202); /* usable, not done */
+    CHECK_STR(state, "ready");
+    st = irr_wait_ready(d, id, 120);
+    map = cJSON_GetObjectItemCaseSensitive(irr_light(st, "lamp"), "photon_map");
+    CHECK_NEAR(irr_num(map, "photons"), 4194304, 0);
+    CHECK_NEAR(irr_num(map, "passes"), irr_num(map, "passes_total"), 0);
+    CHECK_NEAR(irr_num(map, "passes_total"), 3 + 6, 0);
+    cJSON_Delete(st);
+}
+
+static const cJSON *map_of(const cJSON *status)
+{
+    return cJSON_GetObjectItemCaseSensitive(irr_light(status, "lamp"), "photon_map");
 }
 
 int main(void)
@@ -243,6 +315,7 @@ int main(void)
     CHECK(!cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(map_of(st), "refining")));
     cJSON_Delete(st);
     sse_close(&sse);
+    refines_up_to_photons_max(&d);
     CHECK_INT(test_daemon_stop(&d), 0);
 
     /* A restart: the map comes from the data directory, the same picture. */

@@ -289,6 +289,54 @@ static void passes_of_a_map(void)
           photon_level_seed(1) != photon_level_seed(2));
 }
 
+/* Passes past `count` (receiver.photons_max) accumulate: the schedule, and the weighting
+ * that makes two independent lists one estimate (the kernel estimate of the accumulated
+ * list is the count-weighted mean of the two lists' estimates). */
+static void passes_accumulate_to_one_estimate(void)
+{
+    CHECK_INT(photon_initial_passes(1048576), 3);
+    CHECK_INT(photon_initial_passes(1024), 1);
+    CHECK_INT(photon_pass_count(1048576, 1048576), 3);
+    CHECK_INT(photon_pass_count(1048576, 4194304), 5); /* then 2^21, 2^22 */
+    CHECK_INT(photon_pass_count(1048576, 3000000), 5); /* 2^21, 3,000,000 */
+    CHECK_INT(photon_pass_count(1048576, 1048576 + 5), 4);
+    CHECK_INT((int)photon_pass_total(1048576, 4194304, 2), 1048576);
+    CHECK_INT((int)photon_pass_total(1048576, 4194304, 3), 2097152);
+    CHECK_INT((int)photon_pass_total(1048576, 4194304, 4), 4194304);
+    CHECK_INT((int)photon_pass_total(1048576, 3000000, 4), 3000000);
+    CHECK_INT((int)photon_pass_batch(1048576, 3000000, 4), 3000000 - 2097152);
+    CHECK_INT((int)photon_pass_batch(1048576, 1048576 + 5, 3), 5);
+    CHECK_INT((int)photon_pass_total(1048576, 1048576 + 5, 3), 1048576 + 5);
+    CHECK(photon_level_seed(3) != photon_level_seed(4) && photon_level_seed(3) > 3);
+
+    struct pathtrace_surface ball;
+    struct pathtrace_scene s = pt_scene_a(&ball);
+    struct photon_list a, b, acc = {0};
+    struct err e;
+    CHECK_INT(photon_map_trace(&s, 30000, 11, 2, &a, &e), REFRACT_E_OK);
+    CHECK_INT(photon_map_trace(&s, 10000, 12, 2, &b, &e), REFRACT_E_OK);
+    CHECK_INT(photon_list_merge(&acc, &a, &e), REFRACT_E_OK); /* a copy of a */
+    CHECK_INT(photon_list_accumulate(&acc, 30000, &b, 10000, &e), REFRACT_E_OK);
+    CHECK_INT((int)acc.count, (int)(a.count + b.count));
+    CHECK_INT((int)acc.emitted, (int)(a.emitted + b.emitted));
+    int lit = 0;
+    for (int k = 0; k < 200; k++) {
+        double x = -0.6 + 0.006 * k, z = -0.2 + 0.002 * k, Ea[3], Eb[3], Ec[3];
+        photon_kernel_estimate(&a, 0.05, x, z, Ea);
+        photon_kernel_estimate(&b, 0.05, x, z, Eb);
+        photon_kernel_estimate(&acc, 0.05, x, z, Ec);
+        for (int c = 0; c < 3; c++)
+            CHECK_NEAR(Ec[c], 0.75 * Ea[c] + 0.25 * Eb[c], 1e-9 * (1.0 + Ec[c]));
+        lit += Ec[1] > 0.0;
+    }
+    CHECK(lit > 20);
+    for (int c = 0; c < 3; c++)
+        CHECK_NEAR(acc.landed[c], 0.75 * a.landed[c] + 0.25 * b.landed[c], 1e-9 * acc.landed[c]);
+    photon_list_free(&a);
+    photon_list_free(&b);
+    photon_list_free(&acc);
+}
+
 static void radius_rule_and_refusals(void)
 {
     struct pathtrace_surface ball = pt_sphere(vec3_make(0, 0, 0), 1.0, 1.5);
@@ -330,6 +378,7 @@ int main(void)
     ball_focuses_on_its_axis();
     lattice_from_its_points_is_the_same();
     passes_of_a_map();
+    passes_accumulate_to_one_estimate();
     lattice_holds_the_kernel_estimate();
     radius_rule_and_refusals();
     return test_summary("test_photon");

@@ -101,6 +101,10 @@ static const struct bad_case bad_cases[] = {
      "receiver.height: -0.5 is above the bottom of object 0", "at or below y = -1"},
     {TOP("\"receiver\": {\"height\": -1, \"albedo\": [0.5, 0.5, 2]}"), REFRACT_E_INVALID_FIELD,
      "receiver.albedo[2]", NULL},
+    {TOP("\"receiver\": {\"height\": -1, \"photons\": 4096, \"photons_max\": 2048}"),
+     REFRACT_E_INVALID_FIELD, "receiver.photons_max", "4096"},
+    {TOP("\"receiver\": {\"height\": -1, \"photons_max\": 1e9}"), REFRACT_E_INVALID_FIELD,
+     "receiver.photons_max", "67108864"},
     {TOP("\"receiver\": {\"height\": -1, \"size\": 2}"), REFRACT_E_UNKNOWN_FIELD,
      "receiver: unknown field \"size\"", "allowed: height, half_size, center, albedo"},
     /* lightsim */
@@ -307,6 +311,7 @@ static void receiver_defaults_follow_the_objects_world_bounds(void)
     if (s != NULL) {
         CHECK_INT((int)s->receiver.caustics, SCENE_CAUSTICS_PHOTONS);
         CHECK_INT(s->receiver.photons, 4096);
+        CHECK_INT(s->receiver.photons_max, 4096); /* default: photons, no further passes */
         CHECK_NEAR(s->receiver.photon_radius, 0.01, 0);
         CHECK(!scene_needs_light_simulation(s)); /* photons and shadow rays: no volume */
         CHECK_NEAR(s->receiver.half_size, 2.0, 0);
