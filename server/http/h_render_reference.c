@@ -8,17 +8,16 @@
  * DESIGN: the render runs on CPU threads, never on the GPU thread (a reference render
  * takes seconds to minutes and would stall every view). The handler parses and validates
  * on the HTTP thread, suspends the connection and starts one detached coordinator
- * thread, which runs `threads` workers (one per online CPU) over interleaved rows, each
- * adding one sample per pixel per pass until the sample count is reached, the time budget
- * is spent or the daemon stops (http_reference_cancel_all), then resumes the connection;
- * the answer is encoded back on an HTTP thread. One reference render runs at a time (it
- * uses every core); another is answered 503 busy.
+ * thread, which renders (request/reference_render.h: one worker per online CPU over
+ * interleaved rows, until the sample count, the time budget or the daemon's stop), then
+ * resumes the connection; the answer is encoded back on an HTTP thread. One reference
+ * render runs at a time in refractd, this or a job's frame (it uses every core); another
+ * request is answered 503 busy.
  * REALITY: the workers are started per request rather than kept in a pool: their start
  * costs microseconds against renders of seconds.
  */
 #include <math.h>
 #include <pthread.h>
-#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -26,18 +25,14 @@
 
 #include "../core/pathtrace_image.h"
 #include "../io/io_exr.h"
+#include "../request/reference_render.h"
 #include "../io/io_image.h"
 #include "../scene/json_read.h"
 #include "../scene/scene_pathtrace.h"
 #include "http_internal.h"
 
-#define REFERENCE_MAX_THREADS 64
-#define REFERENCE_DEFAULT_SAMPLES 64
 #define REFERENCE_MAX_SAMPLES 65536 /* http_config.max_reference_samples 0 */
 #define REFERENCE_MAX_MS 120000     /* http_config.max_reference_ms 0 */
-
-static atomic_int reference_running;
-static atomic_bool reference_cancel;
 
 struct reference_job {
     struct store_scene *version; /* owned reference */
@@ -58,11 +53,6 @@ struct reference_job {
     bool start_failed; /* no coordinator thread could be started */
 };
 
-struct reference_worker {
-    struct reference_job *job;
-    int index;
-};
-
 static void reference_job_free(void *p)
 {
     struct reference_job *job = p;
@@ -73,92 +63,19 @@ static void reference_job_free(void *p)
 
 void http_reference_cancel_all(void)
 {
-    atomic_store(&reference_cancel, true);
-}
-
-static bool out_of_time(const struct reference_job *job)
-{
-    return atomic_load(&reference_cancel) || gpu_time_ms() >= job->deadline_ms;
-}
-
-/* Rows index, index + threads, ...; one sample per pixel per pass. The first pass always
- * completes, so every pixel has a value. */
-static void *worker_main(void *arg)
-{
-    struct reference_worker *w = arg;
-    struct reference_job *job = w->job;
-    for (int pass = 0; pass < job->samples; pass++) {
-        for (int r = w->index; r < job->cam.height; r += job->threads) {
-            if (pass > 0 && out_of_time(job))
-                return NULL;
-            pathtrace_image_pass(&job->img, &job->pt.scene, &job->cam, job->seed, r, r + 1);
-        }
-    }
-    return NULL;
+    reference_cancel_all();
 }
 
 static void *coordinator_main(void *arg)
 {
     struct reference_job *job = arg;
     struct http_request *req = job->req;
-    double t0 = gpu_time_ms();
-    pthread_t tid[REFERENCE_MAX_THREADS];
-    struct reference_worker workers[REFERENCE_MAX_THREADS];
-    int started = 0;
-    for (int i = 0; i < job->threads; i++) {
-        workers[i] = (struct reference_worker){job, i};
-        if (pthread_create(&tid[i], NULL, worker_main, &workers[i]) != 0)
-            break;
-        started++;
-    }
-    if (started < job->threads) { /* fewer threads than planned: this one covers the rest */
-        for (int i = started; i < job->threads; i++)
-            worker_main(&workers[i]);
-    }
-    for (int i = 0; i < started; i++)
-        pthread_join(tid[i], NULL);
-    job->render_ms = gpu_time_ms() - t0;
-    job->cancelled = atomic_load(&reference_cancel);
-    atomic_fetch_sub(&reference_running, 1);
+    job->render_ms = reference_render(&job->pt.scene, &job->cam, &job->img, job->samples,
+                                      job->deadline_ms, job->seed, job->threads, &job->cancelled);
+    reference_end();
     req->phase = HTTP_PHASE_RESUMED;
     MHD_resume_connection(req->conn);
     return NULL;
-}
-
-/* The image as floats: rgba (A = 1) and the variance of each pixel's mean. Returns new
- * arrays the caller frees, or false when out of memory. */
-static bool image_floats(const struct reference_job *job, float **rgba, float **exr,
-                         uint32_t *min_n, uint32_t *max_n, double *rel_noise)
-{
-    int64_t n = (int64_t)job->img.width * job->img.height;
-    *rgba = malloc((size_t)n * 4 * sizeof(float));
-    *exr = malloc((size_t)n * 7 * sizeof(float));
-    if (*rgba == NULL || *exr == NULL) {
-        free(*rgba);
-        free(*exr);
-        return false;
-    }
-    *min_n = UINT32_MAX;
-    *max_n = 0;
-    double sum_mean = 0.0, sum_sd = 0.0;
-    for (int64_t i = 0; i < n; i++) {
-        double m[3], v[3];
-        pathtrace_image_pixel(&job->img, i, m, v);
-        for (int c = 0; c < 3; c++) {
-            (*rgba)[4 * i + c] = (float)m[c];
-            (*exr)[7 * i + c] = (float)m[c];
-            (*exr)[7 * i + 4 + c] = (float)v[c];
-        }
-        (*rgba)[4 * i + 3] = 1.0f;
-        (*exr)[7 * i + 3] = 1.0f;
-        uint32_t k = job->img.samples[i];
-        *min_n = k < *min_n ? k : *min_n;
-        *max_n = k > *max_n ? k : *max_n;
-        sum_mean += (m[0] + m[1] + m[2]) / 3.0;
-        sum_sd += sqrt((v[0] + v[1] + v[2]) / 3.0);
-    }
-    *rel_noise = sum_mean > 0.0 ? sum_sd / sum_mean : 0.0;
-    return true;
 }
 
 static enum MHD_Result reference_answer(struct http_request *req)
@@ -173,7 +90,7 @@ static enum MHD_Result reference_answer(struct http_request *req)
     float *rgba = NULL, *exr = NULL;
     uint32_t min_n, max_n;
     double rel_noise;
-    if (!image_floats(job, &rgba, &exr, &min_n, &max_n, &rel_noise))
+    if (!reference_image_floats(&job->img, &rgba, &exr, &min_n, &max_n, &rel_noise))
         return http_respond_error(req, REFRACT_E_OUT_OF_MEMORY, "out of memory encoding %dx%d",
                                   job->img.width, job->img.height);
     char samples[32], samples_max[32], noise[32], render_ms[32], size[32], spp_s[32];
@@ -302,14 +219,6 @@ bool http_render_is_reference(const char *body, size_t len)
     return yes;
 }
 
-static int cpu_threads(void)
-{
-    long n = sysconf(_SC_NPROCESSORS_ONLN);
-    if (n < 1)
-        return 1;
-    return n > REFERENCE_MAX_THREADS ? REFERENCE_MAX_THREADS : (int)n;
-}
-
 enum MHD_Result http_handle_render_reference(struct http_request *req)
 {
     enum MHD_Result answer = MHD_NO;
@@ -336,12 +245,11 @@ enum MHD_Result http_handle_render_reference(struct http_request *req)
                                   "out of memory for a %dx%d reference image (52 bytes a pixel); "
                                   "render a smaller image",
                                   job->cam.width, job->cam.height);
-    int expected = 0;
-    if (!atomic_compare_exchange_strong(&reference_running, &expected, 1))
+    if (!reference_begin())
         return http_respond_error(req, REFRACT_E_BUSY,
                                   "a reference render is running (one at a time: it uses every "
                                   "CPU); retry when it has finished");
-    job->threads = cpu_threads();
+    job->threads = reference_threads();
     req->on_resume = reference_answer;
     req->phase = HTTP_PHASE_SUSPENDED;
     MHD_suspend_connection(req->conn);
@@ -352,7 +260,7 @@ enum MHD_Result http_handle_render_reference(struct http_request *req)
     int prc = pthread_create(&tid, &attr, coordinator_main, job);
     pthread_attr_destroy(&attr);
     if (prc != 0) { /* answered by reference_answer, as a failed GPU submission is */
-        atomic_fetch_sub(&reference_running, 1);
+        reference_end();
         job->start_failed = true;
         req->phase = HTTP_PHASE_RESUMED;
         MHD_resume_connection(req->conn);
