@@ -180,7 +180,9 @@ static int run_batch(const struct config *cfg, struct gpu *gpu, struct render *r
                                   .irradiance = irradiance,
                                   .limits = {.max_frames = cfg->max_job_frames,
                                              .max_image_dim = cfg->http.limits.max_image_dim,
-                                             .max_image_pixels = cfg->http.max_image_pixels},
+                                             .max_image_pixels = cfg->http.max_image_pixels,
+                                             .max_reference_samples =
+                                                 cfg->http.max_reference_samples},
                                   .tile_pixels = cfg->http.render_tile_pixels,
                                   .spec_path = cfg->batch,
                                   .frames = cfg->batch_frames[0] ? cfg->batch_frames : NULL,
@@ -293,7 +295,9 @@ static int run(const struct config *cfg)
                                     .events = events,
                                     .limits = {.max_frames = cfg->max_job_frames,
                                                .max_image_dim = cfg->http.limits.max_image_dim,
-                                               .max_image_pixels = cfg->http.max_image_pixels},
+                                               .max_image_pixels = cfg->http.max_image_pixels,
+                                               .max_reference_samples =
+                                                   cfg->http.max_reference_samples},
                                     .tile_pixels = cfg->http.render_tile_pixels};
     struct job_runner *jobs = job_runner_create(&jdesc, &e);
     if (jobs == NULL) {

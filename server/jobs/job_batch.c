@@ -228,6 +228,22 @@ static enum refract_code render_frame(const struct job_batch_desc *d, struct sto
             *out = FRAME_STOPPED;
             break;
         }
+        if (f->reference_samples > 0) { /* the path tracer on this task's CPUs */
+            memset(&b.result, 0, sizeof b.result);
+            rc = job_frame_reference(v, f, &b.result, e);
+            if (rc == REFRACT_E_OK) {
+                void *bytes = NULL;
+                size_t len = 0;
+                rc = job_frame_encode(&b.result, f, v->scene->render.tonemap, &bytes, &len, e);
+                if (rc == REFRACT_E_OK)
+                    rc = job_batch_frame_write(d->out_dir, n, f->format, bytes, len, e);
+                free(bytes);
+            }
+            free(b.result.rgba);
+            if (rc != REFRACT_E_OK)
+                err_prefix(e, "frame %d: ", n);
+            break;
+        }
         if (!irradiance_cache_request(d->irradiance, &isrc, false)) {
             char msg[ERR_MSG_MAX];
             if (job_frame_lights_failed(d->irradiance, &isrc, msg, sizeof msg)) {

@@ -6,6 +6,7 @@
  *
  * It is not a scheduler: it neither waits for lights nor submits GPU work.
  */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,7 +15,9 @@
 
 #include "../cache/irradiance_cache.h"
 #include "../io/io_image.h"
+#include "../request/reference_render.h"
 #include "../request/render_request.h"
+#include "../scene/scene_pathtrace.h"
 #include "jobs.h"
 
 bool job_frame_lights_failed(struct irradiance_cache *c, const struct irradiance_source *src,
@@ -32,6 +35,45 @@ bool job_frame_lights_failed(struct irradiance_cache *c, const struct irradiance
         }
     }
     return false;
+}
+
+enum refract_code job_frame_reference(struct store_scene *v, const struct job_frame *f,
+                                      struct render_view_result *out, struct err *e)
+{
+    memset(out, 0, sizeof *out);
+    struct scene_pathtrace *pt = malloc(sizeof *pt);
+    if (pt == NULL)
+        return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for a reference frame");
+    struct render_scene_source src = render_request_scene_source(v);
+    enum refract_code rc = scene_pathtrace_init(v->scene, src.lookup, src.lookup_ctx, pt, e);
+    const struct scene_camera *c = &f->camera;
+    struct pathtrace_camera cam = {c->eye, c->look_at, c->up, c->fov_y_deg, c->width, c->height};
+    struct pathtrace_image img = {0};
+    if (rc == REFRACT_E_OK && pathtrace_image_init(&img, c->width, c->height) != 0)
+        rc = err_set(e, REFRACT_E_OUT_OF_MEMORY,
+                     "out of memory for a %dx%d reference frame (52 bytes a pixel)", c->width,
+                     c->height);
+    if (rc == REFRACT_E_OK && !reference_begin())
+        rc = err_set(e, REFRACT_E_BUSY, "a reference render is running (one at a time)");
+    if (rc == REFRACT_E_OK) {
+        bool cancelled = false;
+        double ms = reference_render(&pt->scene, &cam, &img, f->reference_samples, INFINITY,
+                                     f->reference_seed, reference_threads(), &cancelled);
+        reference_end();
+        uint32_t lo, hi;
+        double noise;
+        if (cancelled)
+            rc = err_set(e, REFRACT_E_SHUTTING_DOWN, "refractd is stopping");
+        else if (!reference_image_floats(&img, &out->rgba, NULL, &lo, &hi, &noise))
+            rc = err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory encoding a reference frame");
+        out->width = c->width;
+        out->height = c->height;
+        out->gpu_ms = 0.0;
+        out->total_ms = ms;
+    }
+    pathtrace_image_fini(&img);
+    free(pt);
+    return rc;
 }
 
 enum refract_code job_frame_encode(const struct render_view_result *res, const struct job_frame *f,

@@ -269,6 +269,46 @@ static void prefetch(struct job_runner *r, struct store_scene *base, const struc
     store_scene_release(nv);
 }
 
+/* Encodes r->result (frees it) and commits it as frame n of job id, unless `out` says
+ * otherwise or the job was cancelled meanwhile. Runner thread, lock not held. */
+static enum frame_outcome commit_frame(struct job_runner *r, const char *id, int n,
+                                       const struct job_frame *f, enum scene_tonemap tonemap,
+                                       enum frame_outcome out, bool inline_scene,
+                                       const char *slot_id, char *msg, size_t size)
+{
+    struct err e = {0};
+    enum refract_code rc;
+    void *bytes = NULL;
+    size_t len = 0;
+    if (out == FRAME_DONE &&
+        job_frame_encode(&r->result, f, tonemap, &bytes, &len, &e) != REFRACT_E_OK) {
+        snprintf(msg, size, "frame %d: %.400s", n, e.msg);
+        out = FRAME_FAILED;
+    }
+    free(r->result.rgba);
+    r->result.rgba = NULL;
+    if (out != FRAME_DONE)
+        return out;
+    /* A job cancelled while its frame rendered keeps what it had. */
+    pthread_mutex_lock(&r->lock);
+    struct job *j = find_locked(r, id, NULL);
+    bool live = j && !finished_state(j->st.state) && j->st.frames_done == n;
+    pthread_mutex_unlock(&r->lock);
+    if (!live) {
+        free(bytes);
+        if (inline_scene) /* cancelled meanwhile: the frame just built its GPU copy again */
+            forget_render_scene(r, slot_id);
+        return FRAME_STOPPED;
+    }
+    rc = store_job_frame_commit(r->d.store, id, n, bytes, len, &e);
+    free(bytes);
+    if (rc != REFRACT_E_OK) {
+        snprintf(msg, size, "frame %d: %.400s", n, e.msg);
+        return FRAME_FAILED;
+    }
+    return FRAME_DONE;
+}
+
 /* Renders, encodes and commits frame n of job id (next: frame n + 1 or NULL) of scene
  * scene_id, or of the inline scene's version inline_v (consumed; NULL for a scene id).
  * Runner thread, lock not held. */
@@ -289,6 +329,26 @@ static enum frame_outcome run_frame(struct job_runner *r, const char *id, const 
         store_scene_release(base);
         snprintf(msg, size, "frame %d: %.400s", n, ve.msg);
         return FRAME_FAILED;
+    }
+    if (f->reference_samples > 0) { /* the path tracer on CPU threads: no volume needed */
+        memset(&r->result, 0, sizeof r->result);
+        struct err re = {0};
+        enum refract_code rrc = job_frame_reference(v, f, &r->result, &re);
+        enum scene_tonemap tonemap = v->scene->render.tonemap;
+        store_scene_release(v);
+        store_scene_release(base);
+        if (rrc == REFRACT_E_BUSY)
+            return FRAME_RETRY; /* another reference render holds the CPUs */
+        if (rrc == REFRACT_E_SHUTTING_DOWN)
+            return FRAME_STOPPED;
+        if (rrc != REFRACT_E_OK) {
+            snprintf(msg, size, "frame %d: %.400s", n, re.msg);
+            free(r->result.rgba);
+            r->result.rgba = NULL;
+            return FRAME_FAILED;
+        }
+        return commit_frame(r, id, n, f, tonemap, FRAME_DONE, inline_v != NULL, slot_id, msg,
+                            size);
     }
     struct irradiance_source isrc;
     job_frame_source(v, f, slot_id, &isrc);
@@ -346,35 +406,7 @@ static enum frame_outcome run_frame(struct job_runner *r, const char *id, const 
                (!strcmp(r->irradiance, "missing") || !strcmp(r->irradiance, "stale"))) {
         out = FRAME_RETRY; /* the volume went away between request and gather */
     }
-    void *bytes = NULL;
-    size_t len = 0;
-    if (out == FRAME_DONE &&
-        job_frame_encode(&r->result, f, tonemap, &bytes, &len, &e) != REFRACT_E_OK) {
-        snprintf(msg, size, "frame %d: %.400s", n, e.msg);
-        out = FRAME_FAILED;
-    }
-    free(r->result.rgba);
-    r->result.rgba = NULL;
-    if (out != FRAME_DONE)
-        return out;
-    /* A job cancelled while its frame rendered keeps what it had. */
-    pthread_mutex_lock(&r->lock);
-    struct job *j = find_locked(r, id, NULL);
-    bool live = j && !finished_state(j->st.state) && j->st.frames_done == n;
-    pthread_mutex_unlock(&r->lock);
-    if (!live) {
-        free(bytes);
-        if (inline_v) /* cancelled meanwhile: the frame just built its GPU copy again */
-            forget_render_scene(r, slot_id);
-        return FRAME_STOPPED;
-    }
-    rc = store_job_frame_commit(r->d.store, id, n, bytes, len, &e);
-    free(bytes);
-    if (rc != REFRACT_E_OK) {
-        snprintf(msg, size, "frame %d: %.400s", n, e.msg);
-        return FRAME_FAILED;
-    }
-    return FRAME_DONE;
+    return commit_frame(r, id, n, f, tonemap, out, inline_v != NULL, slot_id, msg, size);
 }
 
 /* The oldest job with frames left, as a snapshot (lock held). */

@@ -435,8 +435,10 @@ enum refract_code job_spec_expand(const cJSON *root, const struct scene *s,
                                   const struct job_limits *lim, struct job_frame **frames,
                                   int *count, struct err *e)
 {
-    static const char *const keys[] = {"scene",  "frames", "turntable", "light_path", "width",
-                                       "height", "format", "exposure",  NULL};
+    static const char *const keys[] = {"scene",    "frames", "turntable", "light_path",
+                                       "width",    "height", "format",    "exposure",
+                                       "mode",     "samples", "seed",     NULL};
+    static const char *const modes[] = {"fast", "reference", NULL};
     *frames = NULL;
     *count = 0;
     enum refract_code rc = jr_check_object(root, "", keys, e);
@@ -444,6 +446,30 @@ enum refract_code job_spec_expand(const cJSON *root, const struct scene *s,
         return rc;
     struct job_frame base = {
         .camera = s->camera, .format = JOB_FORMAT_PNG, .exposure_ev = s->render.exposure_ev};
+    /* "mode": "reference": every frame by the path tracer (docs/api.md "Batch jobs"). */
+    int mode = 0;
+    rc = jr_enum(root, "", "mode", false, 0, modes, &mode, e);
+    int max_samples = lim->max_reference_samples > 0 ? lim->max_reference_samples : 65536;
+    int samples = 64 < max_samples ? 64 : max_samples;
+    double seed = 1.0;
+    if (rc == REFRACT_E_OK && mode == 0 &&
+        (cJSON_GetObjectItemCaseSensitive(root, "samples") ||
+         cJSON_GetObjectItemCaseSensitive(root, "seed")))
+        rc = err_set(e, REFRACT_E_INVALID_FIELD,
+                     "samples, seed: only with \"mode\": \"reference\" (the path tracer's paths "
+                     "per pixel and its random streams); the fast renderer takes its samples "
+                     "from the scene's render settings");
+    if (rc == REFRACT_E_OK)
+        rc = jr_int(root, "", "samples", false, samples, 1, max_samples, &samples, e);
+    if (rc == REFRACT_E_OK)
+        rc = jr_number(root, "", "seed", false, 1.0, 0.0, 4294967295.0, &seed, e);
+    if (rc == REFRACT_E_OK && seed != floor(seed))
+        rc = err_set(e, REFRACT_E_INVALID_FIELD,
+                     "seed: expected an integer in 0..4294967295, got %g", seed);
+    if (rc != REFRACT_E_OK)
+        return rc;
+    base.reference_samples = mode == 1 ? samples : 0;
+    base.reference_seed = (uint64_t)seed;
     struct job_frame def;
     rc = read_image(root, "", lim, &base, &def, e);
     if (rc != REFRACT_E_OK)

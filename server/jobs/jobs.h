@@ -57,12 +57,17 @@ struct job_frame {
      * "lights" list); 0 = the scene's lights. */
     struct job_light_override lights[SCENE_MAX_LIGHTS];
     int light_count;
+    /* "mode": "reference" (docs/jobs in docs/api.md): the path tracer's paths per pixel and
+     * seed; 0 = the fast renderer. */
+    int reference_samples;
+    uint64_t reference_seed;
 };
 
 struct job_limits {
     int max_frames;             /* --max-job-frames */
     int max_image_dim;          /* the scene limits' camera width/height */
     long long max_image_pixels; /* --max-image-pixels */
+    int max_reference_samples;  /* --max-reference-samples (0: 65536) */
 };
 
 /* ---- job_spec.c ---- */
@@ -179,6 +184,13 @@ void job_frame_source(struct store_scene *v, const struct job_frame *f, const ch
  * the frame can never be lit. */
 bool job_frame_lights_failed(struct irradiance_cache *c, const struct irradiance_source *src,
                              char *msg, size_t size);
+/* Frame f of version v by the reference path tracer ("mode": "reference": f's samples and
+ * seed, every CPU, no time budget; request/reference_render.h): out->rgba is the mean (new,
+ * caller frees). BUSY when another reference render holds the CPUs (one at a time in the
+ * process), SHUTTING_DOWN when the daemon stops meanwhile, CONFLICT for a scene the path
+ * tracer cannot render yet (its message names why). Any thread but the GPU thread. */
+enum refract_code job_frame_reference(struct store_scene *v, const struct job_frame *f,
+                                      struct render_view_result *out, struct err *e);
 /* Encodes a rendered frame in f's format and exposure: *bytes is new (caller frees). */
 enum refract_code job_frame_encode(const struct render_view_result *res, const struct job_frame *f,
                                    enum scene_tonemap tonemap, void **bytes, size_t *len,
