@@ -71,8 +71,11 @@ enum refract_code http_parse_view_settings(const char *body, size_t len, const s
                                        "max_fps",
                                        "progressive",
                                        "samples_per_pixel",
+                                       "mode",
+                                       "samples",
                                        SCENE_STEPPER_OLD_KEY,
                                        NULL};
+    static const char *const modes[] = {"fast", "reference", NULL};
     *out = *current;
     cJSON *root = NULL;
     enum refract_code rc = http_parse_body(body, len, &root, e);
@@ -94,6 +97,16 @@ enum refract_code http_parse_view_settings(const char *body, size_t len, const s
         rc = jr_number(root, "", "max_fps", false, out->max_fps, 0.1, 120.0, &out->max_fps, e);
     if (rc == REFRACT_E_OK)
         rc = jr_bool(root, "", "progressive", false, out->progressive, &out->progressive, e);
+    int mode = out->reference ? 1 : 0;
+    if (rc == REFRACT_E_OK)
+        rc = jr_enum(root, "", "mode", false, mode, modes, &mode, e);
+    out->reference = mode == 1;
+    int max_samples = cfg->max_reference_samples > 0 ? cfg->max_reference_samples : 65536;
+    if (out->reference_samples > max_samples)
+        out->reference_samples = max_samples;
+    if (rc == REFRACT_E_OK)
+        rc = jr_int(root, "", "samples", false, out->reference_samples, 1, max_samples,
+                    &out->reference_samples, e);
     cJSON_Delete(root);
     return rc;
 }

@@ -66,10 +66,14 @@ static void *worker_main(void *arg)
 {
     struct worker *w = arg;
     const struct run *r = w->run;
+    /* Pass-major, so that a deadline leaves the rows within one sample of each other; a
+     * row that already has `samples` (an image refined before: a view's) is skipped. */
     for (int pass = 0; pass < r->samples; pass++) {
         for (int row = w->index; row < r->cam->height; row += r->threads) {
             if (pass > 0 && out_of_time(r))
                 return NULL;
+            if (r->img->samples[(int64_t)row * r->img->width] >= (uint32_t)r->samples)
+                continue;
             pathtrace_image_pass(r->img, r->s, r->cam, r->seed, row, row + 1);
         }
     }

@@ -33,8 +33,10 @@ bool reference_cancelled(void);
 int reference_threads(void);
 
 /* Renders into img (initialised at cam's size) with `threads` threads until each pixel
- * has `samples` samples or gpu_time_ms() reaches deadline_ms. Returns the wall time in ms;
- * *cancelled tells whether reference_cancel_all stopped it. */
+ * has `samples` samples or gpu_time_ms() reaches deadline_ms; an image that has samples
+ * already (a view refining) goes on from them, each row getting at least one more unless
+ * it is done. Returns the wall time in ms; *cancelled tells whether reference_cancel_all
+ * stopped it. */
 double reference_render(const struct pathtrace_scene *s, const struct pathtrace_camera *cam,
                         struct pathtrace_image *img, int samples, double deadline_ms,
                         uint64_t seed, int threads, bool *cancelled);

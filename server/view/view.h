@@ -82,6 +82,11 @@ struct view_settings {
     int jpeg_quality;                       /* 1..100 */
     double max_fps;                         /* 0.1..120 */
     bool progressive;
+    /* "mode": "reference": frames by the reference path tracer on CPU threads, refined
+     * while the view is open until each pixel has reference_samples paths (docs/views.md
+     * "Reference mode"). */
+    bool reference;
+    int reference_samples; /* 1..--max-reference-samples; default 256 */
 };
 
 /* The defaults for a new session on scene s: its camera and size, exposure and tonemap,

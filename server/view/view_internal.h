@@ -54,6 +54,13 @@ struct view_session {
     const char *hdr_irradiance;
     uint64_t hdr_gen;
     long long frames_rendered, frames_reencoded;
+    /* Reference mode (docs/views.md "Reference mode"): the path-traced image being refined
+     * (touched only by the session's one job in flight), the fewest paths a pixel had in
+     * the newest frame, and whether it is below the target for the current change (then
+     * the session needs another frame although change_gen == full_gen). */
+    struct view_reference *ref;
+    uint32_t ref_samples;
+    bool ref_refining;
 
     pthread_mutex_t watch_mu; /* the watcher list */
     struct view_watcher *watchers;
@@ -78,6 +85,7 @@ struct view_job {
     struct render_tiles tiles;
     struct view_settings settings; /* snapshot at the frame's start */
     struct view_job *next;         /* encoder queue */
+    uint32_t ref_samples;          /* reference mode: the fewest paths a pixel has now */
 };
 
 struct view_registry {
@@ -123,6 +131,14 @@ void *view_scheduler_main(void *arg);
  * threads (and the scheduler for jobs that never reached the GPU). */
 void view_job_finish(struct view_registry *r, struct view_job *job, struct view_frame *frame,
                      const struct err *e);
+
+/* ---- view_reference.c ---- */
+struct view_reference;
+/* Reference mode: renders the job's next slice on a thread of its own (the path tracer on
+ * every CPU, request/reference_render.h), then hands the job to the encoder; BUSY (retried
+ * by the scheduler) while another reference render runs. */
+void view_reference_start(struct view_registry *r, struct view_job *job);
+void view_reference_free(struct view_reference *ref);
 
 /* ---- view_encode.c ---- */
 /* Starts `threads` encoder threads. NULL with e filled on failure. */

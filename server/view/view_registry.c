@@ -108,12 +108,16 @@ static void on_event(void *ctx, const struct event *ev)
         free(ended);
         return;
     }
+    bool irradiance = strcmp(ev->type, EVENT_IRRADIANCE_READY) == 0;
     for (int i = 0; i < r->count; i++) {
         struct view_session *s = r->sessions[i];
         if (strcmp(s->scene, ev->scene) != 0)
             continue;
         pthread_mutex_lock(&s->mu);
-        view_session_changed_locked(s);
+        /* A reference view's path tracer reads no volume or photon map: their news would
+         * only restart its image. */
+        if (!(irradiance && s->settings.reference))
+            view_session_changed_locked(s);
         pthread_mutex_unlock(&s->mu);
     }
     pthread_cond_signal(&r->wake);

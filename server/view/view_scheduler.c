@@ -39,7 +39,7 @@ static struct view_job *job_make_locked(struct view_session *s, int64_t now)
     job->session = s;
     job->settings = s->settings;
     job->change_gen = s->change_gen;
-    if (s->hdr != NULL && s->hdr_gen == s->change_gen) {
+    if (s->hdr != NULL && s->hdr_gen == s->change_gen && !s->settings.reference) {
         /* Encode-only change: the newest full frame's image goes straight to an encoder,
          * borrowed, not copied: only a finished render replaces s->hdr, and this job is
          * the session's one frame in flight until it finishes. */
@@ -50,7 +50,7 @@ static struct view_job *job_make_locked(struct view_session *s, int64_t now)
         job->irradiance = s->hdr_irradiance;
         job->reencode = true;
     }
-    bool preview = !job->reencode && s->settings.progressive &&
+    bool preview = !job->reencode && !s->settings.reference && s->settings.progressive &&
                    s->last_full_render_ms > PREVIEW_AFTER_MS && s->preview_gen != s->change_gen;
     job->kind = preview ? VIEW_FRAME_PREVIEW : VIEW_FRAME_FULL;
     s->in_flight = true;
@@ -99,6 +99,10 @@ void view_job_finish(struct view_registry *r, struct view_job *job, struct view_
         if (job->kind == VIEW_FRAME_FULL) {
             s->full_gen = job->change_gen;
             s->last_full_render_ms = frame->render_ms;
+            /* Reference mode: another slice while the image is short of its target. */
+            s->ref_samples = job->settings.reference ? job->ref_samples : 0;
+            s->ref_refining = job->settings.reference && job->change_gen == s->change_gen &&
+                              job->ref_samples < (uint32_t)job->settings.reference_samples;
         } else {
             s->preview_gen = job->change_gen;
             s->next_start_ms = now; /* the full frame follows at once (docs/views.md) */
@@ -111,6 +115,7 @@ void view_job_finish(struct view_registry *r, struct view_job *job, struct view_
          * says why, and the next change tries again. Never retry in a loop. */
         s->last_error = *e;
         s->full_gen = job->change_gen;
+        s->ref_refining = false;
     }
     pthread_mutex_unlock(&s->mu);
     if (frame)
@@ -167,6 +172,10 @@ static void job_start(struct view_registry *r, struct view_job *job)
         view_encoder_submit(r->encoder, job); /* nothing to render */
         return;
     }
+    if (job->settings.reference) {
+        view_reference_start(r, job); /* CPU threads, not the GPU */
+        return;
+    }
     struct render_view_request *rq = &job->request;
     rq->camera = job->settings.camera;
     if (job->kind == VIEW_FRAME_PREVIEW) {
@@ -210,7 +219,7 @@ static int64_t scan_locked(struct view_registry *r, int64_t now, struct view_job
             }
             next = expire_at < next ? expire_at : next;
         }
-        if (!s->in_flight && s->change_gen != s->full_gen) {
+        if (!s->in_flight && (s->change_gen != s->full_gen || s->ref_refining)) {
             struct view_job *job = now >= s->next_start_ms ? job_make_locked(s, now) : NULL;
             if (job) {
                 jobs[(*job_count)++] = job;

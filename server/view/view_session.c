@@ -21,7 +21,8 @@ void view_settings_defaults(const struct scene *s, struct view_settings *out)
                                   .quality = VIEW_QUALITY_NORMAL,
                                   .jpeg_quality = 80,
                                   .max_fps = 30.0,
-                                  .progressive = true};
+                                  .progressive = true,
+                                  .reference_samples = 256};
 }
 
 void view_settings_render(const struct view_settings *st, const struct scene *s,
@@ -81,6 +82,7 @@ void view_session_release(struct view_session *s)
         return;
     view_frame_release(s->frame);
     free(s->hdr);
+    view_reference_free(s->ref);
     pthread_mutex_destroy(&s->mu);
     pthread_mutex_destroy(&s->watch_mu);
     free(s);
@@ -128,7 +130,8 @@ static bool render_settings_equal(const struct view_settings *a, const struct vi
            a->has_boundary_threshold == b->has_boundary_threshold &&
            (!a->has_boundary_threshold || oa->boundary_threshold == ob->boundary_threshold) &&
            a->has_samples_per_pixel == b->has_samples_per_pixel &&
-           (!a->has_samples_per_pixel || oa->samples_per_pixel == ob->samples_per_pixel);
+           (!a->has_samples_per_pixel || oa->samples_per_pixel == ob->samples_per_pixel) &&
+           a->reference == b->reference && a->reference_samples == b->reference_samples;
 }
 
 static bool settings_equal(const struct view_settings *a, const struct view_settings *b)
@@ -269,6 +272,8 @@ static void add_settings(cJSON *o, const struct view_settings *st,
     cJSON_AddNumberToObject(o, "jpeg_quality", st->jpeg_quality);
     cJSON_AddNumberToObject(o, "max_fps", st->max_fps);
     cJSON_AddBoolToObject(o, "progressive", st->progressive);
+    cJSON_AddStringToObject(o, "mode", st->reference ? "reference" : "fast");
+    cJSON_AddNumberToObject(o, "samples", st->reference_samples);
 }
 
 cJSON *view_session_status_json(struct view_session *s, const struct scene *scene)
@@ -291,7 +296,9 @@ cJSON *view_session_status_json(struct view_session *s, const struct scene *scen
     snprintf(path, sizeof path, "/viewer/%s?view=%s", s->scene, s->id);
     cJSON_AddStringToObject(o, "viewer", path);
     cJSON_AddNumberToObject(o, "streams", s->watcher_count);
-    bool rendering = s->in_flight || s->change_gen != s->full_gen;
+    bool rendering = s->in_flight || s->change_gen != s->full_gen || s->ref_refining;
+    if (s->settings.reference) /* docs/views.md "Reference mode" */
+        cJSON_AddNumberToObject(o, "samples_done", s->ref_samples);
     cJSON_AddStringToObject(o, "state", rendering ? "rendering" : "idle");
     cJSON_AddNumberToObject(o, "idle_timeout_s", d->idle_timeout_s);
     /* While a stream is open the session does not expire: the countdown starts when the
