@@ -107,11 +107,8 @@ static enum refract_code photon_scene(struct irr_entry *en, struct err *e)
         irr_photon_scene_free(en);
         return rc;
     }
-    static const double unit[3] = {1.0, 1.0, 1.0};
-    const struct scene_light *l = &en->light;
     struct pathtrace_light pl;
-    scene_pathtrace_light(l->kind, l->position, l->direction, cos(l->spot_angle_deg * M_PI / 180.0),
-                          unit, l->radius, l->camera_visible, &pl);
+    scene_pathtrace_light_unit(&en->light, &pl);
     photon_scene_one_light(&en->pt->sp.scene, &pl, &en->pt->one);
     return REFRACT_E_OK;
 }
@@ -140,17 +137,17 @@ static double progress_of(long count, long count_max, int passes)
 
 /* One pass's map (photon.h "A light's map is made in passes"): traced and gathered into
  * m->grid; the pass of `count` photons keeps its list for the passes after it, which add
- * theirs to it. *total: the photons the map stands for. */
+ * theirs to it. */
 static enum refract_code trace_pass(struct irr_photon_scene *pt, const struct scene_receiver *rc,
                                     int pass, struct irr_pmap *m, struct photon_map_stats *st,
-                                    long *total, struct err *e)
+                                    struct err *e)
 {
     long count = rc->photons, count_max = rc->photons_max > count ? rc->photons_max : count;
     int first = photon_initial_passes(count);
     long batch = photon_pass_batch(count, count_max, pass);
     long cpus = sysconf(_SC_NPROCESSORS_ONLN);
     int threads = cpus > 0 ? (int)cpus : 1;
-    *total = photon_pass_total(count, count_max, pass);
+    long total = photon_pass_total(count, count_max, pass);
     memset(st, 0, sizeof *st);
     struct photon_list l;
     double t0 = now_ms();
@@ -173,7 +170,7 @@ static enum refract_code trace_pass(struct irr_photon_scene *pt, const struct sc
     }
     st->emitted = gathered->emitted;
     st->landed = gathered->count;
-    st->radius = photon_radius(&pt->one, *total, rc->photon_radius);
+    st->radius = photon_radius(&pt->one, total, rc->photon_radius);
     double t1 = now_ms();
     if (r == REFRACT_E_OK)
         r = photon_grid_build(gathered, st->radius, &m->grid, e);
@@ -216,7 +213,6 @@ void irr_photons_pass(struct irradiance_cache *c, struct irr_entry *en)
         en->pt->next_pass = passes_done >= first ? first - 1 : passes_done;
     int pass = rc == REFRACT_E_OK && en->pt ? en->pt->next_pass : passes_done;
     struct irr_pmap *m = NULL;
-    long total = 0;
     double t0 = now_ms();
     struct photon_map_stats st = {0};
     if (!cancelled && rc == REFRACT_E_OK) {
@@ -226,7 +222,7 @@ void irr_photons_pass(struct irradiance_cache *c, struct irr_entry *en)
         else
             m->refs = 1;
         if (rc == REFRACT_E_OK)
-            rc = trace_pass(en->pt, &en->receiver, pass, m, &st, &total, &e);
+            rc = trace_pass(en->pt, &en->receiver, pass, m, &st, &e);
         if (rc == REFRACT_E_OK)
             en->pt->next_pass = pass + 1;
     }

@@ -17,7 +17,6 @@
  * costs microseconds against renders of seconds.
  */
 #include <math.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -253,13 +252,8 @@ enum MHD_Result http_handle_render_reference(struct http_request *req)
     req->on_resume = reference_answer;
     req->phase = HTTP_PHASE_SUSPENDED;
     MHD_suspend_connection(req->conn);
-    pthread_t tid;
-    pthread_attr_t attr;
-    pthread_attr_init(&attr);
-    pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED);
-    int prc = pthread_create(&tid, &attr, coordinator_main, job);
-    pthread_attr_destroy(&attr);
-    if (prc != 0) { /* answered by reference_answer, as a failed GPU submission is */
+    if (!reference_start_detached(coordinator_main, job)) {
+        /* answered by reference_answer, as a failed GPU submission is */
         reference_end();
         job->start_failed = true;
         req->phase = HTTP_PHASE_RESUMED;

@@ -41,9 +41,13 @@ enum refract_code job_frame_reference(struct store_scene *v, const struct job_fr
                                       struct render_view_result *out, struct err *e)
 {
     memset(out, 0, sizeof *out);
+    if (!reference_begin()) /* first: a frame retried while BUSY allocates nothing */
+        return err_set(e, REFRACT_E_BUSY, "a reference render is running (one at a time)");
     struct scene_pathtrace *pt = malloc(sizeof *pt);
-    if (pt == NULL)
+    if (pt == NULL) {
+        reference_end();
         return err_set(e, REFRACT_E_OUT_OF_MEMORY, "out of memory for a reference frame");
+    }
     struct render_scene_source src = render_request_scene_source(v);
     enum refract_code rc = scene_pathtrace_init(v->scene, src.lookup, src.lookup_ctx, pt, e);
     const struct scene_camera *c = &f->camera;
@@ -53,13 +57,10 @@ enum refract_code job_frame_reference(struct store_scene *v, const struct job_fr
         rc = err_set(e, REFRACT_E_OUT_OF_MEMORY,
                      "out of memory for a %dx%d reference frame (52 bytes a pixel)", c->width,
                      c->height);
-    if (rc == REFRACT_E_OK && !reference_begin())
-        rc = err_set(e, REFRACT_E_BUSY, "a reference render is running (one at a time)");
     if (rc == REFRACT_E_OK) {
         bool cancelled = false;
         double ms = reference_render(&pt->scene, &cam, &img, f->reference_samples, INFINITY,
                                      f->reference_seed, reference_threads(), &cancelled);
-        reference_end();
         uint32_t lo, hi;
         double noise;
         if (cancelled)
@@ -71,6 +72,7 @@ enum refract_code job_frame_reference(struct store_scene *v, const struct job_fr
         out->gpu_ms = 0.0;
         out->total_ms = ms;
     }
+    reference_end();
     pathtrace_image_fini(&img);
     free(pt);
     return rc;

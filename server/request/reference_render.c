@@ -35,6 +35,17 @@ bool reference_cancelled(void)
     return atomic_load(&cancel_all);
 }
 
+bool reference_start_detached(void *(*fn)(void *), void *arg)
+{
+    pthread_t tid;
+    pthread_attr_t attr;
+    pthread_attr_init(&attr);
+    pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED);
+    int rc = pthread_create(&tid, &attr, fn, arg);
+    pthread_attr_destroy(&attr);
+    return rc == 0;
+}
+
 int reference_threads(void)
 {
     long n = sysconf(_SC_NPROCESSORS_ONLN);

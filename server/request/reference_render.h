@@ -29,6 +29,11 @@ void reference_end(void);
 void reference_cancel_all(void);
 bool reference_cancelled(void);
 
+/* Runs fn(arg) on a detached thread of its own (a reference render's coordinator, so that
+ * neither an HTTP thread nor the view scheduler waits for it). False when none could be
+ * started. */
+bool reference_start_detached(void *(*fn)(void *), void *arg);
+
 /* Online CPUs, 1..REFERENCE_MAX_THREADS. */
 int reference_threads(void);
 

@@ -36,13 +36,26 @@ void scene_pathtrace_light(enum scene_light_kind kind, vec3 position, vec3 direc
     }
 }
 
+/* Scene light l with intensity I per channel. */
+static void convert_light_as(const struct scene_light *l, const double I[3],
+                             struct pathtrace_light *p)
+{
+    scene_pathtrace_light(l->kind, l->position, l->direction, cos(l->spot_angle_deg * M_PI / 180.0),
+                          I, l->radius, l->camera_visible, p);
+}
+
 static void convert_light(const struct scene_light *l, struct pathtrace_light *p)
 {
     double I[3];
     for (int c = 0; c < 3; c++)
         I[c] = l->color[c] * l->intensity;
-    scene_pathtrace_light(l->kind, l->position, l->direction, cos(l->spot_angle_deg * M_PI / 180.0),
-                          I, l->radius, l->camera_visible, p);
+    convert_light_as(l, I, p);
+}
+
+void scene_pathtrace_light_unit(const struct scene_light *l, struct pathtrace_light *p)
+{
+    static const double unit[3] = {1.0, 1.0, 1.0};
+    convert_light_as(l, unit, p);
 }
 
 enum refract_code scene_pathtrace_init(const struct scene *s, scene_volume_lookup_fn lookup,

@@ -35,6 +35,9 @@ enum refract_code scene_pathtrace_init(const struct scene *s, scene_volume_looku
 void scene_pathtrace_light(enum scene_light_kind kind, vec3 position, vec3 direction,
                            double cos_spot, const double intensity[3], double radius, bool visible,
                            struct pathtrace_light *p);
+/* Scene light l at unit intensity (colour and intensity 1): a light's own photon map,
+ * which its colour times intensity scales at render time (docs/photons.md "Emission"). */
+void scene_pathtrace_light_unit(const struct scene_light *l, struct pathtrace_light *p);
 
 /* The same without the environment's check (its light is not used: the photon map,
  * docs/photons.md, needs the surfaces, the receiver and the lights only). */

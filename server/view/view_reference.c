@@ -12,7 +12,6 @@
  * finished image is the one POST .../render with "mode": "reference" and the same samples
  * gives. The session's image is touched only by its one job in flight (view_internal.h).
  */
-#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -125,13 +124,7 @@ static void *slice_main(void *arg)
 
 void view_reference_start(struct view_registry *r, struct view_job *job)
 {
-    pthread_t tid;
-    pthread_attr_t attr;
-    pthread_attr_init(&attr);
-    pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED);
-    int prc = pthread_create(&tid, &attr, slice_main, job);
-    pthread_attr_destroy(&attr);
-    if (prc != 0) {
+    if (!reference_start_detached(slice_main, job)) {
         struct err e = {0};
         err_set(&e, REFRACT_E_BUSY, "could not start a reference view thread");
         view_job_finish(r, job, NULL, &e);

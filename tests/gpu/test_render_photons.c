@@ -75,14 +75,10 @@ static void compare(struct gpu *gpu, const char *name, const char *doc, double c
     struct photon_grid grids[SCENE_MAX_LIGHTS];
     struct photon_map_stats st = {0};
     size_t landed = 0;
-    static const double unit[3] = {1.0, 1.0, 1.0};
     bool maps = scene_needs_photon_maps(s); /* "none": shadow rays only, no map */
     for (size_t j = 0; maps && j < s->light_count; j++) {
-        const struct scene_light *sl = &s->lights[j];
         struct pathtrace_light l;
-        scene_pathtrace_light(sl->kind, sl->position, sl->direction,
-                              cos(sl->spot_angle_deg * M_PI / 180.0), unit, sl->radius,
-                              sl->camera_visible, &l);
+        scene_pathtrace_light_unit(&s->lights[j], &l);
         struct pathtrace_scene one;
         photon_scene_one_light(&sp.scene, &l, &one);
         CHECK_INT(photon_map_build(&one, s->receiver.photons, s->receiver.photon_radius,
